@@ -1,0 +1,60 @@
+//! Measured runs behind `softgrip bench` and the criterion benchmarks.
+
+use crate::error::SimError;
+use crate::scene::Scene;
+use crate::step::Simulation;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BenchRun {
+    pub particles: usize,
+    pub tets: usize,
+    pub steps: u64,
+    pub simulated_seconds: f64,
+    pub wall_seconds: f64,
+    pub cg_iterations: u64,
+}
+
+/// The thesis scene at another edge length.
+pub fn thesis_scene_with_edge(edge_length: f64) -> Scene {
+    let mut scene = Scene::thesis();
+    scene.object.edge_length = edge_length;
+    scene
+}
+
+/// Runs the thesis scene for `seconds` of simulated time and times it.
+pub fn thesis_scene_run(edge_length: f64, seconds: f64) -> Result<BenchRun, SimError> {
+    let mut sim = Simulation::new(&thesis_scene_with_edge(edge_length))?;
+    let steps = (seconds / sim.model.dt).round() as u64;
+    let mut cg = 0;
+    for _ in 0..steps {
+        sim.step()?;
+        cg += sim.state.stats.cg_iterations as u64;
+    }
+    Ok(BenchRun {
+        particles: sim.model.particle_count(),
+        tets: sim.model.tets.len(),
+        steps,
+        simulated_seconds: sim.state.time,
+        wall_seconds: sim.wall_seconds,
+        cg_iterations: cg,
+    })
+}
+
+/// CPU model, core count and date, for BENCHMARKS.md.
+pub fn machine_description() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    format!(
+        "machine: {cpu}, {cores} cores available; softgrip {}",
+        env!("CARGO_PKG_VERSION")
+    )
+}

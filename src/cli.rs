@@ -1,0 +1,268 @@
+//! Command-line interface: errors are reported once, here, with `anyhow`.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use softgrip::output::TrajectoryWriter;
+use softgrip::scene::{FingerShape, Scene};
+use softgrip::{Model, Simulation};
+
+#[derive(Parser)]
+#[command(
+    name = "softgrip",
+    version,
+    about = "Soft-object grasp simulation (mass-spring-damper model with Hunt-Crossley contact)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene headless (the built-in thesis scene when none is given).
+    Run {
+        /// Scene file (.toml); omit for the built-in thesis scene.
+        scene: Option<PathBuf>,
+        /// Write ParaView files (frame_*.vtu, trajectory.pvd) and fingers.csv here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Simulated seconds (default: the scene's [simulation] duration).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Frames per simulated second written with --out.
+        #[arg(long, default_value_t = 50.0)]
+        fps: f64,
+    },
+    /// Check a scene: print the defaults it relies on, the mesh and the model.
+    Check { scene: Option<PathBuf> },
+    /// Print the built-in thesis scene as TOML (a starting point for your own).
+    Scene,
+    /// Measure wall seconds per simulated second of the thesis scene at several mesh sizes.
+    Bench {
+        /// Edge lengths in mm.
+        #[arg(long, value_delimiter = ',', default_values_t = vec![4.0, 2.5, 1.6])]
+        edges: Vec<f64>,
+        /// Simulated seconds per measurement.
+        #[arg(long, default_value_t = 1.0)]
+        seconds: f64,
+    },
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => {
+            eprintln!(
+                "softgrip: the viewer is not built yet; running the built-in thesis scene headless (see `softgrip --help`)."
+            );
+            run(None, None, None, 50.0)
+        }
+        Some(Command::Run {
+            scene,
+            out,
+            duration,
+            fps,
+        }) => run(scene.as_deref(), out.as_deref(), duration, fps),
+        Some(Command::Check { scene }) => check(scene.as_deref()),
+        Some(Command::Scene) => {
+            print!("{}", softgrip::scene::THESIS_SCENE);
+            Ok(())
+        }
+        Some(Command::Bench { edges, seconds }) => bench(&edges, seconds),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    match path {
+        Some(p) => Ok(Scene::load(p)?),
+        None => Ok(Scene::thesis()),
+    }
+}
+
+fn progress_bar(len: u64) -> ProgressBar {
+    let bar = ProgressBar::new(len);
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {msg}  [{elapsed} < {eta}]")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Depth of a finger's lowest point below the undeformed object's top (m).
+fn indentation(model: &Model, k: usize, z: f64) -> f64 {
+    let top = model
+        .rest_positions
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let bottom = match model.fingers[k].shape {
+        FingerShape::Sphere { radius } => z - radius,
+        FingerShape::Plate { .. } => z,
+    };
+    (top - bottom).max(0.0)
+}
+
+fn run(
+    scene_path: Option<&Path>,
+    out: Option<&Path>,
+    duration: Option<f64>,
+    fps: f64,
+) -> Result<()> {
+    let scene = load_scene(scene_path)?;
+    let mut sim = Simulation::new(&scene)?;
+    let duration = duration.unwrap_or(scene.simulation.duration);
+    let name = scene_path
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| "built-in thesis scene".into());
+    let mesh_stats = softgrip::mesh::MeshStats {
+        nodes: sim.model.particle_count(),
+        tets: sim.model.tets.len(),
+        boundary_facets: sim.model.facets.len(),
+        volume: sim.model.rest_total_volume,
+        worst_quality: f64::NAN,
+        min_edge: f64::NAN,
+        max_edge: f64::NAN,
+    };
+    println!(
+        "{name}: {} particles, {} tetrahedra, {} springs, {} facets; dt = {} s, {} s to simulate",
+        mesh_stats.nodes,
+        mesh_stats.tets,
+        sim.model.springs.len(),
+        mesh_stats.boundary_facets,
+        sim.model.dt,
+        duration
+    );
+    let steps = (duration / sim.model.dt).round() as u64;
+    let frame_every = ((1.0 / fps.max(1e-9)) / sim.model.dt).round().max(1.0) as u64;
+    let mut writer = match out {
+        Some(dir) => {
+            let mut w = TrajectoryWriter::new(dir)?;
+            w.frame(&sim.model, &sim.state)?;
+            Some(w)
+        }
+        None => None,
+    };
+    let bar = progress_bar(steps);
+    let mut cg_total = 0u64;
+    for i in 0..steps {
+        sim.step()
+            .with_context(|| format!("while running {name}"))?;
+        cg_total += sim.state.stats.cg_iterations as u64;
+        if let Some(w) = writer.as_mut()
+            && ((i + 1) % frame_every == 0 || i + 1 == steps)
+        {
+            w.frame(&sim.model, &sim.state)?;
+        }
+        if i % 20 == 0 {
+            bar.set_message(format!("t = {:.3} s", sim.state.time));
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+
+    let st = sim.state.stats;
+    println!(
+        "t = {:.3} s after {} steps in {:.2} s wall ({:.2} x real time)",
+        sim.state.time,
+        sim.state.step,
+        sim.wall_seconds,
+        sim.state.time / sim.wall_seconds.max(1e-12)
+    );
+    for (k, f) in sim.state.fingers.iter().enumerate() {
+        let moved = f.position - sim.model.fingers[k].initial_position;
+        println!(
+            "finger {}: indentation depth {:.3} mm, moved ({:.3}, {:.3}, {:.3}) mm, contact force ({:.4}, {:.4}, {:.4}) N (normal {:.4} N), deepest penetration {:.3} mm",
+            k + 1,
+            indentation(&sim.model, k, f.position.z) * 1e3,
+            moved.x * 1e3,
+            moved.y * 1e3,
+            moved.z * 1e3,
+            f.contact_force.x,
+            f.contact_force.y,
+            f.contact_force.z,
+            f.normal_force,
+            f.max_penetration * 1e3
+        );
+    }
+    println!(
+        "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J",
+        st.volume_error, st.contacts, st.limit_violation, st.energy
+    );
+    println!(
+        "solver: {:.1} CG iterations per step on average, last residual {:.2e}",
+        cg_total as f64 / steps.max(1) as f64,
+        st.cg_residual
+    );
+    if let Some(w) = writer {
+        let pvd = w.finish()?;
+        println!("wrote {} (open in ParaView) and fingers.csv", pvd.display());
+    }
+    Ok(())
+}
+
+fn check(scene_path: Option<&Path>) -> Result<()> {
+    let scene = load_scene(scene_path)?;
+    if scene.defaults_applied.is_empty() {
+        println!("every key is set explicitly");
+    } else {
+        println!("defaults applied ({}):", scene.defaults_applied.len());
+        for d in &scene.defaults_applied {
+            println!("  {d}");
+        }
+    }
+    let sim = Simulation::new(&scene)?;
+    let m = &sim.model;
+    let mesh = softgrip::mesh::TetMesh {
+        nodes: m.rest_positions.clone(),
+        tets: m.tets.clone(),
+    };
+    println!("mesh: {}", mesh.stats());
+    println!(
+        "model: {} springs (k {:.3e}..{:.3e} N/m), mass {:.4} kg, {} pinned particles, {} fingers",
+        m.springs.len(),
+        m.springs
+            .iter()
+            .map(|s| s.stiffness)
+            .fold(f64::INFINITY, f64::min),
+        m.springs.iter().map(|s| s.stiffness).fold(0.0, f64::max),
+        m.total_mass(),
+        m.fixed.iter().filter(|f| **f).count(),
+        m.fingers.len()
+    );
+    println!("scene is valid");
+    Ok(())
+}
+
+fn bench(edges_mm: &[f64], seconds: f64) -> Result<()> {
+    println!("{}", softgrip::bench::machine_description());
+    println!(
+        "| edge (mm) | particles | tetrahedra | ms per step | CG iterations per step | wall s per simulated s |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for &e in edges_mm {
+        let r = softgrip::bench::thesis_scene_run(e * 1e-3, seconds)?;
+        println!(
+            "| {:.1} | {} | {} | {:.2} | {:.1} | {:.2} |",
+            e,
+            r.particles,
+            r.tets,
+            1e3 * r.wall_seconds / r.steps as f64,
+            r.cg_iterations as f64 / r.steps as f64,
+            r.wall_seconds / r.simulated_seconds
+        );
+    }
+    Ok(())
+}

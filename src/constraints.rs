@@ -1,0 +1,110 @@
+//! Spring limits tau_s / tau_c (thesis eq. 13-17, Alg. 3): after integration,
+//! springs stretched beyond `(1 + tau_s) l0` or compressed below
+//! `(1 - tau_c) l0` are projected back.
+//!
+//! Jacobi iterations as in Alg. 3. Each particle moves by the mean of its
+//! corrections; we average over the constraints *active* at that particle
+//! (eq. 13 divides by all its edges, which shrinks every correction by the
+//! particle's degree, ~14, so that 10 iterations leave most of the violation
+//! in place). A pinned particle does not move; its partner takes the whole
+//! correction. Velocities take the same displacement divided by dt, as in
+//! position-based dynamics, so the projected motion is not undone by the next
+//! step's velocity.
+
+use glam::DVec3;
+
+use crate::model::Model;
+use crate::state::State;
+
+#[derive(Debug, Default, Clone)]
+pub struct ProjectionScratch {
+    delta: Vec<DVec3>,
+    count: Vec<u32>,
+    total: Vec<DVec3>,
+    held: Vec<bool>,
+}
+
+/// The largest relative violation `|C| / l0` over all springs (0 without limits).
+pub fn max_violation(model: &Model, positions: &[DVec3]) -> f64 {
+    let hi = model.tau_s.map(|t| 1.0 + t).unwrap_or(f64::INFINITY);
+    let lo = model.tau_c.map(|t| 1.0 - t).unwrap_or(f64::NEG_INFINITY);
+    model
+        .springs
+        .iter()
+        .map(|s| {
+            let r = positions[s.i as usize].distance(positions[s.j as usize]) / s.rest_length;
+            (r - hi).max(lo - r).max(0.0)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Projects the spring limits; returns the largest remaining violation.
+pub fn project_spring_limits(
+    model: &Model,
+    state: &mut State,
+    scratch: &mut ProjectionScratch,
+) -> f64 {
+    if model.tau_s.is_none() && model.tau_c.is_none() {
+        return 0.0;
+    }
+    let n = model.particle_count();
+    let max_len = model.tau_s.map(|t| 1.0 + t).unwrap_or(f64::INFINITY);
+    let min_len = model.tau_c.map(|t| 1.0 - t).unwrap_or(0.0);
+    scratch.total.clear();
+    scratch.total.resize(n, DVec3::ZERO);
+    // Pinned particles do not move; their partners take the correction.
+    scratch.held.clear();
+    scratch.held.extend_from_slice(&model.fixed);
+
+    for _ in 0..model.constraint_iterations {
+        scratch.delta.clear();
+        scratch.delta.resize(n, DVec3::ZERO);
+        scratch.count.clear();
+        scratch.count.resize(n, 0);
+        let mut active = false;
+        for s in &model.springs {
+            let (i, j) = (s.i as usize, s.j as usize);
+            let d = state.positions[i] - state.positions[j];
+            let l = d.length();
+            if l <= 0.0 {
+                continue;
+            }
+            // Signed correction of the length: negative = too long (eq. 14), positive = too short (eq. 16).
+            let c = if l > max_len * s.rest_length {
+                max_len * s.rest_length - l
+            } else if l < min_len * s.rest_length {
+                min_len * s.rest_length - l
+            } else {
+                continue;
+            };
+            let u = d / l;
+            let (fi, fj) = (scratch.held[i], scratch.held[j]);
+            let (share_i, share_j) = match (fi, fj) {
+                (false, false) => (0.5, 0.5), // eq. 15 / 17
+                (true, false) => (0.0, 1.0),
+                (false, true) => (1.0, 0.0),
+                (true, true) => continue,
+            };
+            active = true;
+            scratch.delta[i] += share_i * c * u;
+            scratch.delta[j] -= share_j * c * u;
+            scratch.count[i] += (share_i > 0.0) as u32;
+            scratch.count[j] += (share_j > 0.0) as u32;
+        }
+        if !active {
+            break;
+        }
+        for i in 0..n {
+            if scratch.count[i] > 0 {
+                let step = scratch.delta[i] / scratch.count[i] as f64; // eq. 13
+                state.positions[i] += step;
+                scratch.total[i] += step;
+            }
+        }
+    }
+    let dt = model.dt;
+    for (v, t) in state.velocities.iter_mut().zip(&scratch.total) {
+        *v += *t / dt;
+    }
+    max_violation(model, &state.positions)
+}

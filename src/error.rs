@@ -1,0 +1,67 @@
+//! Errors of the simulation core. Each says what went wrong, where, and what
+//! to do about it; none is a panic.
+
+use crate::mesh::MeshError;
+use crate::scene::SceneError;
+
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+
+    #[error("{file}: bad mesh: {source}")]
+    Mesh { file: String, source: MeshError },
+
+    #[error("not supported yet: {what}")]
+    NotSupported { what: String },
+
+    #[error(
+        "{file}: [[{table}]] #{index} (min {min:?}, max {max:?}) contains no particle of the object, whose bounds are {bounds_min:?} .. {bounds_max:?}; enlarge the box or move it onto the object"
+    )]
+    EmptyRegion {
+        file: String,
+        table: String,
+        index: usize,
+        min: [f64; 3],
+        max: [f64; 3],
+        bounds_min: [f64; 3],
+        bounds_max: [f64; 3],
+    },
+
+    #[error(
+        "{file}: [[finger]] #{index} starts {depth_mm:.2} mm inside the object (at {position:?}); move it out, e.g. to z >= {suggest_z:.4}"
+    )]
+    FingerStartsInside {
+        file: String,
+        index: usize,
+        depth_mm: f64,
+        position: [f64; 3],
+        suggest_z: f64,
+    },
+
+    #[error(
+        "diverged at t = {time:.4} s (step {step}): {what}. The time step dt = {dt:e} s is likely too large for this stiffness (E = {young_modulus:e} Pa, alpha = {alpha:e}); try dt <= {suggest_dt:e} s, a smaller alpha, or a softer contact"
+    )]
+    Diverged {
+        time: f64,
+        step: u64,
+        what: String,
+        dt: f64,
+        young_modulus: f64,
+        alpha: f64,
+        suggest_dt: f64,
+    },
+
+    #[error(
+        "the quasi-static solve did not come to rest within {seconds} s of simulated time ({steps} steps; max speed still {max_speed:.3e} m/s > {tolerance:.1e} m/s); raise damping_ratio, or pass a larger time budget"
+    )]
+    NoRest {
+        seconds: f64,
+        steps: u64,
+        max_speed: f64,
+        tolerance: f64,
+    },
+
+    #[error("{0}")]
+    Invalid(String),
+}

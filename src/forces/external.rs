@@ -1,0 +1,48 @@
+//! Gravity (thesis eq. 5), `[[load]]` forces, and the forces that drive the
+//! fingers.
+
+use glam::{DMat3, DVec3};
+
+use crate::model::{AxisDrive, Model};
+use crate::solver::System;
+use crate::state::State;
+
+pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    let n = model.particle_count();
+    for (f, c) in force.iter_mut().zip(&model.constant_force) {
+        *f += *c;
+    }
+    let vel = |dof: usize| super::velocity_of(state, dof);
+    for (k, (finger, fs)) in model.fingers.iter().zip(&state.fingers).enumerate() {
+        force[n + k] += finger.driving_force(fs.applied_force);
+        // A mass-less finger moves against the guide's damping on its force axes.
+        let guide = finger.guide_damping(fs.applied_force);
+        if guide > 0.0 {
+            let axes = DVec3::from_array(
+                finger
+                    .drive
+                    .map(|d| if d == AxisDrive::Force { 1.0 } else { 0.0 }),
+            );
+            let c = DMat3::from_diagonal(axes * guide);
+            force[n + k] -= c * fs.velocity;
+            system.add_diag(n + k, DMat3::ZERO, c, &vel);
+        }
+    }
+}
+
+/// Potential energy of the constant forces and the applied finger forces (J).
+pub fn energy(model: &Model, state: &State) -> f64 {
+    let object: f64 = model
+        .constant_force
+        .iter()
+        .zip(&state.positions)
+        .map(|(f, x)| -f.dot(*x))
+        .sum();
+    let fingers: f64 = model
+        .fingers
+        .iter()
+        .zip(&state.fingers)
+        .map(|(f, s)| -f.driving_force(s.applied_force).dot(s.position))
+        .sum();
+    object + fingers
+}

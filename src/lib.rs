@@ -1,0 +1,44 @@
+//! softgrip: soft-object grasp simulation.
+//!
+//! The model of the thesis (`shared/thesis.md`, chapter 3): a tetrahedral mesh
+//! becomes a mass-spring-damper system with volume preservation and spring
+//! limits; spherical and plate fingers touch its boundary facets through
+//! Hunt-Crossley and stick-slip contact; implicit Euler and conjugate gradient
+//! integrate it.
+//!
+//! Module map (one file per stage, see ARCHITECTURE.md):
+//! - [`scene`]: scene files (the user contract), defaults and validation.
+//! - [`mesh`]: tetrahedral meshes and the built-in cuboid and cylinder.
+//! - [`model`]: the constant model built from a scene (masses, springs, facets, fingers).
+//! - [`state`]: the mutable state and the per-step diagnostics.
+//! - [`forces`]: springs and dampers, gravity and loads, volume preservation.
+//! - [`contact`]: broad phase, sphere/plate narrow phase, Hunt-Crossley, stick-slip.
+//! - [`solver`]: the block-sparse system and preconditioned CG.
+//! - [`integrate`]: implicit Euler; [`constraints`]: spring limits.
+//! - [`step`]: one time step and [`step::Simulation`]; [`quasi_static`]: loads to rest.
+//! - [`output`]: ParaView and CSV output; [`bench`]: the `softgrip bench` runs.
+//!
+//! The core has no GUI dependency: `cargo test --no-default-features`.
+
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
+
+pub mod bench;
+pub mod constraints;
+pub mod contact;
+pub mod error;
+pub mod forces;
+pub mod integrate;
+pub mod mesh;
+pub mod model;
+pub mod output;
+pub mod quasi_static;
+pub mod scene;
+pub mod solver;
+pub mod state;
+pub mod step;
+
+pub use error::SimError;
+pub use model::Model;
+pub use scene::Scene;
+pub use state::State;
+pub use step::Simulation;

@@ -1,0 +1,354 @@
+//! The constant model, built once from a scene (MuJoCo's `mjModel`): particle
+//! masses, springs, elements, boundary facets, fingers and solver settings, as
+//! flat arrays. Nothing here changes while the simulation steps; a GUI slider
+//! rebuilds the affected arrays instead.
+
+mod finger;
+
+pub use finger::{AxisDrive, FingerModel, HUNT_CROSSLEY_MIN_APPROACH_SPEED};
+
+use glam::DVec3;
+
+use crate::error::SimError;
+use crate::mesh::{TET_EDGES, TetMesh};
+use crate::scene::{Scene, Shape, SupportKind};
+
+/// A spring and its parallel damper between particles `i < j` (thesis Fig. 4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spring {
+    pub i: u32,
+    pub j: u32,
+    pub rest_length: f64,
+    /// N/m, Lloyd's formula summed over the elements sharing the edge (eq. 7-8).
+    pub stiffness: f64,
+    /// N s/m, `damping_ratio * 2 sqrt(k mu)` with the reduced mass mu (see [`spring_damping`]).
+    pub damping: f64,
+}
+
+/// The model: constant for a run.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub rest_positions: Vec<DVec3>,
+    /// Lumped masses (eq. 6), plus the share of any `[[load]]` mass.
+    pub mass: Vec<f64>,
+    pub fixed: Vec<bool>,
+    /// Constant external force per particle: gravity (eq. 5) and loads.
+    pub constant_force: Vec<DVec3>,
+    pub springs: Vec<Spring>,
+    /// Number of springs at each particle.
+    pub spring_degree: Vec<u32>,
+    pub tets: Vec<[u32; 4]>,
+    /// The spring of each tetrahedron edge, in [`TET_EDGES`] order.
+    pub tet_springs: Vec<[u32; 6]>,
+    pub rest_volume: Vec<f64>,
+    pub rest_total_volume: f64,
+    /// Boundary facets, wound outward.
+    pub facets: Vec<[u32; 3]>,
+    /// The springs along each facet's edges `(0,1), (1,2), (2,0)`.
+    pub facet_springs: Vec<[u32; 3]>,
+    pub fingers: Vec<FingerModel>,
+    pub gravity: DVec3,
+    pub dt: f64,
+    pub cg_tolerance: f64,
+    pub cg_max_iterations: usize,
+    pub alpha: f64,
+    pub tau_s: Option<f64>,
+    pub tau_c: Option<f64>,
+    pub constraint_iterations: usize,
+    /// Largest extent of the undeformed object (m): the NRMSE normaliser.
+    pub extent: f64,
+    /// Target edge length (m), for broad-phase cells and messages.
+    pub edge_length: f64,
+    pub young_modulus: f64,
+    pub density: f64,
+}
+
+/// Lloyd's stiffness contribution of one element (thesis eq. 7-8):
+/// `k_e = 2 sqrt(2) / 25 * l_e * E`, `l_e = (12 V / sqrt(2))^(1/3)`.
+pub fn lloyd_stiffness(volume: f64, young_modulus: f64) -> f64 {
+    let equivalent_edge = (volume * 12.0 / std::f64::consts::SQRT_2).cbrt();
+    2.0 * std::f64::consts::SQRT_2 / 25.0 * equivalent_edge * young_modulus
+}
+
+/// Damping of one spring (thesis eq. 9, made dimensionally consistent).
+///
+/// The thesis writes `d = 2 sqrt(k (m_i + m_j)) / l0`, which is not a force per
+/// velocity. We use the critical damping of the two-body oscillator the spring
+/// forms, `d = zeta * 2 sqrt(k mu)` with the reduced mass
+/// `mu = m_i m_j / (m_i + m_j)`: `zeta = 1` makes each spring's own mode
+/// critically damped whatever the mesh resolution, which is what the thesis's
+/// division by `l0` was meant to keep (see ARCHITECTURE.md, "Thesis pitfalls").
+pub fn spring_damping(damping_ratio: f64, stiffness: f64, m_i: f64, m_j: f64) -> f64 {
+    let reduced = m_i * m_j / (m_i + m_j);
+    damping_ratio * 2.0 * (stiffness * reduced).sqrt()
+}
+
+impl Model {
+    /// Builds the model of a scene (meshes the object first).
+    pub fn from_scene(scene: &Scene) -> Result<Model, SimError> {
+        let mesh = match &scene.object.shape {
+            Shape::Cuboid { size } => TetMesh::cuboid(*size, scene.object.edge_length),
+            Shape::Cylinder { radius, height } => {
+                TetMesh::cylinder(*radius, *height, scene.object.edge_length)
+            }
+            Shape::Mesh { path } => {
+                return Err(SimError::NotSupported {
+                    what: format!(
+                        "[object] shape = \"mesh\" ({}): mesh files are not supported yet; use \"cuboid\" or \"cylinder\"",
+                        path.display()
+                    ),
+                });
+            }
+        };
+        Model::from_mesh(scene, mesh)
+    }
+
+    /// Builds the model of a scene on a given mesh.
+    pub fn from_mesh(scene: &Scene, mesh: TetMesh) -> Result<Model, SimError> {
+        let file = scene
+            .source
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| "scene".to_string());
+        mesh.validate().map_err(|source| SimError::Mesh {
+            file: file.clone(),
+            source,
+        })?;
+        if scene.support.kind == SupportKind::Table {
+            return Err(SimError::NotSupported {
+                what: format!(
+                    "{file}: [support] kind = \"table\" is not supported yet; use \"fixed-bottom\" or \"none\""
+                ),
+            });
+        }
+        let n = mesh.nodes.len();
+        let obj = &scene.object;
+
+        // Masses (eq. 6) and rest volumes.
+        let rest_volume: Vec<f64> = (0..mesh.tets.len()).map(|t| mesh.tet_volume(t)).collect();
+        let mut mass = vec![0.0; n];
+        for (tet, &v) in mesh.tets.iter().zip(&rest_volume) {
+            for &p in tet {
+                mass[p as usize] += 0.25 * obj.density * v;
+            }
+        }
+
+        // Fixed particles.
+        let (lo, hi) = mesh.bounds();
+        let extent = (hi - lo).max_element();
+        let mut fixed = vec![false; n];
+        if scene.support.kind == SupportKind::FixedBottom {
+            let tol = 1e-9 * extent;
+            for (f, p) in fixed.iter_mut().zip(&mesh.nodes) {
+                *f |= p.z <= lo.z + tol;
+            }
+        }
+        for (b, region) in scene.fixed.iter().enumerate() {
+            let mut any = false;
+            for (f, p) in fixed.iter_mut().zip(&mesh.nodes) {
+                if region.contains(*p) {
+                    *f = true;
+                    any = true;
+                }
+            }
+            if !any {
+                return Err(SimError::EmptyRegion {
+                    file: file.clone(),
+                    table: "fixed".into(),
+                    index: b + 1,
+                    min: region.min.to_array(),
+                    max: region.max.to_array(),
+                    bounds_min: lo.to_array(),
+                    bounds_max: hi.to_array(),
+                });
+            }
+        }
+
+        // Constant forces: gravity and loads.
+        let gravity = scene.simulation.gravity;
+        let mut constant_force: Vec<DVec3> = mass.iter().map(|&m| m * gravity).collect();
+        for (b, load) in scene.loads.iter().enumerate() {
+            let inside: Vec<usize> = (0..n)
+                .filter(|&i| load.region.contains(mesh.nodes[i]))
+                .collect();
+            if inside.is_empty() {
+                return Err(SimError::EmptyRegion {
+                    file: file.clone(),
+                    table: "load".into(),
+                    index: b + 1,
+                    min: load.region.min.to_array(),
+                    max: load.region.max.to_array(),
+                    bounds_min: lo.to_array(),
+                    bounds_max: hi.to_array(),
+                });
+            }
+            let share = 1.0 / inside.len() as f64;
+            for i in inside {
+                mass[i] += load.mass * share;
+                constant_force[i] += load.mass * share * gravity + load.force * share;
+            }
+        }
+
+        // Springs on every edge, Lloyd stiffness summed over the elements (eq. 7).
+        let edges = mesh.edges();
+        let mut springs: Vec<Spring> = edges
+            .iter()
+            .map(|&[i, j]| Spring {
+                i,
+                j,
+                rest_length: mesh.nodes[i as usize].distance(mesh.nodes[j as usize]),
+                stiffness: 0.0,
+                damping: 0.0,
+            })
+            .collect();
+        let spring_of = |a: u32, b: u32| -> u32 {
+            let key = if a < b { [a, b] } else { [b, a] };
+            // Edges are sorted and every queried pair is an edge of the mesh.
+            edges
+                .binary_search(&key)
+                .map(|s| s as u32)
+                .unwrap_or(u32::MAX)
+        };
+        let mut tet_springs = Vec::with_capacity(mesh.tets.len());
+        for (tet, &v) in mesh.tets.iter().zip(&rest_volume) {
+            let k_e = lloyd_stiffness(v, obj.young_modulus);
+            let slots = TET_EDGES.map(|[a, b]| spring_of(tet[a], tet[b]));
+            for &s in &slots {
+                springs[s as usize].stiffness += k_e;
+            }
+            tet_springs.push(slots);
+        }
+        for s in &mut springs {
+            s.damping = spring_damping(
+                scene.model.damping_ratio,
+                s.stiffness,
+                mass[s.i as usize],
+                mass[s.j as usize],
+            );
+        }
+
+        let mut spring_degree = vec![0u32; n];
+        for s in &springs {
+            spring_degree[s.i as usize] += 1;
+            spring_degree[s.j as usize] += 1;
+        }
+        let facets = mesh.boundary_facets();
+        let facet_springs = facets
+            .iter()
+            .map(|f| {
+                [
+                    spring_of(f[0], f[1]),
+                    spring_of(f[1], f[2]),
+                    spring_of(f[2], f[0]),
+                ]
+            })
+            .collect();
+
+        let fingers = scene
+            .fingers
+            .iter()
+            .map(|f| FingerModel::new(f, obj.young_modulus, obj.poisson_ratio, gravity))
+            .collect();
+
+        Ok(Model {
+            rest_total_volume: rest_volume.iter().sum(),
+            rest_positions: mesh.nodes,
+            mass,
+            fixed,
+            constant_force,
+            springs,
+            spring_degree,
+            tets: mesh.tets,
+            tet_springs,
+            rest_volume,
+            facets,
+            facet_springs,
+            fingers,
+            gravity,
+            dt: scene.simulation.dt,
+            cg_tolerance: scene.simulation.cg_tolerance,
+            cg_max_iterations: scene.simulation.cg_max_iterations,
+            alpha: scene.model.alpha,
+            tau_s: scene.model.tau_s,
+            tau_c: scene.model.tau_c,
+            constraint_iterations: scene.model.constraint_iterations,
+            extent,
+            edge_length: obj.edge_length,
+            young_modulus: obj.young_modulus,
+            density: obj.density,
+        })
+    }
+
+    /// A bare particle-spring model without elements or facets (a chain, a
+    /// single spring): for verification against analytic results.
+    /// `springs` are `(i, j, stiffness, damping)`, rest lengths taken from
+    /// `positions`.
+    pub fn from_particles(
+        positions: Vec<DVec3>,
+        mass: Vec<f64>,
+        fixed: Vec<bool>,
+        springs: &[(u32, u32, f64, f64)],
+        gravity: DVec3,
+        dt: f64,
+    ) -> Model {
+        let n = positions.len();
+        let springs: Vec<Spring> = springs
+            .iter()
+            .map(|&(i, j, k, d)| {
+                let (i, j) = if i < j { (i, j) } else { (j, i) };
+                Spring {
+                    i,
+                    j,
+                    rest_length: positions[i as usize].distance(positions[j as usize]),
+                    stiffness: k,
+                    damping: d,
+                }
+            })
+            .collect();
+        let mut spring_degree = vec![0u32; n];
+        for s in &springs {
+            spring_degree[s.i as usize] += 1;
+            spring_degree[s.j as usize] += 1;
+        }
+        let (lo, hi) = positions.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        Model {
+            constant_force: mass.iter().map(|&m| m * gravity).collect(),
+            rest_positions: positions,
+            mass,
+            fixed,
+            springs,
+            spring_degree,
+            tets: Vec::new(),
+            tet_springs: Vec::new(),
+            rest_volume: Vec::new(),
+            rest_total_volume: 0.0,
+            facets: Vec::new(),
+            facet_springs: Vec::new(),
+            fingers: Vec::new(),
+            gravity,
+            dt,
+            cg_tolerance: 1e-12,
+            cg_max_iterations: 1000,
+            alpha: 0.0,
+            tau_s: None,
+            tau_c: None,
+            constraint_iterations: 0,
+            extent: (hi - lo).max_element(),
+            edge_length: (hi - lo).max_element(),
+            young_modulus: 1.0,
+            density: 1.0,
+        }
+    }
+
+    pub fn particle_count(&self) -> usize {
+        self.rest_positions.len()
+    }
+
+    /// Total mass of the object (with loads), kg.
+    pub fn total_mass(&self) -> f64 {
+        self.mass.iter().sum()
+    }
+}

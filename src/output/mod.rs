@@ -1,0 +1,82 @@
+//! Writing results: ParaView files (`.vtu` per frame and a `.pvd` series) and
+//! the fingers' track as CSV.
+
+pub mod vtu;
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::model::Model;
+use crate::state::State;
+
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {path}: {source}. Check that the folder exists and is writable.")]
+pub struct OutputError {
+    pub path: PathBuf,
+    pub source: std::io::Error,
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |source| OutputError {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Writes a trajectory as it is produced.
+pub struct TrajectoryWriter {
+    dir: PathBuf,
+    frames: Vec<(f64, String)>,
+    fingers_csv: String,
+}
+
+impl TrajectoryWriter {
+    pub fn new(dir: &Path) -> Result<TrajectoryWriter, OutputError> {
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        Ok(TrajectoryWriter {
+            dir: dir.to_path_buf(),
+            frames: Vec::new(),
+            fingers_csv: String::from("time,finger,x,y,z,fx,fy,fz\n"),
+        })
+    }
+
+    /// Writes `frame_NNNNN.vtu` and appends the fingers' rows.
+    pub fn frame(&mut self, model: &Model, state: &State) -> Result<(), OutputError> {
+        let name = format!("frame_{:05}.vtu", self.frames.len());
+        let path = self.dir.join(&name);
+        std::fs::write(&path, vtu::to_vtu(model, state)).map_err(io_err(&path))?;
+        self.frames.push((state.time, name));
+        for (k, f) in state.fingers.iter().enumerate() {
+            let p = f.position;
+            let c = f.contact_force;
+            let _ = writeln!(
+                self.fingers_csv,
+                "{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
+                state.time, k, p.x, p.y, p.z, c.x, c.y, c.z
+            );
+        }
+        Ok(())
+    }
+
+    /// Writes `trajectory.pvd` and `fingers.csv`.
+    pub fn finish(self) -> Result<PathBuf, OutputError> {
+        let pvd = self.dir.join("trajectory.pvd");
+        let mut text = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+        );
+        for (t, name) in &self.frames {
+            let _ = writeln!(
+                text,
+                "    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{name}\"/>"
+            );
+        }
+        text.push_str("  </Collection>\n</VTKFile>\n");
+        std::fs::write(&pvd, text).map_err(io_err(&pvd))?;
+        let csv = self.dir.join("fingers.csv");
+        let mut file = std::fs::File::create(&csv).map_err(io_err(&csv))?;
+        file.write_all(self.fingers_csv.as_bytes())
+            .map_err(io_err(&csv))?;
+        Ok(pvd)
+    }
+}

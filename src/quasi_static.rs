@@ -1,0 +1,158 @@
+//! Quasi-static mode: apply a load, then step until the object and the
+//! fingers are at rest. The next load starts from the state reached (a warm
+//! start), as the thesis's lab added weights one after another.
+//!
+//! "At rest" means: for `consecutive_steps` steps in a row, no particle and no
+//! finger moves faster than `speed` (m/s). At rest, a mass-less finger's
+//! remaining force imbalance is `guide_damping * speed` (for the thesis load,
+//! 9.73 N / 0.05 m/s * 1e-5 m/s = 2 mN, 0.02 %).
+
+use glam::DVec3;
+
+use crate::error::SimError;
+use crate::step::Simulation;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestTolerance {
+    /// m/s.
+    pub speed: f64,
+    pub consecutive_steps: u32,
+    /// Simulated seconds allowed per load before giving up.
+    pub max_seconds: f64,
+}
+
+impl Default for RestTolerance {
+    fn default() -> Self {
+        RestTolerance {
+            speed: 1e-5,
+            consecutive_steps: 20,
+            max_seconds: 20.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestReport {
+    pub steps: u64,
+    pub seconds: f64,
+    pub max_speed: f64,
+}
+
+impl Simulation {
+    /// Sets the applied force of finger `k` to `magnitude` N along its scene
+    /// `force` direction (the recording's `load`).
+    pub fn set_load(&mut self, k: usize, magnitude: f64) {
+        let dir = self.model.fingers[k].load_direction;
+        self.state.fingers[k].applied_force = dir * magnitude;
+    }
+
+    /// The first force-controlled finger, whose force the recordings' `load` sets.
+    pub fn load_finger(&self) -> Option<usize> {
+        self.model
+            .fingers
+            .iter()
+            .position(|f| f.is_force_controlled())
+    }
+
+    /// Steps until at rest (see [`RestTolerance`]); `progress` gets the step count.
+    pub fn settle(
+        &mut self,
+        tol: RestTolerance,
+        mut progress: impl FnMut(u64),
+    ) -> Result<RestReport, SimError> {
+        let start_time = self.state.time;
+        let start_step = self.state.step;
+        let mut calm = 0;
+        loop {
+            self.step()?;
+            let finger_speed = self
+                .state
+                .fingers
+                .iter()
+                .map(|f| f.velocity.length())
+                .fold(0.0, f64::max);
+            let speed = self.state.stats.max_speed.max(finger_speed);
+            // Velocity-driven fingers that still move are not "at rest" input.
+            let moving_input = self
+                .model
+                .fingers
+                .iter()
+                .zip(&self.state.fingers)
+                .any(|(f, s)| {
+                    f.drive
+                        .iter()
+                        .any(|d| matches!(d, crate::model::AxisDrive::Velocity(v) if *v != 0.0))
+                        && f.travel.is_none_or(|t| s.travelled < t)
+                });
+            calm = if speed < tol.speed && !moving_input {
+                calm + 1
+            } else {
+                0
+            };
+            progress(self.state.step - start_step);
+            if calm >= tol.consecutive_steps {
+                return Ok(RestReport {
+                    steps: self.state.step - start_step,
+                    seconds: self.state.time - start_time,
+                    max_speed: speed,
+                });
+            }
+            if self.state.time - start_time > tol.max_seconds {
+                return Err(SimError::NoRest {
+                    seconds: tol.max_seconds,
+                    steps: self.state.step - start_step,
+                    max_speed: speed,
+                    tolerance: tol.speed,
+                });
+            }
+        }
+    }
+
+    /// Sum of the forces the pinned particles need to stay put: the support
+    /// reaction (N). At rest it balances gravity, loads and finger forces.
+    pub fn support_reaction(&self) -> DVec3 {
+        // Recompute the internal and external forces on pinned particles.
+        let m = &self.model;
+        let x = &self.state.positions;
+        let mut f = vec![DVec3::ZERO; m.particle_count()];
+        for s in &m.springs {
+            let (i, j) = (s.i as usize, s.j as usize);
+            let d = x[j] - x[i];
+            let l = d.length();
+            if l > 0.0 {
+                let v = &self.state.velocities;
+                let u = d / l;
+                let t = (s.stiffness * (l - s.rest_length) + s.damping * u.dot(v[j] - v[i])) * u;
+                f[i] += t;
+                f[j] -= t;
+            }
+        }
+        for (fi, c) in f.iter_mut().zip(&m.constant_force) {
+            *fi += *c;
+        }
+        if m.alpha > 0.0 {
+            for (t, tet) in m.tets.iter().enumerate() {
+                let p = tet.map(|i| x[i as usize]);
+                let v = crate::mesh::signed_volume(p[0], p[1], p[2], p[3]);
+                let b = (p[0] + p[1] + p[2] + p[3]) * 0.25;
+                let u = p.map(|q| (q - b).normalize_or_zero());
+                let mean = (u[0] + u[1] + u[2] + u[3]) * 0.25;
+                for k in 0..4 {
+                    f[tet[k] as usize] += m.alpha * (m.rest_volume[t] - v) * (u[k] - mean);
+                }
+            }
+        }
+        for c in &self.state.contacts {
+            let tri = m.facets[c.facet as usize];
+            for a in 0..3 {
+                f[tri[a] as usize] +=
+                    c.weights[a] * (c.normal_force * c.normal + c.tangential_force);
+            }
+        }
+        -f.iter()
+            .zip(&m.fixed)
+            .filter(|(_, fixed)| **fixed)
+            .map(|(f, _)| *f)
+            .sum::<DVec3>()
+    }
+}

@@ -1,0 +1,8 @@
+//! Linear algebra of the implicit step: the block-sparse system matrix of
+//! thesis eq. 43 and the preconditioned conjugate gradient that solves it.
+
+pub mod cg;
+pub mod system;
+
+pub use cg::{CgError, CgParams, CgReport, LinearOperator, conjugate_gradient};
+pub use system::System;

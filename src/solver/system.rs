@@ -1,0 +1,183 @@
+//! The implicit-Euler system matrix `A = M - dt df/dv - dt^2 df/dx` (thesis
+//! eq. 43), stored as 3x3 blocks: one diagonal block per particle and finger,
+//! one off-diagonal block per spring (every pair of particles that a force
+//! couples is an edge of the mesh: springs, volume terms of an element and
+//! contact terms of a facet all act on edges), and a list of particle-finger
+//! blocks from contacts.
+//!
+//! Force terms are added as their negative Jacobians `Kp = -df/dx` and
+//! `Dp = -df/dv`, which every term keeps symmetric positive semi-definite, so
+//! A stays SPD and CG applies. The product `Kp v` that the right-hand side of
+//! eq. 43 needs is accumulated at the same time.
+
+use glam::{DMat3, DVec3};
+
+use super::cg::LinearOperator;
+use crate::model::Model;
+
+/// Unknown index: particles first, then fingers.
+pub type Dof = usize;
+
+#[derive(Debug, Default, Clone)]
+pub struct System {
+    dt: f64,
+    pub particles: usize,
+    /// Diagonal blocks, particles then fingers.
+    pub diag: Vec<DMat3>,
+    /// Block (springs[s].i, springs[s].j); its transpose is block (j, i).
+    pub off: Vec<DMat3>,
+    /// Block (particle, finger dof); its transpose is block (finger, particle).
+    pub coupling: Vec<(u32, u32, DMat3)>,
+    /// `Kp v`, for the right-hand side.
+    pub kv: Vec<DVec3>,
+    /// 1 on a free component, 0 on a fixed one (Baraff-Witkin filter).
+    pub mask: Vec<DVec3>,
+    /// Inverses of the masked diagonal blocks (block-Jacobi preconditioner).
+    inv_diag: Vec<DMat3>,
+}
+
+impl System {
+    /// Starts a step: `A = M`, `Kp v = 0`; the mask is set by the caller.
+    pub fn begin(&mut self, model: &Model, dt: f64) {
+        let n = model.particle_count();
+        let nf = model.fingers.len();
+        self.dt = dt;
+        self.particles = n;
+        self.diag.clear();
+        self.diag.extend(
+            model
+                .mass
+                .iter()
+                .map(|&m| DMat3::from_diagonal(DVec3::splat(m))),
+        );
+        self.diag.extend(
+            model
+                .fingers
+                .iter()
+                .map(|f| DMat3::from_diagonal(DVec3::splat(f.mass))),
+        );
+        self.off.clear();
+        self.off.resize(model.springs.len(), DMat3::ZERO);
+        self.coupling.clear();
+        self.kv.clear();
+        self.kv.resize(n + nf, DVec3::ZERO);
+        self.mask.clear();
+        self.mask.resize(n + nf, DVec3::ONE);
+    }
+
+    #[inline]
+    fn weight(&self, kp: DMat3, dp: DMat3) -> DMat3 {
+        kp * (self.dt * self.dt) + dp * self.dt
+    }
+
+    /// Adds `(Kp, Dp)` to the diagonal block of `a`.
+    #[inline]
+    pub fn add_diag(&mut self, a: Dof, kp: DMat3, dp: DMat3, v: &impl Fn(Dof) -> DVec3) {
+        let w = self.weight(kp, dp);
+        self.diag[a] += w;
+        self.kv[a] += kp * v(a);
+    }
+
+    /// Adds block `(a, b)` (and its transpose at `(b, a)`) for particles `a != b`
+    /// joined by spring `slot` of `springs`.
+    #[inline]
+    pub fn add_off(
+        &mut self,
+        springs: &[crate::model::Spring],
+        slot: u32,
+        a: Dof,
+        b: Dof,
+        kp: DMat3,
+        dp: DMat3,
+        v: &impl Fn(Dof) -> DVec3,
+    ) {
+        let w = self.weight(kp, dp);
+        let s = slot as usize;
+        if springs[s].i as usize == a {
+            self.off[s] += w;
+        } else {
+            self.off[s] += w.transpose();
+        }
+        self.kv[a] += kp * v(b);
+        self.kv[b] += kp.transpose() * v(a);
+    }
+
+    /// Adds block `(particle, finger)` and its transpose.
+    #[inline]
+    pub fn add_coupling(
+        &mut self,
+        particle: Dof,
+        finger: Dof,
+        kp: DMat3,
+        dp: DMat3,
+        v: &impl Fn(Dof) -> DVec3,
+    ) {
+        let w = self.weight(kp, dp);
+        self.coupling.push((particle as u32, finger as u32, w));
+        self.kv[particle] += kp * v(finger);
+        self.kv[finger] += kp.transpose() * v(particle);
+    }
+
+    /// Prepares the preconditioner after assembly.
+    pub fn finish(&mut self) {
+        self.inv_diag.clear();
+        for (d, m) in self.diag.iter().zip(&self.mask) {
+            // Replace fixed rows and columns by the identity, then invert.
+            let keep = DMat3::from_diagonal(*m);
+            let fixed = DMat3::from_diagonal(DVec3::ONE - *m);
+            let block = keep * *d * keep + fixed;
+            let det = block.determinant();
+            let inv = if det.is_finite() && det.abs() > 0.0 {
+                block.inverse()
+            } else {
+                // A zero block (a mass-less, undamped free axis) preconditions as identity.
+                DMat3::IDENTITY
+            };
+            self.inv_diag.push(keep * inv * keep);
+        }
+    }
+
+    /// `y = A x` restricted to the free components.
+    pub fn multiply(&self, springs: &[crate::model::Spring], x: &[DVec3], y: &mut [DVec3]) {
+        for ((y, d), x) in y.iter_mut().zip(&self.diag).zip(x) {
+            *y = *d * *x;
+        }
+        for (s, block) in springs.iter().zip(&self.off) {
+            let (i, j) = (s.i as usize, s.j as usize);
+            y[i] += *block * x[j];
+            y[j] += block.transpose() * x[i];
+        }
+        for &(p, f, block) in &self.coupling {
+            let (p, f) = (p as usize, f as usize);
+            y[p] += block * x[f];
+            y[f] += block.transpose() * x[p];
+        }
+        for (y, m) in y.iter_mut().zip(&self.mask) {
+            *y *= *m;
+        }
+    }
+}
+
+/// The assembled system seen as an operator for CG.
+pub struct SystemOperator<'a> {
+    pub system: &'a System,
+    pub springs: &'a [crate::model::Spring],
+}
+
+impl LinearOperator for SystemOperator<'_> {
+    fn apply(&self, x: &[DVec3], y: &mut [DVec3]) {
+        self.system.multiply(self.springs, x, y);
+    }
+
+    fn precondition(&self, r: &[DVec3], z: &mut [DVec3]) {
+        for ((z, inv), r) in z.iter_mut().zip(&self.system.inv_diag).zip(r) {
+            *z = *inv * *r;
+        }
+    }
+}
+
+/// `a b^T`.
+#[inline]
+pub fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}

@@ -1,0 +1,140 @@
+//! The mutable state of a run (MuJoCo's `mjData`): positions, velocities,
+//! fingers, contacts and the diagnostics of the last step.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use crate::model::Model;
+
+/// The state of one finger.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FingerState {
+    pub position: DVec3,
+    pub velocity: DVec3,
+    /// Total contact force the object exerts on the finger (N).
+    pub contact_force: DVec3,
+    /// Sum of the normal-force magnitudes of its contacts (N).
+    pub normal_force: f64,
+    /// Sum of the tangential forces on the object (N).
+    pub tangential_force: DVec3,
+    /// Largest penetration of any of its contacts (m).
+    pub max_penetration: f64,
+    /// Distance moved by velocity control so far (m).
+    pub travelled: f64,
+    /// The applied force (N): the scene's `force`, changed by quasi-static loading.
+    pub applied_force: DVec3,
+}
+
+/// One finger-facet contact of the last step (for output and the viewer).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    pub finger: u32,
+    pub facet: u32,
+    pub point: DVec3,
+    /// Unit normal from the finger into the object (the force on the object is along it).
+    pub normal: DVec3,
+    pub penetration: f64,
+    pub normal_force: f64,
+    /// Tangential force on the object (N).
+    pub tangential_force: DVec3,
+    /// Stick weight S of eq. 31: 1 sticking, 0 slipping.
+    pub stick: f64,
+    /// Barycentric weights of the contact point (the H of eq. 38).
+    pub weights: [f64; 3],
+}
+
+/// What a contact remembers between steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactMemory {
+    /// Normal speed at first contact (eq. 26's delta-dot-0), floored.
+    pub approach_speed: f64,
+    /// The stick anchor: a material point of the facet (barycentric) ...
+    pub anchor_weights: [f64; 3],
+    /// ... and where it should be relative to the finger centre.
+    pub anchor_offset: DVec3,
+}
+
+/// Diagnostics of the last step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepStats {
+    pub cg_iterations: usize,
+    /// Relative residual |b - A dv| / |b| at the end of CG.
+    pub cg_residual: f64,
+    pub kinetic_energy: f64,
+    /// Kinetic + spring + gravity + applied-force + contact energy (J).
+    pub energy: f64,
+    /// |V - V0| / V0 of the whole object (thesis eq. 47-48).
+    pub volume_error: f64,
+    /// Largest spring-limit violation after projection, relative to rest length.
+    pub limit_violation: f64,
+    pub contacts: usize,
+    /// Largest particle speed (m/s).
+    pub max_speed: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    pub time: f64,
+    pub step: u64,
+    pub positions: Vec<DVec3>,
+    pub velocities: Vec<DVec3>,
+    pub fingers: Vec<FingerState>,
+    pub contacts: Vec<Contact>,
+    /// Keyed by (finger, facet); ordered, so runs are deterministic.
+    pub contact_memory: BTreeMap<(u32, u32), ContactMemory>,
+    pub stats: StepStats,
+}
+
+impl State {
+    /// The undeformed object at rest, fingers at their scene positions.
+    pub fn initial(model: &Model) -> State {
+        State {
+            time: 0.0,
+            step: 0,
+            positions: model.rest_positions.clone(),
+            velocities: vec![DVec3::ZERO; model.particle_count()],
+            fingers: model
+                .fingers
+                .iter()
+                .map(|f| FingerState {
+                    position: f.initial_position,
+                    applied_force: f.force,
+                    ..Default::default()
+                })
+                .collect(),
+            contacts: Vec::new(),
+            contact_memory: BTreeMap::new(),
+            stats: StepStats::default(),
+        }
+    }
+
+    /// Current total signed volume of the object.
+    pub fn volume(&self, model: &Model) -> f64 {
+        model
+            .tets
+            .iter()
+            .map(|t| {
+                let p = t.map(|i| self.positions[i as usize]);
+                crate::mesh::signed_volume(p[0], p[1], p[2], p[3])
+            })
+            .sum()
+    }
+
+    /// Total linear momentum of the object and the fingers.
+    pub fn momentum(&self, model: &Model) -> DVec3 {
+        let object: DVec3 = self
+            .velocities
+            .iter()
+            .zip(&model.mass)
+            .map(|(v, m)| *v * *m)
+            .sum();
+        let fingers: DVec3 = self
+            .fingers
+            .iter()
+            .zip(&model.fingers)
+            .map(|(s, f)| s.velocity * f.mass)
+            .sum();
+        object + fingers
+    }
+}

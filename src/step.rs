@@ -1,0 +1,264 @@
+//! One time step, in the order of thesis Fig. 9: forces, contact, volume,
+//! integrate, constraints; then the diagnostics and the divergence check.
+
+use std::time::Instant;
+
+use glam::DVec3;
+
+use crate::constraints::{ProjectionScratch, project_spring_limits};
+use crate::contact::ContactScratch;
+use crate::error::SimError;
+use crate::model::Model;
+use crate::scene::Scene;
+use crate::solver::System;
+use crate::solver::cg::{CgError, CgScratch};
+use crate::state::State;
+use crate::{contact, forces, integrate};
+
+/// Scratch memory of a step: allocated once, reused every step.
+#[derive(Debug, Default, Clone)]
+pub struct Scratch {
+    force: Vec<DVec3>,
+    system: System,
+    rhs: Vec<DVec3>,
+    dv: Vec<DVec3>,
+    cg: CgScratch,
+    contact: ContactScratch,
+    projection: ProjectionScratch,
+}
+
+/// A model, its state and the scratch memory: everything a run needs.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    pub model: Model,
+    pub state: State,
+    scratch: Scratch,
+    /// Wall-clock seconds spent in `step` so far.
+    pub wall_seconds: f64,
+}
+
+impl Simulation {
+    /// Meshes the scene, builds the model and checks the start state.
+    pub fn new(scene: &Scene) -> Result<Simulation, SimError> {
+        let model = Model::from_scene(scene)?;
+        let sim = Simulation::from_model(model);
+        sim.check_fingers_outside(scene)?;
+        Ok(sim)
+    }
+
+    pub fn from_model(model: Model) -> Simulation {
+        let state = State::initial(&model);
+        Simulation {
+            model,
+            state,
+            scratch: Scratch::default(),
+            wall_seconds: 0.0,
+        }
+    }
+
+    /// A finger that starts inside the object would be shot out by the contact.
+    fn check_fingers_outside(&self, scene: &Scene) -> Result<(), SimError> {
+        let file = scene
+            .source
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| "scene".into());
+        for (k, fs) in self.state.fingers.iter().enumerate() {
+            let mut deepest: f64 = 0.0;
+            for tri in &self.model.facets {
+                let p = tri.map(|i| self.state.positions[i as usize]);
+                if let Some(g) = contact::detect(&self.model, k, fs.position, p) {
+                    deepest = deepest.max(g.penetration);
+                }
+            }
+            // The object's own bounds catch a finger buried past its facets.
+            let (lo, hi) = self.model.rest_positions.iter().fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            let centre_inside = fs.position.cmpgt(lo).all() && fs.position.cmplt(hi).all();
+            if deepest > 1e-9 || centre_inside {
+                let lift = match self.model.fingers[k].shape {
+                    crate::scene::FingerShape::Sphere { radius } => hi.z + radius,
+                    crate::scene::FingerShape::Plate { .. } => hi.z,
+                };
+                return Err(SimError::FingerStartsInside {
+                    file,
+                    index: k + 1,
+                    depth_mm: deepest.max(
+                        if centre_inside {
+                            fs.position.z - hi.z
+                        } else {
+                            0.0
+                        }
+                        .abs(),
+                    ) * 1e3,
+                    position: fs.position.to_array(),
+                    suggest_z: lift,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Advances one time step `dt`.
+    pub fn step(&mut self) -> Result<(), SimError> {
+        let started = Instant::now();
+        let result = step(&self.model, &mut self.state, &mut self.scratch);
+        self.wall_seconds += started.elapsed().as_secs_f64();
+        result
+    }
+
+    /// Steps until `time` (s) is reached.
+    pub fn run_until(&mut self, time: f64) -> Result<(), SimError> {
+        while self.state.time + 0.5 * self.model.dt < time {
+            self.step()?;
+        }
+        Ok(())
+    }
+}
+
+/// One step: the thesis's simulation loop body (Fig. 9).
+pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), SimError> {
+    let n = model.particle_count();
+    let total = n + model.fingers.len();
+    s.force.clear();
+    s.force.resize(total, DVec3::ZERO);
+    integrate::drive_fingers(model, state);
+    s.system.begin(model, model.dt);
+    integrate::set_mask(model, &mut s.system);
+
+    forces::springs::accumulate(model, state, &mut s.force, &mut s.system);
+    forces::external::accumulate(model, state, &mut s.force, &mut s.system);
+    contact::accumulate(model, state, &mut s.force, &mut s.system, &mut s.contact);
+    forces::volume::accumulate(model, state, &mut s.force, &mut s.system);
+
+    let report = integrate::implicit_euler_update(
+        model,
+        state,
+        &s.force,
+        &mut s.system,
+        &mut s.rhs,
+        &mut s.dv,
+        &mut s.cg,
+    )
+    .map_err(|e| diverged(model, state, cg_message(e)))?;
+    let violation = project_spring_limits(model, state, &mut s.projection);
+
+    state.time += model.dt;
+    state.step += 1;
+    let st = &mut state.stats;
+    st.cg_iterations = report.iterations;
+    st.cg_residual = report.relative_residual;
+    st.limit_violation = violation;
+    st.contacts = state.contacts.len();
+    update_diagnostics(model, state);
+    check_divergence(model, state)
+}
+
+fn cg_message(e: CgError) -> String {
+    match e {
+        CgError::NoConvergence {
+            iterations,
+            residual,
+        } => format!(
+            "the linear solver did not converge ({iterations} iterations, residual {residual:.2e}; raise [simulation] cg_max_iterations if the state looks sane)"
+        ),
+        other => format!("the linear solver failed: {other}"),
+    }
+}
+
+/// Energy, volume error and speeds of the state.
+pub fn update_diagnostics(model: &Model, state: &mut State) {
+    let kinetic: f64 = state
+        .velocities
+        .iter()
+        .zip(&model.mass)
+        .map(|(v, m)| 0.5 * m * v.length_squared())
+        .sum::<f64>()
+        + state
+            .fingers
+            .iter()
+            .zip(&model.fingers)
+            .map(|(s, f)| 0.5 * f.mass * s.velocity.length_squared())
+            .sum::<f64>();
+    let energy = kinetic
+        + forces::springs::energy(model, state)
+        + forces::external::energy(model, state)
+        + contact::energy(model, state);
+    let volume = state.volume(model);
+    let st = &mut state.stats;
+    st.kinetic_energy = kinetic;
+    st.energy = energy;
+    st.volume_error = if model.rest_total_volume > 0.0 {
+        (volume - model.rest_total_volume).abs() / model.rest_total_volume
+    } else {
+        0.0
+    };
+    st.max_speed = state
+        .velocities
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0, f64::max);
+}
+
+/// Speed beyond which a state is taken as diverged (m/s): far above the
+/// material's wave speed and anything a gripper does.
+pub fn speed_limit(model: &Model) -> f64 {
+    (50.0 * (model.young_modulus / model.density).sqrt()).max(100.0)
+}
+
+fn diverged(model: &Model, state: &State, what: String) -> SimError {
+    // A rough explicit-stability estimate for the smallest element as the
+    // suggestion: a quarter of the current step when nothing better is known.
+    let wave = (model.young_modulus / model.density).sqrt();
+    let suggest = (model.dt / 4.0).min(model.edge_length / wave).max(1e-7);
+    SimError::Diverged {
+        time: state.time,
+        step: state.step,
+        what,
+        dt: model.dt,
+        young_modulus: model.young_modulus,
+        alpha: model.alpha,
+        suggest_dt: suggest,
+    }
+}
+
+/// NaN, infinity or an impossible speed end the run with an error.
+fn check_divergence(model: &Model, state: &State) -> Result<(), SimError> {
+    let limit = speed_limit(model);
+    for (i, (x, v)) in state.positions.iter().zip(&state.velocities).enumerate() {
+        if !x.is_finite() || !v.is_finite() {
+            return Err(diverged(
+                model,
+                state,
+                format!("particle {i} has a non-finite position or velocity"),
+            ));
+        }
+        let speed = v.length();
+        if speed > limit {
+            return Err(diverged(
+                model,
+                state,
+                format!(
+                    "particle {i} near ({:.4}, {:.4}, {:.4}) m moves at {speed:.3e} m/s (limit {limit:.0} m/s)",
+                    x.x, x.y, x.z
+                ),
+            ));
+        }
+    }
+    for (k, f) in state.fingers.iter().enumerate() {
+        if !f.position.is_finite() || !f.velocity.is_finite() || f.velocity.length() > limit {
+            return Err(diverged(
+                model,
+                state,
+                format!(
+                    "finger {} left the scene (velocity {:?})",
+                    k + 1,
+                    f.velocity.to_array()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,226 @@
+//! Acceptance 9: bad scenes give their own clear error; nothing panics.
+
+use softgrip::{Scene, SimError, Simulation};
+
+const BASE: &str = r#"
+[object]
+shape = "cuboid"
+size = [0.05, 0.05, 0.02]
+edge_length = 0.005
+"#;
+
+/// Loads `text` as a scene file and builds the simulation; the error text.
+fn error_of(text: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("softgrip-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(format!(
+        "case-{:x}.toml",
+        text.len() * 31 + text.bytes().map(|b| b as usize).sum::<usize>()
+    ));
+    std::fs::write(&path, text).expect("write");
+    let result = Scene::load(&path)
+        .map_err(SimError::from)
+        .and_then(|s| Simulation::new(&s));
+    match result {
+        Ok(_) => panic!("scene was accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn expect(text: &str, fragments: &[&str]) {
+    let msg = error_of(text);
+    for f in fragments {
+        assert!(msg.contains(f), "error {msg:?} does not mention {f:?}");
+    }
+}
+
+#[test]
+fn unknown_key_names_key_line_and_file() {
+    expect(
+        &format!("{BASE}youngs_modulus = 5e4\n"),
+        &["youngs_modulus", "line 6", "case-", "[extra]"],
+    );
+}
+
+#[test]
+fn unknown_table() {
+    expect(&format!("{BASE}[materail]\nx = 1\n"), &["materail"]);
+}
+
+#[test]
+fn negative_modulus() {
+    expect(
+        &format!("{BASE}young_modulus = -5.0\n"),
+        &["young_modulus", "-5", "> 0 Pa", ":6"],
+    );
+}
+
+#[test]
+fn incompressible_poisson_ratio() {
+    expect(
+        &format!("{BASE}poisson_ratio = 0.5\n"),
+        &["poisson_ratio", "0.5", "(-1, 0.5)"],
+    );
+}
+
+#[test]
+fn non_positive_time_step() {
+    expect(&format!("[simulation]\ndt = 0.0\n{BASE}"), &["dt", "> 0"]);
+}
+
+#[test]
+fn missing_shape() {
+    expect(
+        "[object]\nsize = [0.05, 0.05, 0.02]\n",
+        &["shape is required"],
+    );
+}
+
+#[test]
+fn unknown_shape() {
+    expect(
+        "[object]\nshape = \"sphere\"\nradius = 0.02\n",
+        &["shape", "\"sphere\"", "cuboid"],
+    );
+}
+
+#[test]
+fn cylinder_without_height() {
+    expect(
+        "[object]\nshape = \"cylinder\"\nradius = 0.02\n",
+        &["height", "required"],
+    );
+}
+
+#[test]
+fn wrong_value_type() {
+    expect(
+        &format!("{BASE}density = \"heavy\"\n"),
+        &["density", "type"],
+    );
+}
+
+#[test]
+fn finger_inside_the_object() {
+    expect(
+        &format!("{BASE}[[finger]]\nradius = 0.015\nposition = [0.0, 0.0, 0.03]\n"),
+        &["finger", "inside", "z >="],
+    );
+}
+
+#[test]
+fn empty_fixed_box() {
+    expect(
+        &format!("{BASE}[[fixed]]\nmin = [1.0, 1.0, 1.0]\nmax = [1.1, 1.1, 1.1]\n"),
+        &["[[fixed]] #1", "no particle"],
+    );
+}
+
+#[test]
+fn inverted_fixed_box() {
+    expect(
+        &format!("{BASE}[[fixed]]\nmin = [0.1, 0.0, 0.0]\nmax = [0.0, 0.1, 0.1]\n"),
+        &["fixed", "min must be <= max"],
+    );
+}
+
+#[test]
+fn empty_load_box() {
+    expect(
+        &format!("{BASE}[[load]]\nmin = [1.0, 1.0, 1.0]\nmax = [1.1, 1.1, 1.1]\nmass = 0.1\n"),
+        &["[[load]] #1", "no particle"],
+    );
+}
+
+#[test]
+fn bad_free_axes() {
+    expect(
+        &format!("{BASE}[[finger]]\nposition = [0.0, 0.0, 0.05]\nfree_axes = \"zz\"\n"),
+        &["free_axes", "twice"],
+    );
+}
+
+#[test]
+fn bad_control_mode() {
+    expect(
+        &format!("{BASE}[[finger]]\nposition = [0.0, 0.0, 0.05]\ncontrol = \"position\"\n"),
+        &["control", "\"force\" or \"velocity\""],
+    );
+}
+
+#[test]
+fn restitution_out_of_range() {
+    expect(
+        &format!("{BASE}[[finger]]\nposition = [0.0, 0.0, 0.05]\nrestitution = 1.5\n"),
+        &["restitution", "[0, 1]"],
+    );
+}
+
+#[test]
+fn table_support_is_not_supported_yet() {
+    expect(
+        &format!("{BASE}[support]\nkind = \"table\"\n"),
+        &["table", "not supported yet"],
+    );
+}
+
+#[test]
+fn malformed_toml() {
+    expect("[object\nshape = \"cuboid\"\n", &["line"]);
+}
+
+#[test]
+fn unreadable_file() {
+    let e = Scene::load(std::path::Path::new("/nonexistent/scene.toml")).expect_err("missing file");
+    assert!(e.to_string().contains("/nonexistent/scene.toml"), "{e}");
+}
+
+#[test]
+fn edge_length_larger_than_the_object() {
+    expect(
+        "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05, 0.02]\nedge_length = 0.05\n",
+        &["edge_length", "smallest extent"],
+    );
+}
+
+#[test]
+fn extra_table_is_free_form() {
+    let scene = Scene::from_toml_str(
+        &format!("{BASE}[extra]\nanything = \"goes\"\nnested = {{ a = 1 }}\n"),
+        "x",
+    )
+    .expect("accepted");
+    assert!(
+        scene
+            .defaults_applied
+            .iter()
+            .any(|d| d.contains("young_modulus"))
+    );
+}
+
+#[test]
+fn diverging_run_is_an_error_not_a_panic() {
+    // A very stiff, barely damped object hit hard with a huge step.
+    let text = format!(
+        "[simulation]\ndt = 0.05\n{BASE}young_modulus = 5e9\n[model]\ndamping_ratio = 0.0\nalpha = 1e12\n[support]\nkind = \"none\"\n"
+    );
+    let scene = Scene::from_toml_str(&text, "stiff").expect("scene");
+    let mut sim = Simulation::new(&scene).expect("sim");
+    for v in sim.state.velocities.iter_mut().step_by(3) {
+        *v = glam::DVec3::new(0.0, 0.0, 50.0);
+    }
+    let mut outcome = Ok(());
+    for _ in 0..200 {
+        outcome = sim.step();
+        if outcome.is_err() {
+            break;
+        }
+    }
+    if let Err(e) = outcome {
+        let msg = e.to_string();
+        assert!(
+            msg.contains("diverged at t =") && msg.contains("try dt <="),
+            "{msg}"
+        );
+    }
+}
