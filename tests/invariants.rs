@@ -4,7 +4,7 @@
 use glam::DVec3;
 use softgrip::{Scene, Simulation};
 
-fn free_block(alpha: f64, limits: bool) -> Simulation {
+fn free_block(alpha: f64, limits: bool, rigid: bool) -> Simulation {
     let limits = if limits {
         "tau_s = 0.16\ntau_c = 0.155"
     } else {
@@ -28,23 +28,23 @@ kind = "none"
     );
     let scene = Scene::from_toml_str(&text, "free block").expect("scene");
     let mut sim = Simulation::new(&scene).expect("sim");
-    // A drift, a spin and a shear: rigid and internal motion.
+    // A pure strain rate (internal motion), plus a drift and a spin when `rigid`.
     for (v, x) in sim
         .state
         .velocities
         .iter_mut()
         .zip(&sim.model.rest_positions)
     {
-        *v = DVec3::new(0.01, -0.02, 0.005)
-            + DVec3::new(0.0, 0.0, 2.0).cross(*x)
-            + DVec3::new(0.0, 0.0, 3.0 * x.x);
+        let strain_rate = DVec3::new(3.0 * x.x, -3.0 * x.y, 0.0);
+        let rigid_motion = DVec3::new(0.01, -0.02, 0.005) + DVec3::new(0.0, 0.0, 2.0).cross(*x);
+        *v = strain_rate + if rigid { rigid_motion } else { DVec3::ZERO };
     }
     sim
 }
 
 #[test]
 fn free_object_conserves_linear_momentum() {
-    let mut sim = free_block(6e6, true);
+    let mut sim = free_block(6e6, true, true);
     let p0 = sim.state.momentum(&sim.model);
     for _ in 0..300 {
         sim.step().expect("step");
@@ -57,7 +57,7 @@ fn free_object_conserves_linear_momentum() {
 #[test]
 fn damped_free_object_never_gains_energy() {
     // Springs and dampers only (the volume force of eq. 11 has no potential).
-    let mut sim = free_block(0.0, false);
+    let mut sim = free_block(0.0, false, false);
     sim.step().expect("step");
     let first = sim.state.stats.energy;
     let mut last = first;
@@ -65,13 +65,13 @@ fn damped_free_object_never_gains_energy() {
         sim.step().expect("step");
         let e = sim.state.stats.energy;
         assert!(
-            e <= last * (1.0 + 1e-12),
+            e <= last + 1e-12 * first,
             "energy rose at step {i}: {last:e} -> {e:e}"
         );
         last = e;
     }
-    // The dampers took a real share of the energy (the shear is damped out).
-    assert!(last < 0.95 * first, "energy {first:e} -> {last:e}");
+    // The dampers took a real share of the energy of the shear motion.
+    assert!(last < 0.5 * first, "energy {first:e} -> {last:e}");
 }
 
 #[test]
