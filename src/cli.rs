@@ -38,6 +38,20 @@ enum Command {
         #[arg(long, default_value_t = 50.0)]
         fps: f64,
     },
+    /// Quasi-static load steps: set the first force-controlled finger's load to
+    /// each value in turn (N, along the scene's force direction) and step to rest.
+    Ramp {
+        scene: Option<PathBuf>,
+        /// Loads in N, applied in this order (e.g. 1,2,4,9.73).
+        #[arg(long, value_delimiter = ',', required = true)]
+        loads: Vec<f64>,
+        /// Simulated seconds allowed per load to come to rest.
+        #[arg(long, default_value_t = 20.0)]
+        max_seconds: f64,
+        /// Rest: every particle and finger slower than this (m/s).
+        #[arg(long, default_value_t = 1e-5)]
+        rest_speed: f64,
+    },
     /// Check a scene: print the defaults it relies on, the mesh and the model.
     Check { scene: Option<PathBuf> },
     /// Print the built-in thesis scene as TOML (a starting point for your own).
@@ -69,6 +83,12 @@ pub fn main() -> ExitCode {
             fps,
         }) => run(scene.as_deref(), out.as_deref(), duration, fps),
         Some(Command::Check { scene }) => check(scene.as_deref()),
+        Some(Command::Ramp {
+            scene,
+            loads,
+            max_seconds,
+            rest_speed,
+        }) => ramp(scene.as_deref(), &loads, max_seconds, rest_speed),
         Some(Command::Scene) => {
             print!("{}", softgrip::scene::THESIS_SCENE);
             Ok(())
@@ -201,6 +221,13 @@ fn run(
         "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J",
         st.volume_error, st.contacts, st.limit_violation, st.energy
     );
+    let inverted = sim.state.inverted_elements(&sim.model);
+    if inverted > 0 {
+        println!(
+            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see ACCURACY.md, \"Large loads\"); lower the load, or raise alpha",
+            sim.model.tets.len()
+        );
+    }
     println!(
         "solver: {:.1} CG iterations per step on average, last residual {:.2e}",
         cg_total as f64 / steps.max(1) as f64,
@@ -209,6 +236,55 @@ fn run(
     if let Some(w) = writer {
         let pvd = w.finish()?;
         println!("wrote {} (open in ParaView) and fingers.csv", pvd.display());
+    }
+    Ok(())
+}
+
+fn ramp(scene_path: Option<&Path>, loads: &[f64], max_seconds: f64, rest_speed: f64) -> Result<()> {
+    let scene = load_scene(scene_path)?;
+    let mut sim = Simulation::new(&scene)?;
+    let Some(k) = sim.load_finger() else {
+        anyhow::bail!(
+            "the scene has no force-controlled finger to load; add a [[finger]] with control = \"force\""
+        );
+    };
+    if sim.model.fingers[k].load_direction == glam::DVec3::ZERO {
+        anyhow::bail!(
+            "finger {} has force = [0, 0, 0], so the load has no direction; give it a force (e.g. [0, 0, -1]) and, for a pure load, mass = 0",
+            k + 1
+        );
+    }
+    let tol = softgrip::quasi_static::RestTolerance {
+        speed: rest_speed,
+        consecutive_steps: 20,
+        max_seconds,
+    };
+    println!(
+        "| load (N) | indentation (mm) | contact force (N) | penetration (mm) | volume error | inverted elements | steps to rest |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for &load in loads {
+        sim.set_load(k, load);
+        let bar = progress_bar((max_seconds / sim.model.dt) as u64);
+        bar.set_message(format!("load {load} N"));
+        let rest = sim.settle(tol, |s| bar.set_position(s));
+        bar.finish_and_clear();
+        let f = sim.state.fingers[k];
+        let rest = match rest {
+            Ok(r) => r.steps.to_string(),
+            Err(softgrip::SimError::NoRest { max_speed, .. }) => {
+                format!("not at rest (speed {max_speed:.1e} m/s)")
+            }
+            Err(e) => return Err(e.into()),
+        };
+        println!(
+            "| {load} | {:.3} | {:.4} | {:.3} | {:.2e} | {} | {rest} |",
+            indentation(&sim.model, k, f.position.z) * 1e3,
+            -f.contact_force.dot(sim.model.fingers[k].load_direction),
+            f.max_penetration * 1e3,
+            sim.state.stats.volume_error,
+            sim.state.inverted_elements(&sim.model),
+        );
     }
     Ok(())
 }

@@ -121,6 +121,18 @@ impl State {
             .sum()
     }
 
+    /// Number of elements turned inside out (signed volume <= 0).
+    pub fn inverted_elements(&self, model: &Model) -> usize {
+        model
+            .tets
+            .iter()
+            .filter(|t| {
+                let p = t.map(|i| self.positions[i as usize]);
+                crate::mesh::signed_volume(p[0], p[1], p[2], p[3]) <= 0.0
+            })
+            .count()
+    }
+
     /// Total linear momentum of the object and the fingers.
     pub fn momentum(&self, model: &Model) -> DVec3 {
         let object: DVec3 = self
