@@ -14,8 +14,18 @@ fn pinch_forces_balance_at_steady_state() {
     let (a, b) = (sim.state.fingers[0], sim.state.fingers[1]);
     assert!((a.travelled - 0.004).abs() < 1e-5 && (b.travelled - 0.004).abs() < 1e-5);
     // Each finger is pushed back by the object ...
-    assert!(a.contact_force.x < -0.5 && b.contact_force.x > 0.5, "{:?} {:?}", a.contact_force, b.contact_force);
+    assert!(
+        a.contact_force.x < -0.5 && b.contact_force.x > 0.5,
+        "{:?} {:?}",
+        a.contact_force,
+        b.contact_force
+    );
     // ... and the two forces balance.
     let imbalance = (a.contact_force.x + b.contact_force.x).abs() / a.contact_force.x.abs();
-    assert!(imbalance < 0.05, "forces {} and {} N", a.contact_force.x, b.contact_force.x);
+    assert!(
+        imbalance < 0.05,
+        "forces {} and {} N",
+        a.contact_force.x,
+        b.contact_force.x
+    );
 }

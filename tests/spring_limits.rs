@@ -52,7 +52,9 @@ fn hung_object_springs_stay_within_tau_s() {
         worst
     };
     let (ten, twenty, forty) = (worst(10), worst(20), worst(40));
-    println!("worst violation over 500 steps: {ten:.2e} (10 iterations), {twenty:.2e} (20), {forty:.2e} (40); unlimited stretch {unlimited:.3}");
+    println!(
+        "worst violation over 500 steps: {ten:.2e} (10 iterations), {twenty:.2e} (20), {forty:.2e} (40); unlimited stretch {unlimited:.3}"
+    );
     assert!(
         ten < 0.5 * (unlimited - 1.0 - tau_s),
         "10 iterations: {ten}"
