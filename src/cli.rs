@@ -224,8 +224,9 @@ fn run(
     let inverted = sim.state.inverted_elements(&sim.model);
     if inverted > 0 {
         println!(
-            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see ACCURACY.md, \"Large loads\"); lower the load, or raise alpha",
-            sim.model.tets.len()
+            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see ACCURACY.md, \"Large loads\"). Add [model] bulk_modulus = {:.3e} (E / (3 (1 - 2 nu)) for this material) or lower the load",
+            sim.model.tets.len(),
+            scene.object.young_modulus / (3.0 * (1.0 - 2.0 * scene.object.poisson_ratio))
         );
     }
     println!(

@@ -91,6 +91,7 @@ struct RawObject {
 struct RawModel {
     damping_ratio: Option<f64>,
     alpha: Option<f64>,
+    bulk_modulus: Option<f64>,
     tau_s: Option<f64>,
     tau_c: Option<f64>,
     constraint_iterations: Option<i64>,
@@ -191,6 +192,9 @@ pub struct Object {
 pub struct ModelParams {
     pub damping_ratio: f64,
     pub alpha: f64,
+    /// Element volumetric stiffness (Pa); 0 = off (the thesis model). See
+    /// `forces::volume::accumulate_bulk`.
+    pub bulk_modulus: f64,
     /// Over-stretch limit; `None` = no limit (the key omitted).
     pub tau_s: Option<f64>,
     /// Over-compression limit; `None` = no limit (the key omitted).
@@ -376,8 +380,8 @@ impl Scene {
         let m = &self.model;
         let _ = writeln!(
             s,
-            "[model]\ndamping_ratio = {:?}\nalpha = {:?}",
-            m.damping_ratio, m.alpha
+            "[model]\ndamping_ratio = {:?}\nalpha = {:?}\nbulk_modulus = {:?}",
+            m.damping_ratio, m.alpha, m.bulk_modulus
         );
         if let Some(t) = m.tau_s {
             let _ = writeln!(s, "tau_s = {t:?}");
@@ -781,6 +785,13 @@ impl<'a> Resolver<'a> {
             |x| x >= 0.0,
             "must be >= 0 (0 = no volume preservation; the thesis fits 6e6)",
         )?;
+        let bulk_modulus = self.number(
+            at("model", "bulk_modulus"),
+            m.bulk_modulus,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 Pa (0 = off; E / (3 (1 - 2 nu)) is the material's own bulk modulus)",
+        )?;
         let tau_s = match m.tau_s {
             None => None,
             Some(x) if x.is_finite() && x > 0.0 => Some(x),
@@ -818,6 +829,7 @@ impl<'a> Resolver<'a> {
         let model = ModelParams {
             damping_ratio,
             alpha,
+            bulk_modulus,
             tau_s,
             tau_c,
             constraint_iterations: iters as usize,

@@ -132,6 +132,7 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
     forces::external::accumulate(model, state, &mut s.force, &mut s.system);
     contact::accumulate(model, state, &mut s.force, &mut s.system, &mut s.contact);
     forces::volume::accumulate(model, state, &mut s.force, &mut s.system);
+    forces::volume::accumulate_bulk(model, state, &mut s.force, &mut s.system);
 
     let report = integrate::implicit_euler_update(
         model,
@@ -185,7 +186,8 @@ pub fn update_diagnostics(model: &Model, state: &mut State) {
     let energy = kinetic
         + forces::springs::energy(model, state)
         + forces::external::energy(model, state)
-        + contact::energy(model, state);
+        + contact::energy(model, state)
+        + forces::volume::bulk_energy(model, state);
     let volume = state.volume(model);
     let st = &mut state.stats;
     st.kinetic_energy = kinetic;

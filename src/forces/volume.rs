@@ -74,3 +74,61 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
         }
     }
 }
+
+/// Element volumetric stiffness (`[model] bulk_modulus`, a softgrip
+/// extension, off by default): the linear-elastic volumetric energy
+/// `K V0 / 2 (V / V0 - 1)^2` of each element, so
+/// `f_i = -K (V / V0 - 1) dV/dx_i`. Unlike eq. 11 it is the gradient of an
+/// energy (it conserves momentum and energy), its strength does not depend on
+/// the mesh size, and it pushes an inverted element back along the true
+/// volume gradient. Jacobian `K / V0 G_i G_k^T` (the term with the Hessian of
+/// V, indefinite, is left out).
+pub fn accumulate_bulk(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    if model.bulk_modulus == 0.0 {
+        return;
+    }
+    let vel = |dof: usize| super::velocity_of(state, dof);
+    let zero = glam::DMat3::ZERO;
+    for (t, tet) in model.tets.iter().enumerate() {
+        let p = tet.map(|i| state.positions[i as usize]);
+        let v0 = model.rest_volume[t];
+        let strain = signed_volume(p[0], p[1], p[2], p[3]) / v0 - 1.0;
+        let g = volume_gradients(p);
+        for k in 0..4 {
+            force[tet[k] as usize] -= model.bulk_modulus * strain * g[k];
+        }
+        let c = model.bulk_modulus / v0;
+        for k in 0..4 {
+            system.add_diag(tet[k] as usize, outer(g[k], g[k]) * c, zero, &vel);
+        }
+        for (e, [a, b]) in TET_EDGES.iter().enumerate() {
+            system.add_off(
+                &model.springs,
+                model.tet_springs[t][e],
+                tet[*a] as usize,
+                tet[*b] as usize,
+                outer(g[*a], g[*b]) * c,
+                zero,
+                &vel,
+            );
+        }
+    }
+}
+
+/// Elastic energy of the volumetric stiffness (J).
+pub fn bulk_energy(model: &Model, state: &State) -> f64 {
+    if model.bulk_modulus == 0.0 {
+        return 0.0;
+    }
+    model
+        .tets
+        .iter()
+        .zip(&model.rest_volume)
+        .map(|(tet, v0)| {
+            let p = tet.map(|i| state.positions[i as usize]);
+            0.5 * model.bulk_modulus
+                * v0
+                * (signed_volume(p[0], p[1], p[2], p[3]) / v0 - 1.0).powi(2)
+        })
+        .sum()
+}
