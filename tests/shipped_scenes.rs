@@ -36,7 +36,7 @@ fn thesis_scene_has_the_thesis_values() {
         .defaults_applied
         .iter()
         .filter(|d| {
-            !["cg_tolerance", "cg_max_iterations", "guide_speed"]
+            !["cg_tolerance", "cg_max_iterations", "guide_speed", "bulk_modulus"]
                 .iter()
                 .any(|k| d.contains(k))
         })
