@@ -8,8 +8,8 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use softgrip::output::TrajectoryWriter;
-use softgrip::scene::{FingerShape, Scene};
-use softgrip::{Model, Simulation};
+use softgrip::scene::Scene;
+use softgrip::Simulation;
 
 #[derive(Parser)]
 #[command(
@@ -121,20 +121,6 @@ fn progress_bar(len: u64) -> ProgressBar {
     bar
 }
 
-/// Depth of a finger's lowest point below the undeformed object's top (m).
-fn indentation(model: &Model, k: usize, z: f64) -> f64 {
-    let top = model
-        .rest_positions
-        .iter()
-        .map(|p| p.z)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let bottom = match model.fingers[k].shape {
-        FingerShape::Sphere { radius } => z - radius,
-        FingerShape::Plate { .. } => z,
-    };
-    (top - bottom).max(0.0)
-}
-
 fn run(
     scene_path: Option<&Path>,
     out: Option<&Path>,
@@ -206,7 +192,7 @@ fn run(
         println!(
             "finger {}: indentation depth {:.3} mm, moved ({:.3}, {:.3}, {:.3}) mm, contact force ({:.4}, {:.4}, {:.4}) N (normal {:.4} N), deepest penetration {:.3} mm",
             k + 1,
-            indentation(&sim.model, k, f.position.z) * 1e3,
+            sim.indentation(k) * 1e3,
             moved.x * 1e3,
             moved.y * 1e3,
             moved.z * 1e3,
@@ -280,7 +266,7 @@ fn ramp(scene_path: Option<&Path>, loads: &[f64], max_seconds: f64, rest_speed: 
         };
         println!(
             "| {load} | {:.3} | {:.4} | {:.3} | {:.2e} | {} | {rest} |",
-            indentation(&sim.model, k, f.position.z) * 1e3,
+            sim.indentation(k) * 1e3,
             -f.contact_force.dot(sim.model.fingers[k].load_direction),
             f.max_penetration * 1e3,
             sim.state.stats.volume_error,

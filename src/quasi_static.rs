@@ -108,6 +108,33 @@ impl Simulation {
         }
     }
 
+    /// The direction finger `k` presses in: its force, else its velocity,
+    /// else its weight; -z when it has none of them.
+    pub fn press_direction(&self, k: usize) -> DVec3 {
+        let f = &self.model.fingers[k];
+        let velocity = DVec3::from_array(f.drive.map(|d| match d {
+            crate::model::AxisDrive::Velocity(v) => v,
+            _ => 0.0,
+        }));
+        [self.state.fingers[k].applied_force, velocity, f.weight]
+            .into_iter()
+            .map(|v| v.normalize_or_zero())
+            .find(|v| *v != DVec3::ZERO)
+            .unwrap_or(DVec3::NEG_Z)
+    }
+
+    /// How far finger `k`'s leading point is past the undeformed object's
+    /// surface along its press direction (m); 0 when it is not.
+    pub fn indentation(&self, k: usize) -> f64 {
+        let d = self.press_direction(k);
+        let surface = self.model.rest_positions.iter().map(|p| p.dot(d)).fold(f64::INFINITY, f64::min);
+        let reach = match self.model.fingers[k].shape {
+            crate::scene::FingerShape::Sphere { radius } => radius,
+            crate::scene::FingerShape::Plate { .. } => 0.0,
+        };
+        ((self.state.fingers[k].position.dot(d) + reach) - surface).max(0.0)
+    }
+
     /// Sum of the forces the pinned particles need to stay put: the support
     /// reaction (N). At rest it balances gravity, loads and finger forces.
     pub fn support_reaction(&self) -> DVec3 {
