@@ -7,9 +7,9 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use softgrip::Simulation;
 use softgrip::output::TrajectoryWriter;
 use softgrip::scene::Scene;
-use softgrip::Simulation;
 
 #[derive(Parser)]
 #[command(

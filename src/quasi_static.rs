@@ -127,7 +127,12 @@ impl Simulation {
     /// surface along its press direction (m); 0 when it is not.
     pub fn indentation(&self, k: usize) -> f64 {
         let d = self.press_direction(k);
-        let surface = self.model.rest_positions.iter().map(|p| p.dot(d)).fold(f64::INFINITY, f64::min);
+        let surface = self
+            .model
+            .rest_positions
+            .iter()
+            .map(|p| p.dot(d))
+            .fold(f64::INFINITY, f64::min);
         let reach = match self.model.fingers[k].shape {
             crate::scene::FingerShape::Sphere { radius } => radius,
             crate::scene::FingerShape::Plate { .. } => 0.0,

@@ -36,9 +36,14 @@ fn thesis_scene_has_the_thesis_values() {
         .defaults_applied
         .iter()
         .filter(|d| {
-            !["cg_tolerance", "cg_max_iterations", "guide_speed", "bulk_modulus"]
-                .iter()
-                .any(|k| d.contains(k))
+            ![
+                "cg_tolerance",
+                "cg_max_iterations",
+                "guide_speed",
+                "bulk_modulus",
+            ]
+            .iter()
+            .any(|k| d.contains(k))
         })
         .collect();
     assert!(contract.is_empty(), "{contract:?}");
