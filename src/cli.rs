@@ -133,21 +133,12 @@ fn run(
     let name = scene_path
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| "built-in thesis scene".into());
-    let mesh_stats = softgrip::mesh::MeshStats {
-        nodes: sim.model.particle_count(),
-        tets: sim.model.tets.len(),
-        boundary_facets: sim.model.facets.len(),
-        volume: sim.model.rest_total_volume,
-        worst_quality: f64::NAN,
-        min_edge: f64::NAN,
-        max_edge: f64::NAN,
-    };
     println!(
         "{name}: {} particles, {} tetrahedra, {} springs, {} facets; dt = {} s, {} s to simulate",
-        mesh_stats.nodes,
-        mesh_stats.tets,
+        sim.model.particle_count(),
+        sim.model.tets.len(),
         sim.model.springs.len(),
-        mesh_stats.boundary_facets,
+        sim.model.facets.len(),
         sim.model.dt,
         duration
     );

@@ -143,46 +143,27 @@ impl Simulation {
     /// Sum of the forces the pinned particles need to stay put: the support
     /// reaction (N). At rest it balances gravity, loads and finger forces.
     pub fn support_reaction(&self) -> DVec3 {
-        // Recompute the internal and external forces on pinned particles.
-        let m = &self.model;
-        let x = &self.state.positions;
-        let mut f = vec![DVec3::ZERO; m.particle_count()];
-        for s in &m.springs {
-            let (i, j) = (s.i as usize, s.j as usize);
-            let d = x[j] - x[i];
-            let l = d.length();
-            if l > 0.0 {
-                let v = &self.state.velocities;
-                let u = d / l;
-                let t = (s.stiffness * (l - s.rest_length) + s.damping * u.dot(v[j] - v[i])) * u;
-                f[i] += t;
-                f[j] -= t;
-            }
-        }
-        for (fi, c) in f.iter_mut().zip(&m.constant_force) {
-            *fi += *c;
-        }
-        if m.alpha > 0.0 {
-            for (t, tet) in m.tets.iter().enumerate() {
-                let p = tet.map(|i| x[i as usize]);
-                let v = crate::mesh::signed_volume(p[0], p[1], p[2], p[3]);
-                let b = (p[0] + p[1] + p[2] + p[3]) * 0.25;
-                let u = p.map(|q| (q - b).normalize_or_zero());
-                let mean = (u[0] + u[1] + u[2] + u[3]) * 0.25;
-                for k in 0..4 {
-                    f[tet[k] as usize] += m.alpha * (m.rest_volume[t] - v) * (u[k] - mean);
-                }
-            }
-        }
-        for c in &self.state.contacts {
-            let tri = m.facets[c.facet as usize];
+        let (model, state) = (&self.model, &self.state);
+        let n = model.particle_count();
+        let mut force = vec![DVec3::ZERO; n + model.fingers.len()];
+        // The same force stages as a step (their Jacobians go to a throwaway system) ...
+        let mut system = crate::solver::System::default();
+        system.begin(model, model.dt);
+        crate::forces::springs::accumulate(model, state, &mut force, &mut system);
+        crate::forces::external::accumulate(model, state, &mut force, &mut system);
+        crate::forces::volume::accumulate(model, state, &mut force, &mut system);
+        crate::forces::volume::accumulate_bulk(model, state, &mut force, &mut system);
+        // ... and the contact forces of the last step.
+        for c in &state.contacts {
+            let tri = model.facets[c.facet as usize];
             for a in 0..3 {
-                f[tri[a] as usize] +=
+                force[tri[a] as usize] +=
                     c.weights[a] * (c.normal_force * c.normal + c.tangential_force);
             }
         }
-        -f.iter()
-            .zip(&m.fixed)
+        -force[..n]
+            .iter()
+            .zip(&model.fixed)
             .filter(|(_, fixed)| **fixed)
             .map(|(f, _)| *f)
             .sum::<DVec3>()
