@@ -61,7 +61,4 @@ pub enum SimError {
         max_speed: f64,
         tolerance: f64,
     },
-
-    #[error("{0}")]
-    Invalid(String),
 }

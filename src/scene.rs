@@ -328,15 +328,6 @@ impl Scene {
         .resolve(raw)
     }
 
-    /// The object's rest extents (largest used to normalise errors).
-    pub fn nominal_extent(&self) -> DVec3 {
-        match &self.object.shape {
-            Shape::Cuboid { size } => *size,
-            Shape::Cylinder { radius, height } => DVec3::new(2.0 * radius, 2.0 * radius, *height),
-            Shape::Mesh { .. } => DVec3::ZERO,
-        }
-    }
-
     /// Writes the scene back as TOML, with every value explicit.
     pub fn to_toml(&self) -> String {
         use std::fmt::Write;
@@ -574,6 +565,21 @@ impl<'a> Resolver<'a> {
         }
     }
 
+    /// A finite number in range, or `None` when the key is omitted (no default).
+    fn optional(
+        &self,
+        at: At<'_>,
+        v: Option<f64>,
+        ok: impl Fn(f64) -> bool,
+        rule: &str,
+    ) -> Result<Option<f64>, SceneError> {
+        match v {
+            None => Ok(None),
+            Some(x) if x.is_finite() && ok(x) => Ok(Some(x)),
+            Some(x) => Err(self.err(at, x, rule)),
+        }
+    }
+
     fn required(
         &self,
         at: At<'_>,
@@ -792,28 +798,18 @@ impl<'a> Resolver<'a> {
             |x| x >= 0.0,
             "must be >= 0 Pa (0 = off; E / (3 (1 - 2 nu)) is the material's own bulk modulus)",
         )?;
-        let tau_s = match m.tau_s {
-            None => None,
-            Some(x) if x.is_finite() && x > 0.0 => Some(x),
-            Some(x) => {
-                return Err(self.err(
-                    at("model", "tau_s"),
-                    x,
-                    "must be > 0 (omit the key for no limit; the thesis fits 0.16)",
-                ));
-            }
-        };
-        let tau_c = match m.tau_c {
-            None => None,
-            Some(x) if x.is_finite() && x > 0.0 && x < 1.0 => Some(x),
-            Some(x) => {
-                return Err(self.err(
-                    at("model", "tau_c"),
-                    x,
-                    "must be in (0, 1) (omit the key for no limit; the thesis fits 0.155)",
-                ));
-            }
-        };
+        let tau_s = self.optional(
+            at("model", "tau_s"),
+            m.tau_s,
+            |x| x > 0.0,
+            "must be > 0 (omit the key for no limit; the thesis fits 0.16)",
+        )?;
+        let tau_c = self.optional(
+            at("model", "tau_c"),
+            m.tau_c,
+            |x| x > 0.0 && x < 1.0,
+            "must be in (0, 1) (omit the key for no limit; the thesis fits 0.155)",
+        )?;
         let iters = self.default(
             at("model", "constraint_iterations"),
             m.constraint_iterations,
@@ -1056,11 +1052,7 @@ impl<'a> Resolver<'a> {
             |x| x >= 0.0,
             "must be >= 0 N s/m",
         )?;
-        let travel = match f.travel {
-            None => None,
-            Some(x) if x.is_finite() && x >= 0.0 => Some(x),
-            Some(x) => return Err(self.err(at("travel"), x, "must be >= 0 m")),
-        };
+        let travel = self.optional(at("travel"), f.travel, |x| x >= 0.0, "must be >= 0 m")?;
         let guide_speed = self.number(
             at("guide_speed"),
             f.guide_speed,

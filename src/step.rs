@@ -63,38 +63,41 @@ impl Simulation {
             .as_ref()
             .map(|p| p.display().to_string())
             .unwrap_or_else(|| "scene".into());
+        // The object's own bounds catch a finger buried past its facets.
+        let (lo, hi) = crate::mesh::bounds_of(&self.model.rest_positions);
         for (k, fs) in self.state.fingers.iter().enumerate() {
-            let mut deepest: f64 = 0.0;
-            for tri in &self.model.facets {
-                let p = tri.map(|i| self.state.positions[i as usize]);
-                if let Some(g) = contact::detect(&self.model, k, fs.position, p) {
-                    deepest = deepest.max(g.penetration);
-                }
-            }
-            // The object's own bounds catch a finger buried past its facets.
-            let (lo, hi) = self.model.rest_positions.iter().fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
+            let deepest = self
+                .model
+                .facets
+                .iter()
+                .filter_map(|tri| {
+                    contact::detect(
+                        &self.model,
+                        k,
+                        fs.position,
+                        tri.map(|i| self.state.positions[i as usize]),
+                    )
+                })
+                .map(|g| g.penetration)
+                .fold(0.0, f64::max);
             let centre_inside = fs.position.cmpgt(lo).all() && fs.position.cmplt(hi).all();
             if deepest > 1e-9 || centre_inside {
-                let lift = match self.model.fingers[k].shape {
-                    crate::scene::FingerShape::Sphere { radius } => hi.z + radius,
-                    crate::scene::FingerShape::Plate { .. } => hi.z,
+                let reach = match self.model.fingers[k].shape {
+                    crate::scene::FingerShape::Sphere { radius } => radius,
+                    crate::scene::FingerShape::Plate { .. } => 0.0,
+                };
+                // A buried centre is at least its height below the top inside.
+                let buried = if centre_inside {
+                    hi.z - fs.position.z + reach
+                } else {
+                    0.0
                 };
                 return Err(SimError::FingerStartsInside {
                     file,
                     index: k + 1,
-                    depth_mm: deepest.max(
-                        if centre_inside {
-                            fs.position.z - hi.z
-                        } else {
-                            0.0
-                        }
-                        .abs(),
-                    ) * 1e3,
+                    depth_mm: deepest.max(buried) * 1e3,
                     position: fs.position.to_array(),
-                    suggest_z: lift,
+                    suggest_z: hi.z + reach,
                 });
             }
         }

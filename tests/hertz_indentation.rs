@@ -56,6 +56,12 @@ force = [0.0, 0.0, -{}]
                 (reaction.z - f).abs() < 0.01 * f,
                 "support reaction {reaction:?} vs load {f}"
             );
+            println!(
+                "load {f} N: contact {:.4} N, support reaction {:.4} N, penetration {:.3} mm",
+                fs.contact_force.z,
+                reaction.z,
+                fs.max_penetration * 1e3
+            );
             // The finger stays on the surface (acceptance 7: penetration < 5 % of R).
             assert!(
                 fs.max_penetration < 0.05 * RADIUS,

@@ -20,6 +20,10 @@ fn pinch_forces_balance_at_steady_state() {
         a.contact_force,
         b.contact_force
     );
+    println!(
+        "finger forces {:.4} N and {:.4} N",
+        a.contact_force.x, b.contact_force.x
+    );
     // ... and the two forces balance.
     let imbalance = (a.contact_force.x + b.contact_force.x).abs() / a.contact_force.x.abs();
     assert!(

@@ -63,6 +63,14 @@ pub fn signed_volume(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     (b - a).dot((c - a).cross(d - a)) / 6.0
 }
 
+/// Axis-aligned bounds `(min, max)` of a set of points.
+pub fn bounds_of(points: &[DVec3]) -> (DVec3, DVec3) {
+    points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
 impl TetMesh {
     pub fn tet_positions(&self, t: usize) -> [DVec3; 4] {
         self.tets[t].map(|i| self.nodes[i as usize])
@@ -79,10 +87,7 @@ impl TetMesh {
 
     /// Axis-aligned bounds `(min, max)` of the nodes.
     pub fn bounds(&self) -> (DVec3, DVec3) {
-        self.nodes.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        )
+        bounds_of(&self.nodes)
     }
 
     /// Checks indices, coordinates and orientation. A tetrahedron whose volume

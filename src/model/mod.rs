@@ -35,8 +35,6 @@ pub struct Model {
     /// Constant external force per particle: gravity (eq. 5) and loads.
     pub constant_force: Vec<DVec3>,
     pub springs: Vec<Spring>,
-    /// Number of springs at each particle.
-    pub spring_degree: Vec<u32>,
     pub tets: Vec<[u32; 4]>,
     /// The spring of each tetrahedron edge, in [`TET_EDGES`] order.
     pub tet_springs: Vec<[u32; 6]>,
@@ -228,11 +226,6 @@ impl Model {
             );
         }
 
-        let mut spring_degree = vec![0u32; n];
-        for s in &springs {
-            spring_degree[s.i as usize] += 1;
-            spring_degree[s.j as usize] += 1;
-        }
         let facets = mesh.boundary_facets();
         let facet_springs = facets
             .iter()
@@ -258,7 +251,6 @@ impl Model {
             fixed,
             constant_force,
             springs,
-            spring_degree,
             tets: mesh.tets,
             tet_springs,
             rest_volume,
@@ -293,7 +285,6 @@ impl Model {
         gravity: DVec3,
         dt: f64,
     ) -> Model {
-        let n = positions.len();
         let springs: Vec<Spring> = springs
             .iter()
             .map(|&(i, j, k, d)| {
@@ -307,22 +298,13 @@ impl Model {
                 }
             })
             .collect();
-        let mut spring_degree = vec![0u32; n];
-        for s in &springs {
-            spring_degree[s.i as usize] += 1;
-            spring_degree[s.j as usize] += 1;
-        }
-        let (lo, hi) = positions.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
+        let (lo, hi) = crate::mesh::bounds_of(&positions);
         Model {
             constant_force: mass.iter().map(|&m| m * gravity).collect(),
             rest_positions: positions,
             mass,
             fixed,
             springs,
-            spring_degree,
             tets: Vec::new(),
             tet_springs: Vec::new(),
             rest_volume: Vec::new(),
