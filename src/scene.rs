@@ -95,6 +95,7 @@ struct RawModel {
     tau_s: Option<f64>,
     tau_c: Option<f64>,
     constraint_iterations: Option<i64>,
+    constraint_tolerance: Option<f64>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -200,6 +201,11 @@ pub struct ModelParams {
     /// Over-compression limit; `None` = no limit (the key omitted).
     pub tau_c: Option<f64>,
     pub constraint_iterations: usize,
+    /// Keep projecting past `constraint_iterations` until no spring is
+    /// outside its limits by more than this fraction of its rest length
+    /// (a softgrip extension; `None` = exactly `constraint_iterations`
+    /// sweeps, as the thesis).
+    pub constraint_tolerance: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -380,7 +386,11 @@ impl Scene {
         if let Some(t) = m.tau_c {
             let _ = writeln!(s, "tau_c = {t:?}");
         }
-        let _ = writeln!(s, "constraint_iterations = {}\n", m.constraint_iterations);
+        let _ = writeln!(s, "constraint_iterations = {}", m.constraint_iterations);
+        if let Some(t) = m.constraint_tolerance {
+            let _ = writeln!(s, "constraint_tolerance = {t:?}");
+        }
+        s.push('\n');
         let kind = match self.support.kind {
             SupportKind::FixedBottom => "fixed-bottom",
             SupportKind::Table => "table",
@@ -822,6 +832,12 @@ impl<'a> Resolver<'a> {
                 "must be in 0..=10000",
             ));
         }
+        let constraint_tolerance = self.optional(
+            at("model", "constraint_tolerance"),
+            m.constraint_tolerance,
+            |x| x > 0.0 && x <= 0.1,
+            "must be in (0, 0.1] (a fraction of the rest length; omit the key for exactly constraint_iterations sweeps)",
+        )?;
         let model = ModelParams {
             damping_ratio,
             alpha,
@@ -829,6 +845,7 @@ impl<'a> Resolver<'a> {
             tau_s,
             tau_c,
             constraint_iterations: iters as usize,
+            constraint_tolerance,
         };
 
         // [support]

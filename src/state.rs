@@ -68,6 +68,8 @@ pub struct StepStats {
     pub volume_error: f64,
     /// Largest spring-limit violation after projection, relative to rest length.
     pub limit_violation: f64,
+    /// Jacobi sweeps of the spring-limit projection that moved particles.
+    pub projection_sweeps: usize,
     pub contacts: usize,
     /// Largest particle speed (m/s).
     pub max_speed: f64,

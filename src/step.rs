@@ -147,14 +147,15 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
         &mut s.cg,
     )
     .map_err(|e| diverged(model, state, cg_message(e)))?;
-    let violation = project_spring_limits(model, state, &mut s.projection);
+    let projection = project_spring_limits(model, state, &mut s.projection);
 
     state.time += model.dt;
     state.step += 1;
     let st = &mut state.stats;
     st.cg_iterations = report.iterations;
     st.cg_residual = report.relative_residual;
-    st.limit_violation = violation;
+    st.limit_violation = projection.violation;
+    st.projection_sweeps = projection.sweeps;
     st.contacts = state.contacts.len();
     update_diagnostics(model, state);
     check_divergence(model, state)

@@ -19,7 +19,10 @@ fn loaded_thesis_cuboid(bulk_modulus: f64) -> Simulation {
 fn bulk_modulus_prevents_the_collapse() {
     let e = 57.6e3;
     let nu = 0.49;
-    let sim = loaded_thesis_cuboid(e / (3.0 * (1.0 - 2.0 * nu)));
+    let bulk = e / (3.0 * (1.0 - 2.0 * nu));
+    // The built-in scene carries the material's own value.
+    assert!((Scene::thesis().model.bulk_modulus - bulk).abs() < 0.01 * bulk);
+    let sim = loaded_thesis_cuboid(bulk);
     let finger = sim.state.fingers[0];
     let depth = 0.035 - finger.position.z;
     println!(

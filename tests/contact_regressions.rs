@@ -41,7 +41,7 @@ friction = 0.0
 fn spring_limits_do_not_fight_the_finger_at_1n() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
+        "/assets/scenes/thesis_cuboid_no_bulk.toml"
     );
     let scene = Scene::load(std::path::Path::new(path)).expect("scene");
     let mut sim = Simulation::new(&scene).expect("sim");

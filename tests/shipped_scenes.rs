@@ -31,6 +31,8 @@ fn thesis_scene_has_the_thesis_values() {
     assert_eq!(s.model.tau_c, Some(0.155));
     assert_eq!(s.model.alpha, 6e6);
     assert_eq!(s.fingers[0].mass, 0.992);
+    // Its one extension: the bulk modulus that keeps it from collapsing.
+    assert_eq!(s.model.bulk_modulus, 9.6e5);
     // Every contract key is explicit; only softgrip's extension keys default.
     let contract: Vec<_> = s
         .defaults_applied
@@ -40,7 +42,7 @@ fn thesis_scene_has_the_thesis_values() {
                 "cg_tolerance",
                 "cg_max_iterations",
                 "guide_speed",
-                "bulk_modulus",
+                "constraint_tolerance",
             ]
             .iter()
             .any(|k| d.contains(k))

@@ -1,6 +1,8 @@
 //! Acceptance 6: after the projection of Alg. 3 no spring is outside
-//! [(1 - tau_c) l0, (1 + tau_s) l0] by more than the documented tolerance
-//! (1e-3 of its rest length with the default 10 iterations).
+//! [(1 - tau_c) l0, (1 + tau_s) l0] by more than the documented tolerance:
+//! 1e-3 of its rest length, reached with the thesis's 10 sweeps on Fig. 6
+//! and with `constraint_tolerance = 1e-3` on Fig. 5, where ten sweeps are
+//! not enough (ACCURACY.md).
 
 use softgrip::{Scene, Simulation};
 
@@ -63,6 +65,31 @@ fn hung_object_springs_stay_within_tau_s() {
         forty < 0.5 * ten,
         "10 iterations {ten}, 40 iterations {forty}"
     );
+
+    // With the tolerance the projection keeps sweeping until it holds.
+    let mut s = scene.clone();
+    s.model.constraint_tolerance = Some(TOLERANCE);
+    let mut sim = Simulation::new(&s).expect("sim");
+    let (mut most_sweeps, mut total_sweeps) = (0, 0);
+    for _ in 0..500 {
+        sim.step().expect("step");
+        let st = &sim.state.stats;
+        assert!(
+            st.limit_violation <= TOLERANCE,
+            "violation {} after {} sweeps at t = {}",
+            st.limit_violation,
+            st.projection_sweeps,
+            sim.state.time
+        );
+        most_sweeps = most_sweeps.max(st.projection_sweeps);
+        total_sweeps += st.projection_sweeps;
+    }
+    println!(
+        "constraint_tolerance = 1e-3: at most {most_sweeps} sweeps in a step, {:.1} on average",
+        total_sweeps as f64 / 500.0
+    );
+    // The tolerance costs sweeps beyond the thesis's ten only where needed.
+    assert!(most_sweeps > 10, "{most_sweeps}");
 }
 
 #[test]

@@ -54,6 +54,8 @@ pub struct Model {
     pub tau_s: Option<f64>,
     pub tau_c: Option<f64>,
     pub constraint_iterations: usize,
+    /// See [`crate::scene::ModelParams::constraint_tolerance`].
+    pub constraint_tolerance: Option<f64>,
     /// Largest extent of the undeformed object (m): the NRMSE normaliser.
     pub extent: f64,
     /// Target edge length (m), for broad-phase cells and messages.
@@ -266,6 +268,7 @@ impl Model {
             tau_s: scene.model.tau_s,
             tau_c: scene.model.tau_c,
             constraint_iterations: scene.model.constraint_iterations,
+            constraint_tolerance: scene.model.constraint_tolerance,
             extent,
             edge_length: obj.edge_length,
             young_modulus: obj.young_modulus,
@@ -321,6 +324,7 @@ impl Model {
             tau_s: None,
             tau_c: None,
             constraint_iterations: 0,
+            constraint_tolerance: None,
             extent: (hi - lo).max_element(),
             edge_length: (hi - lo).max_element(),
             young_modulus: 1.0,
