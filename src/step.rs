@@ -135,7 +135,6 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
     forces::external::accumulate(model, state, &mut s.force, &mut s.system);
     contact::accumulate(model, state, &mut s.force, &mut s.system, &mut s.contact);
     forces::volume::accumulate(model, state, &mut s.force, &mut s.system);
-    forces::volume::accumulate_bulk(model, state, &mut s.force, &mut s.system);
 
     let report = integrate::implicit_euler_update(
         model,

@@ -15,6 +15,15 @@
 //! `alpha / g G_i G_k^T` with `G_i = dV/dx_i` and `g` the mean |G_i| (exact in
 //! direction for a regular element, positive semi-definite, translation
 //! invariant). It lets the implicit step carry these forces stably.
+//!
+//! Element volumetric stiffness (`[model] bulk_modulus`, a softgrip
+//! extension, off by default): the linear-elastic volumetric energy
+//! `K V0 / 2 (V / V0 - 1)^2` of each element, so
+//! `f_i = -K (V / V0 - 1) dV/dx_i`. Unlike eq. 11 it is the gradient of an
+//! energy (it conserves momentum and energy), its strength does not depend on
+//! the mesh size, and it pushes an inverted element back along the true
+//! volume gradient. Jacobian `K / V0 G_i G_k^T` (the term with the Hessian of
+//! V, indefinite, is left out).
 
 use glam::DVec3;
 
@@ -34,82 +43,58 @@ pub fn volume_gradients(p: [DVec3; 4]) -> [DVec3; 4] {
     [-(gb + gc + gd), gb, gc, gd]
 }
 
+/// Adds eq. 11's correction forces and the `bulk_modulus` forces of every
+/// element, with their Jacobians, in one pass over the elements.
+///
+/// Both Jacobians are `c G_a G_b^T` (`c = alpha / g` for eq. 11, `K / V0`
+/// for the bulk term), so they share one set of blocks, and their product
+/// with the velocities is `c G_a (sum_b G_b . v_b)`.
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
-    if model.alpha == 0.0 {
+    let (alpha, bulk) = (model.alpha, model.bulk_modulus);
+    if alpha == 0.0 && bulk == 0.0 {
         return;
     }
-    let vel = |dof: usize| super::velocity_of(state, dof);
     for (t, tet) in model.tets.iter().enumerate() {
-        let p = tet.map(|i| state.positions[i as usize]);
+        let idx = tet.map(|i| i as usize);
+        let p = idx.map(|i| state.positions[i]);
         let volume = signed_volume(p[0], p[1], p[2], p[3]);
-        let barycentre = (p[0] + p[1] + p[2] + p[3]) * 0.25; // eq. 12 (four vertices)
-        let u = p.map(|q| (q - barycentre).normalize_or_zero());
-        let mean_u = (u[0] + u[1] + u[2] + u[3]) * 0.25;
-        let scale = model.alpha * (model.rest_volume[t] - volume); // eq. 11, restoring sign
-        for k in 0..4 {
-            force[tet[k] as usize] += scale * (u[k] - mean_u);
-        }
-
+        let v0 = model.rest_volume[t];
         let g = volume_gradients(p);
-        let g_mean = 0.25 * g.iter().map(|v| v.length()).sum::<f64>();
-        if g_mean <= 0.0 {
+        let mut c = 0.0;
+        if alpha != 0.0 {
+            let barycentre = (p[0] + p[1] + p[2] + p[3]) * 0.25; // eq. 12 (four vertices)
+            let u = p.map(|q| (q - barycentre).normalize_or_zero());
+            let mean_u = (u[0] + u[1] + u[2] + u[3]) * 0.25;
+            let scale = alpha * (v0 - volume); // eq. 11, restoring sign
+            for k in 0..4 {
+                force[idx[k]] += scale * (u[k] - mean_u);
+            }
+            let g_mean = 0.25 * (g[0].length() + g[1].length() + g[2].length() + g[3].length());
+            if g_mean > 0.0 {
+                c += alpha / g_mean;
+            }
+        }
+        if bulk != 0.0 {
+            let strain = volume / v0 - 1.0;
+            for k in 0..4 {
+                force[idx[k]] -= bulk * strain * g[k];
+            }
+            c += bulk / v0;
+        }
+        if c == 0.0 {
             continue;
         }
-        let c = model.alpha / g_mean;
-        let zero = glam::DMat3::ZERO;
+        let rate: f64 = (0..4).map(|k| g[k].dot(state.velocities[idx[k]])).sum();
         for k in 0..4 {
-            system.add_diag(tet[k] as usize, outer(g[k], g[k]) * c, zero, &vel);
+            system.add_diag_stiffness(idx[k], outer(g[k], g[k]) * c);
+            system.kv[idx[k]] += (c * rate) * g[k];
         }
         for (e, [a, b]) in TET_EDGES.iter().enumerate() {
-            let kp = outer(g[*a], g[*b]) * c;
-            system.add_off(
+            system.add_off_stiffness(
                 &model.springs,
                 model.tet_springs[t][e],
-                tet[*a] as usize,
-                tet[*b] as usize,
-                kp,
-                zero,
-                &vel,
-            );
-        }
-    }
-}
-
-/// Element volumetric stiffness (`[model] bulk_modulus`, a softgrip
-/// extension, off by default): the linear-elastic volumetric energy
-/// `K V0 / 2 (V / V0 - 1)^2` of each element, so
-/// `f_i = -K (V / V0 - 1) dV/dx_i`. Unlike eq. 11 it is the gradient of an
-/// energy (it conserves momentum and energy), its strength does not depend on
-/// the mesh size, and it pushes an inverted element back along the true
-/// volume gradient. Jacobian `K / V0 G_i G_k^T` (the term with the Hessian of
-/// V, indefinite, is left out).
-pub fn accumulate_bulk(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
-    if model.bulk_modulus == 0.0 {
-        return;
-    }
-    let vel = |dof: usize| super::velocity_of(state, dof);
-    let zero = glam::DMat3::ZERO;
-    for (t, tet) in model.tets.iter().enumerate() {
-        let p = tet.map(|i| state.positions[i as usize]);
-        let v0 = model.rest_volume[t];
-        let strain = signed_volume(p[0], p[1], p[2], p[3]) / v0 - 1.0;
-        let g = volume_gradients(p);
-        for k in 0..4 {
-            force[tet[k] as usize] -= model.bulk_modulus * strain * g[k];
-        }
-        let c = model.bulk_modulus / v0;
-        for k in 0..4 {
-            system.add_diag(tet[k] as usize, outer(g[k], g[k]) * c, zero, &vel);
-        }
-        for (e, [a, b]) in TET_EDGES.iter().enumerate() {
-            system.add_off(
-                &model.springs,
-                model.tet_springs[t][e],
-                tet[*a] as usize,
-                tet[*b] as usize,
+                idx[*a],
                 outer(g[*a], g[*b]) * c,
-                zero,
-                &vel,
             );
         }
     }

@@ -78,6 +78,32 @@ impl System {
         self.kv[a] += kp * v(a);
     }
 
+    /// Adds a stiffness-only `Kp` to the diagonal block of `a`; the caller
+    /// adds its `Kp v` to [`System::kv`].
+    #[inline]
+    pub fn add_diag_stiffness(&mut self, a: Dof, kp: DMat3) {
+        self.diag[a] += kp * (self.dt * self.dt);
+    }
+
+    /// Adds a stiffness-only `Kp` to block `(a, b)` of spring `slot` (`a` one
+    /// of its ends); the caller adds its `Kp v` to [`System::kv`].
+    #[inline]
+    pub fn add_off_stiffness(
+        &mut self,
+        springs: &[crate::model::Spring],
+        slot: u32,
+        a: Dof,
+        kp: DMat3,
+    ) {
+        let s = slot as usize;
+        let w = kp * (self.dt * self.dt);
+        if springs[s].i as usize == a {
+            self.off[s] += w;
+        } else {
+            self.off[s] += w.transpose();
+        }
+    }
+
     /// Adds block `(a, b)` (and its transpose at `(b, a)`) for particles `a != b`
     /// joined by spring `slot` of `springs`.
     #[inline]

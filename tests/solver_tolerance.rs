@@ -1,0 +1,66 @@
+//! The default CG tolerance is tight enough: over the thesis scene's first
+//! 0.1 s (the finger dropping in, the fastest part of the run) the state
+//! solved at it stays within a thousandth of an edge of a solve at 1e-10,
+//! and a loose tolerance fails the same check.
+//!
+//! (Later on, contact stick-slip makes single particles settle in slightly
+//! different places for any two tolerances, 1e-8 against 1e-10 included:
+//! ~3e-5 m RMS. So the check is made before that.)
+
+use softgrip::scene::DEFAULT_CG_TOLERANCE;
+use softgrip::{Scene, Simulation};
+
+/// RMS particle distance and finger distance (m) from a 1e-10 solve.
+fn difference_from_tight(tolerance: f64, until: f64) -> (f64, f64) {
+    let run = |tol: f64| {
+        let mut scene = Scene::thesis();
+        scene.simulation.cg_tolerance = tol;
+        let mut sim = Simulation::new(&scene).expect("sim");
+        sim.run_until(until).expect("run");
+        sim
+    };
+    let (a, b) = std::thread::scope(|s| {
+        let a = s.spawn(|| run(tolerance));
+        let b = s.spawn(|| run(1e-10));
+        (a.join().expect("run"), b.join().expect("run"))
+    });
+    let n = a.state.positions.len() as f64;
+    let particles = (a
+        .state
+        .positions
+        .iter()
+        .zip(&b.state.positions)
+        .map(|(x, y)| x.distance_squared(*y))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let finger = a.state.fingers[0]
+        .position
+        .distance(b.state.fingers[0].position);
+    (particles, finger)
+}
+
+#[test]
+fn default_tolerance_matches_a_tight_solve() {
+    let edge = Scene::thesis().object.edge_length;
+    let (particles, finger) = difference_from_tight(DEFAULT_CG_TOLERANCE, 0.1);
+    println!(
+        "cg_tolerance {DEFAULT_CG_TOLERANCE:e} vs 1e-10 at 0.1 s: particles {particles:.2e} m RMS, finger {finger:.2e} m"
+    );
+    assert!(particles < 1e-3 * edge, "{particles}");
+    assert!(finger < 1e-3 * edge, "{finger}");
+}
+
+#[test]
+fn a_loose_tolerance_is_caught() {
+    // The check above can fail: at 0.1 the solve is visibly off.
+    let edge = Scene::thesis().object.edge_length;
+    let (particles, finger) = difference_from_tight(0.1, 0.1);
+    println!(
+        "cg_tolerance 0.1 vs 1e-10 at 0.1 s: particles {particles:.2e} m RMS, finger {finger:.2e} m"
+    );
+    assert!(
+        particles > 1e-3 * edge || finger > 1e-3 * edge,
+        "{particles} {finger}"
+    );
+}
