@@ -186,12 +186,12 @@ pub fn update_diagnostics(model: &Model, state: &mut State) {
             .zip(&model.fingers)
             .map(|(s, f)| 0.5 * f.mass * s.velocity.length_squared())
             .sum::<f64>();
+    let (volume, bulk_energy) = forces::volume::volume_and_bulk_energy(model, state);
     let energy = kinetic
         + forces::springs::energy(model, state)
         + forces::external::energy(model, state)
         + contact::energy(model, state)
-        + forces::volume::bulk_energy(model, state);
-    let volume = state.volume(model);
+        + bulk_energy;
     let st = &mut state.stats;
     st.kinetic_energy = kinetic;
     st.energy = energy;

@@ -100,20 +100,17 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
     }
 }
 
-/// Elastic energy of the volumetric stiffness (J).
-pub fn bulk_energy(model: &Model, state: &State) -> f64 {
-    if model.bulk_modulus == 0.0 {
-        return 0.0;
-    }
+/// The object's volume (m^3) and the elastic energy of the volumetric
+/// stiffness (J), in one pass over the elements.
+pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
+    let k = model.bulk_modulus;
     model
         .tets
         .iter()
         .zip(&model.rest_volume)
-        .map(|(tet, v0)| {
+        .fold((0.0, 0.0), |(volume, energy), (tet, v0)| {
             let p = tet.map(|i| state.positions[i as usize]);
-            0.5 * model.bulk_modulus
-                * v0
-                * (signed_volume(p[0], p[1], p[2], p[3]) / v0 - 1.0).powi(2)
+            let v = signed_volume(p[0], p[1], p[2], p[3]);
+            (volume + v, energy + 0.5 * k * v0 * (v / v0 - 1.0).powi(2))
         })
-        .sum()
 }
