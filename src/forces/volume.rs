@@ -84,18 +84,23 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
         if c == 0.0 {
             continue;
         }
+        // Blocks weighted by dt^2 as they enter A; their product with the
+        // velocities is rank one.
+        let cw = c * system.dt() * system.dt();
         let rate: f64 = (0..4).map(|k| g[k].dot(state.velocities[idx[k]])).sum();
         for k in 0..4 {
-            system.add_diag_stiffness(idx[k], outer(g[k], g[k]) * c);
+            system.diag[idx[k]] += outer(g[k], g[k] * cw);
             system.kv[idx[k]] += (c * rate) * g[k];
         }
         for (e, [a, b]) in TET_EDGES.iter().enumerate() {
-            system.add_off_stiffness(
-                &model.springs,
-                model.tet_springs[t][e],
-                idx[*a],
-                outer(g[*a], g[*b]) * c,
-            );
+            let slot = model.tet_springs[t][e] as usize;
+            // Block (spring.i, spring.j) = c G_i G_j^T.
+            let (i, j) = if model.springs[slot].i as usize == idx[*a] {
+                (*a, *b)
+            } else {
+                (*b, *a)
+            };
+            system.off[slot] += outer(g[i], g[j] * cw);
         }
     }
 }

@@ -34,6 +34,12 @@ pub struct System {
     pub mask: Vec<DVec3>,
     /// Inverses of the masked diagonal blocks (block-Jacobi preconditioner).
     inv_diag: Vec<DMat3>,
+    /// Springs with no pinned end: the only off-diagonal blocks the product
+    /// needs (a pinned particle's row is masked out and its entry in every
+    /// vector CG multiplies is zero).
+    free_springs: Vec<u32>,
+    /// The spring count `free_springs` was built for.
+    built_for: usize,
 }
 
 impl System {
@@ -63,6 +69,15 @@ impl System {
         self.kv.resize(n + nf, DVec3::ZERO);
         self.mask.clear();
         self.mask.resize(n + nf, DVec3::ONE);
+        if self.built_for != model.springs.len() {
+            self.built_for = model.springs.len();
+            self.free_springs = (0..model.springs.len() as u32)
+                .filter(|&s| {
+                    let sp = &model.springs[s as usize];
+                    !model.fixed[sp.i as usize] && !model.fixed[sp.j as usize]
+                })
+                .collect();
+        }
     }
 
     #[inline]
@@ -78,30 +93,10 @@ impl System {
         self.kv[a] += kp * v(a);
     }
 
-    /// Adds a stiffness-only `Kp` to the diagonal block of `a`; the caller
-    /// adds its `Kp v` to [`System::kv`].
+    /// The time step the blocks are weighted with.
     #[inline]
-    pub fn add_diag_stiffness(&mut self, a: Dof, kp: DMat3) {
-        self.diag[a] += kp * (self.dt * self.dt);
-    }
-
-    /// Adds a stiffness-only `Kp` to block `(a, b)` of spring `slot` (`a` one
-    /// of its ends); the caller adds its `Kp v` to [`System::kv`].
-    #[inline]
-    pub fn add_off_stiffness(
-        &mut self,
-        springs: &[crate::model::Spring],
-        slot: u32,
-        a: Dof,
-        kp: DMat3,
-    ) {
-        let s = slot as usize;
-        let w = kp * (self.dt * self.dt);
-        if springs[s].i as usize == a {
-            self.off[s] += w;
-        } else {
-            self.off[s] += w.transpose();
-        }
+    pub fn dt(&self) -> f64 {
+        self.dt
     }
 
     /// Adds block `(a, b)` (and its transpose at `(b, a)`) for particles `a != b`
@@ -163,12 +158,15 @@ impl System {
         }
     }
 
-    /// `y = A x` restricted to the free components.
+    /// `y = A x` restricted to the free components, for `x` zero on the
+    /// fixed components (as every vector CG multiplies is).
     pub fn multiply(&self, springs: &[crate::model::Spring], x: &[DVec3], y: &mut [DVec3]) {
         for ((y, d), x) in y.iter_mut().zip(&self.diag).zip(x) {
             *y = *d * *x;
         }
-        for (s, block) in springs.iter().zip(&self.off) {
+        debug_assert!(x.iter().zip(&self.mask).all(|(x, m)| *x == *x * *m));
+        for &slot in &self.free_springs {
+            let (s, block) = (&springs[slot as usize], &self.off[slot as usize]);
             let (i, j) = (s.i as usize, s.j as usize);
             y[i] += *block * x[j];
             y[j] += block.transpose() * x[i];
