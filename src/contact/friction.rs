@@ -23,15 +23,27 @@ pub struct StickSlipParams {
 
 /// `drift`: the tangential displacement of the stuck material point from its
 /// anchor (already limited to the friction cone by the caller, see
-/// [`limit_drift`]); `tangential_velocity`: eq. 33's v_t.
+/// [`limit_drift`]); `tangential_velocity`: eq. 33's v_t; `slip_speed`: how
+/// fast the anchor is being dragged (m/s), which sets eq. 31's transition.
+///
+/// Eq. 31 evaluates S on v_t. Taken at the start of an implicit step that
+/// makes a contact flip between stick and slip every step (a particle under a
+/// resting finger jitters at ~1e-3 m/s and never comes to rest: S is
+/// explicit, and its steep dependence on v is missing from the Jacobian). We
+/// evaluate S on the slip speed instead: the speed at which the contact
+/// slides over the object, as opposed to the stick spring's own elastic
+/// give. A contact inside its friction cone does not slide, so S = 1 and the
+/// stick spring holds (static friction); a contact sliding much faster than
+/// `stick_velocity` gets S = 0 and eq. 34's Coulomb force, as in the thesis.
 pub fn stick_slip_force(
     p: &StickSlipParams,
     normal_force: f64,
     drift: DVec3,
     tangential_velocity: DVec3,
+    slip_speed: f64,
 ) -> TangentialForce {
     let speed = tangential_velocity.length();
-    let stick = (-(speed * speed) / (p.stick_velocity * p.stick_velocity)).exp(); // eq. 31
+    let stick = (-(slip_speed * slip_speed) / (p.stick_velocity * p.stick_velocity)).exp(); // eq. 31
     let slip = if speed > 0.0 {
         -p.friction * normal_force * tangential_velocity / speed // eq. 34
     } else {
@@ -85,16 +97,34 @@ mod tests {
 
     #[test]
     fn fast_sliding_is_coulomb() {
-        let t = stick_slip_force(&P, 2.0, DVec3::ZERO, DVec3::new(0.1, 0.0, 0.0));
+        let t = stick_slip_force(&P, 2.0, DVec3::ZERO, DVec3::new(0.1, 0.0, 0.0), 0.1);
         // S = exp(-(0.1/1e-3)^2) = 0: pure Coulomb, mu F_n against the motion.
         assert!((t.force - DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-12);
     }
 
     #[test]
     fn at_rest_the_stick_spring_holds() {
-        let t = stick_slip_force(&P, 2.0, DVec3::new(0.0, 1e-3, 0.0), DVec3::ZERO);
+        let t = stick_slip_force(&P, 2.0, DVec3::new(0.0, 1e-3, 0.0), DVec3::ZERO, 0.0);
         assert_eq!(t.stick, 1.0);
         assert!((t.force - DVec3::new(0.0, -0.5, 0.0)).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_stuck_contact_keeps_its_stick_spring_while_it_gives() {
+        // The stick spring stretching at 5 mm/s is not sliding: S stays 1.
+        let t = stick_slip_force(
+            &P,
+            2.0,
+            DVec3::new(1e-3, 0.0, 0.0),
+            DVec3::new(5e-3, 0.0, 0.0),
+            0.0,
+        );
+        assert_eq!(t.stick, 1.0);
+        // -k d - c d' = -500 * 1e-3 - 5 * 5e-3
+        assert!((t.force.x + 0.525).abs() < 1e-12, "{t:?}");
+        // Sliding at the stick velocity blends by exp(-1).
+        let t = stick_slip_force(&P, 2.0, DVec3::ZERO, DVec3::new(1e-3, 0.0, 0.0), 1e-3);
+        assert!((t.stick - (-1.0f64).exp()).abs() < 1e-12);
     }
 
     #[test]

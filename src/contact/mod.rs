@@ -161,7 +161,8 @@ pub fn accumulate(
             let (drift, anchor_moved) = limit_drift(&params, normal.force, raw_drift);
             memory.anchor_offset += anchor_moved;
             let v_t = projector * v_rel; // eq. 33
-            let tangential = stick_slip_force(&params, normal.force, drift, v_t);
+            let slip_speed = anchor_moved.length() / model.dt;
+            let tangential = stick_slip_force(&params, normal.force, drift, v_t, slip_speed);
 
             // Nodal forces (eq. 37-39) and the reaction on the finger.
             let total = normal.force * g.normal + tangential.force;
