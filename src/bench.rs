@@ -58,3 +58,12 @@ pub fn machine_description() -> String {
         env!("CARGO_PKG_VERSION")
     )
 }
+
+/// The process's peak resident memory so far (MiB), where the OS reports it
+/// (Linux `/proc/self/status`, `VmHWM`).
+pub fn peak_memory_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}

@@ -300,22 +300,28 @@ fn check(scene_path: Option<&Path>) -> Result<()> {
     Ok(())
 }
 
+/// Peak memory is the process's high-water mark, so sizes run smallest first.
 fn bench(edges_mm: &[f64], seconds: f64) -> Result<()> {
+    let mut edges_mm = edges_mm.to_vec();
+    edges_mm.sort_by(|a, b| b.total_cmp(a));
     println!("{}", softgrip::bench::machine_description());
     println!(
-        "| edge (mm) | particles | tetrahedra | ms per step | CG iterations per step | wall s per simulated s |"
+        "| edge (mm) | particles | tetrahedra | ms per step | CG iterations per step | wall s per simulated s | peak memory (MiB) |"
     );
-    println!("|---|---|---|---|---|---|");
-    for &e in edges_mm {
+    println!("|---|---|---|---|---|---|---|");
+    for &e in &edges_mm {
         let r = softgrip::bench::thesis_scene_run(e * 1e-3, seconds)?;
         println!(
-            "| {:.1} | {} | {} | {:.2} | {:.1} | {:.2} |",
+            "| {:.1} | {} | {} | {:.2} | {:.1} | {:.2} | {} |",
             e,
             r.particles,
             r.tets,
             1e3 * r.wall_seconds / r.steps as f64,
             r.cg_iterations as f64 / r.steps as f64,
-            r.wall_seconds / r.simulated_seconds
+            r.wall_seconds / r.simulated_seconds,
+            softgrip::bench::peak_memory_mib()
+                .map(|m| format!("{m:.1}"))
+                .unwrap_or_else(|| "n/a".into())
         );
     }
     Ok(())
