@@ -25,6 +25,26 @@ pub struct Scratch {
     cg: CgScratch,
     contact: ContactScratch,
     projection: ProjectionScratch,
+    energy_watch: EnergyWatch,
+}
+
+/// Steps in a row of rising energy, without input, that count as divergence
+/// (together with [`ENERGY_GROWTH`]).
+pub const ENERGY_RISING_STEPS: u32 = 100;
+/// Relative growth over those steps that counts as divergence.
+pub const ENERGY_GROWTH: f64 = 0.1;
+
+/// Watches the total energy for growth without input. The model is
+/// dissipative (dampers, Hunt-Crossley, implicit Euler), so with no work put
+/// in by a moving velocity-driven finger or a changed load, the energy can
+/// only wander by the spring-limit projection's corrections; a steady rise
+/// over [`ENERGY_RISING_STEPS`] steps is an instability.
+#[derive(Debug, Default, Clone)]
+struct EnergyWatch {
+    rising: u32,
+    start: f64,
+    last: f64,
+    loads: Vec<DVec3>,
 }
 
 /// A model, its state and the scratch memory: everything a run needs.
@@ -157,7 +177,46 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
     st.projection_sweeps = projection.sweeps;
     st.contacts = state.contacts.len();
     update_diagnostics(model, state);
-    check_divergence(model, state)
+    check_divergence(model, state)?;
+    watch_energy(model, state, &mut s.energy_watch)
+}
+
+fn watch_energy(model: &Model, state: &State, w: &mut EnergyWatch) -> Result<(), SimError> {
+    let energy = state.stats.energy;
+    let driven = model.fingers.iter().zip(&state.fingers).any(|(f, fs)| {
+        let stopped = f.travel.is_some_and(|t| fs.travelled >= t);
+        !stopped
+            && f.drive
+                .iter()
+                .any(|d| matches!(d, crate::model::AxisDrive::Velocity(v) if *v != 0.0))
+    });
+    let loads_changed = w.loads.len() != state.fingers.len()
+        || w.loads
+            .iter()
+            .zip(&state.fingers)
+            .any(|(l, fs)| *l != fs.applied_force);
+    if driven || loads_changed || state.step <= 1 || energy <= w.last {
+        w.rising = 0;
+        w.start = energy;
+        w.loads.clear();
+        w.loads
+            .extend(state.fingers.iter().map(|f| f.applied_force));
+    } else {
+        w.rising += 1;
+    }
+    w.last = energy;
+    let scale = w.start.abs().max(state.stats.kinetic_energy).max(1e-12);
+    if w.rising >= ENERGY_RISING_STEPS && energy - w.start > ENERGY_GROWTH * scale {
+        return Err(diverged(
+            model,
+            state,
+            format!(
+                "the energy rose for {} steps in a row with no input, from {:.4e} J to {:.4e} J",
+                w.rising, w.start, energy
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn cg_message(e: CgError) -> String {
