@@ -155,13 +155,26 @@ fn run(
     let bar = progress_bar(steps);
     let mut cg_total = 0u64;
     for i in 0..steps {
-        sim.step()
-            .with_context(|| format!("while running {name}"))?;
+        if let Err(e) = sim.step() {
+            bar.finish_and_clear();
+            // Keep what was computed: the frames so far and the state that failed.
+            if let Some(mut w) = writer.take() {
+                w.frame(&sim.model, &sim.state)?;
+                let pvd = w.finish()?;
+                eprintln!(
+                    "wrote the {} s computed before the failure (and the failing state as the last frame) to {}",
+                    sim.state.time,
+                    pvd.display()
+                );
+            }
+            return Err(e).with_context(|| format!("while running {name}"));
+        }
         cg_total += sim.state.stats.cg_iterations as u64;
-        if let Some(w) = writer.as_mut()
-            && ((i + 1) % frame_every == 0 || i + 1 == steps)
-        {
-            w.frame(&sim.model, &sim.state)?;
+        if let Some(w) = writer.as_mut() {
+            w.step(&sim.state);
+            if (i + 1) % frame_every == 0 || i + 1 == steps {
+                w.frame(&sim.model, &sim.state)?;
+            }
         }
         if i % 20 == 0 {
             bar.set_message(format!("t = {:.3} s", sim.state.time));

@@ -1,4 +1,5 @@
-//! `run --out`: the ParaView files and fingers.csv are written and consistent.
+//! `run --out`: the ParaView files, fingers.csv and steps.csv are written and
+//! consistent; a run that fails keeps what it computed.
 
 use softgrip::Simulation;
 use softgrip::output::TrajectoryWriter;
@@ -14,6 +15,7 @@ fn trajectory_files_are_complete() {
     for _ in 0..3 {
         for _ in 0..10 {
             sim.step().expect("step");
+            w.step(&sim.state);
         }
         w.frame(&sim.model, &sim.state).expect("frame");
     }
@@ -52,5 +54,46 @@ fn trajectory_files_are_complete() {
         .collect();
     assert_eq!(last.len(), 8);
     assert!((last[4] - sim.state.fingers[0].position.z).abs() < 1e-12);
+
+    // steps.csv: a row per step, the last one the state's own record.
+    let steps = std::fs::read_to_string(dir.join("steps.csv")).expect("steps.csv");
+    let mut lines = steps.lines();
+    assert_eq!(lines.next(), Some(softgrip::output::STEPS_HEADER));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect())
+        .collect();
+    assert_eq!(rows.len(), 30);
+    let last = rows.last().expect("rows");
+    assert_eq!(last[1], 30.0);
+    assert_eq!(last[2], sim.state.stats.cg_iterations as f64);
+    assert_eq!(last[6], sim.state.stats.volume_error);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_failing_run_keeps_its_frames() {
+    // The CLI on a scene that fails at its first step: the error is reported,
+    // and the files computed so far are written.
+    let dir = std::env::temp_dir().join(format!("softgrip-fail-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = dir.join("stiff.toml");
+    std::fs::write(
+        &scene,
+        "[simulation]\ncg_tolerance = 1e-12\ncg_max_iterations = 2\n[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05, 0.02]\nedge_length = 0.005\nyoung_modulus = 5e9\n[[load]]\nmin = [-1.0, -1.0, 0.019]\nmax = [1.0, 1.0, 1.0]\nforce = [0.0, 0.0, -100.0]\n",
+    )
+    .expect("scene");
+    let out = dir.join("out");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_softgrip"))
+        .args(["run", scene.to_str().expect("path"), "--out"])
+        .arg(&out)
+        .output()
+        .expect("softgrip runs");
+    assert!(!status.status.success());
+    let stderr = String::from_utf8_lossy(&status.stderr);
+    assert!(stderr.contains("diverged at t ="), "{stderr}");
+    assert!(stderr.contains("before the failure"), "{stderr}");
+    let pvd = std::fs::read_to_string(out.join("trajectory.pvd")).expect("pvd kept");
+    assert!(pvd.matches("<DataSet").count() >= 2, "{pvd}");
+    assert!(out.join("steps.csv").exists());
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,5 +1,5 @@
-//! Writing results: ParaView files (`.vtu` per frame and a `.pvd` series) and
-//! the fingers' track as CSV.
+//! Writing results: ParaView files (`.vtu` per frame and a `.pvd` series),
+//! the fingers' track and the per-step solver record as CSV.
 
 pub mod vtu;
 
@@ -29,7 +29,11 @@ pub struct TrajectoryWriter {
     dir: PathBuf,
     frames: Vec<(f64, String)>,
     fingers_csv: String,
+    steps_csv: String,
 }
+
+/// Header of `steps.csv`: one row per step.
+pub const STEPS_HEADER: &str = "time,step,cg_iterations,cg_residual,energy,kinetic_energy,volume_error,limit_violation,projection_sweeps,contacts,max_speed";
 
 impl TrajectoryWriter {
     pub fn new(dir: &Path) -> Result<TrajectoryWriter, OutputError> {
@@ -38,7 +42,28 @@ impl TrajectoryWriter {
             dir: dir.to_path_buf(),
             frames: Vec::new(),
             fingers_csv: String::from("time,finger,x,y,z,fx,fy,fz\n"),
+            steps_csv: format!("{STEPS_HEADER}\n"),
         })
+    }
+
+    /// Appends the step's solver record (call after every step).
+    pub fn step(&mut self, state: &State) {
+        let s = &state.stats;
+        let _ = writeln!(
+            self.steps_csv,
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{},{},{:e}",
+            state.time,
+            state.step,
+            s.cg_iterations,
+            s.cg_residual,
+            s.energy,
+            s.kinetic_energy,
+            s.volume_error,
+            s.limit_violation,
+            s.projection_sweeps,
+            s.contacts,
+            s.max_speed
+        );
     }
 
     /// Writes `frame_NNNNN.vtu` and appends the fingers' rows.
@@ -59,7 +84,7 @@ impl TrajectoryWriter {
         Ok(())
     }
 
-    /// Writes `trajectory.pvd` and `fingers.csv`.
+    /// Writes `trajectory.pvd`, `fingers.csv` and `steps.csv`.
     pub fn finish(self) -> Result<PathBuf, OutputError> {
         let pvd = self.dir.join("trajectory.pvd");
         let mut text = String::from(
@@ -77,6 +102,8 @@ impl TrajectoryWriter {
         let mut file = std::fs::File::create(&csv).map_err(io_err(&csv))?;
         file.write_all(self.fingers_csv.as_bytes())
             .map_err(io_err(&csv))?;
+        let steps = self.dir.join("steps.csv");
+        std::fs::write(&steps, &self.steps_csv).map_err(io_err(&steps))?;
         Ok(pvd)
     }
 }
