@@ -92,6 +92,7 @@ struct RawModel {
     damping_ratio: Option<f64>,
     alpha: Option<f64>,
     bulk_modulus: Option<f64>,
+    limit_stiffness: Option<f64>,
     tau_s: Option<f64>,
     tau_c: Option<f64>,
     constraint_iterations: Option<i64>,
@@ -196,6 +197,10 @@ pub struct ModelParams {
     /// Element volumetric stiffness (Pa); 0 = off (the thesis model). See
     /// `forces::volume`.
     pub bulk_modulus: f64,
+    /// Stiffness of the limit springs, as a multiple of each spring's own
+    /// (a softgrip extension); 0 = the projection alone (thesis Alg. 3). See
+    /// `forces::springs`.
+    pub limit_stiffness: f64,
     /// Over-stretch limit; `None` = no limit (the key omitted).
     pub tau_s: Option<f64>,
     /// Over-compression limit; `None` = no limit (the key omitted).
@@ -288,6 +293,10 @@ impl Finger {
         self.control == Control::Velocity && self.force[axis] == 0.0
     }
 }
+
+/// Default `[model] limit_stiffness`: limit springs 1000 times stiffer than
+/// the spring they guard (ARCHITECTURE.md, choice 5).
+pub const DEFAULT_LIMIT_STIFFNESS: f64 = 1000.0;
 
 /// CG's default relative residual. 20 steps into the thesis scene
 /// (frictionless) the state is within 1.1e-8 m RMS of a 1e-10 solve; with
@@ -384,8 +393,8 @@ impl Scene {
         let m = &self.model;
         let _ = writeln!(
             s,
-            "[model]\ndamping_ratio = {:?}\nalpha = {:?}\nbulk_modulus = {:?}",
-            m.damping_ratio, m.alpha, m.bulk_modulus
+            "[model]\ndamping_ratio = {:?}\nalpha = {:?}\nbulk_modulus = {:?}\nlimit_stiffness = {:?}",
+            m.damping_ratio, m.alpha, m.bulk_modulus, m.limit_stiffness
         );
         if let Some(t) = m.tau_s {
             let _ = writeln!(s, "tau_s = {t:?}");
@@ -815,6 +824,13 @@ impl<'a> Resolver<'a> {
             |x| x >= 0.0,
             "must be >= 0 Pa (0 = off; E / (3 (1 - 2 nu)) is the material's own bulk modulus)",
         )?;
+        let limit_stiffness = self.number(
+            at("model", "limit_stiffness"),
+            m.limit_stiffness,
+            DEFAULT_LIMIT_STIFFNESS,
+            |x| (0.0..=1e6).contains(&x),
+            "must be in [0, 1e6] (a multiple of each spring's stiffness; 0 = the thesis's projection alone)",
+        )?;
         let tau_s = self.optional(
             at("model", "tau_s"),
             m.tau_s,
@@ -849,6 +865,7 @@ impl<'a> Resolver<'a> {
             damping_ratio,
             alpha,
             bulk_modulus,
+            limit_stiffness,
             tau_s,
             tau_c,
             constraint_iterations: iters as usize,

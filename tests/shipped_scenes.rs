@@ -43,6 +43,7 @@ fn thesis_scene_has_the_thesis_values() {
                 "cg_max_iterations",
                 "guide_speed",
                 "constraint_tolerance",
+                "limit_stiffness",
             ]
             .iter()
             .any(|k| d.contains(k))

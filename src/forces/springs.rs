@@ -15,6 +15,16 @@ use crate::state::State;
 /// it is clamped at zero there (the usual remedy; the force itself is exact).
 /// The damping Jacobian is `d u u^T`; the dependence of the damping force on
 /// positions (through `u`) is left out of the Jacobian.
+///
+/// Limit springs (`[model] limit_stiffness`, a softgrip extension): a spring
+/// within [`LIMIT_MARGIN`] of its tau_s / tau_c limit gets a second spring,
+/// `limit_stiffness` times stiffer, whose rest length is that point. The
+/// limits are then met inside the implicit step, where a finger pressing the
+/// object feels them (the thesis's fitted tau_c limits the indentation), and
+/// the projection of Alg. 3 after the step has little or nothing left to do.
+/// Starting the limit spring just before the limit keeps its equilibrium
+/// inside the limit, so the projection and the limit spring do not pull
+/// against each other (ARCHITECTURE.md, choice 5).
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let x = &state.positions;
     let v = &state.velocities;
@@ -35,7 +45,14 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
 
         let uu = outer(u, u);
         let transverse = (1.0 - s.rest_length / l).max(0.0);
-        let kp = uu * s.stiffness + (DMat3::IDENTITY - uu) * (s.stiffness * transverse);
+        let mut kp = uu * s.stiffness + (DMat3::IDENTITY - uu) * (s.stiffness * transverse);
+        if let Some((start, k_lim)) = limit_spring(model, s, l) {
+            let f = k_lim * (l - start) * u;
+            force[i] += f;
+            force[j] -= f;
+            let t = (1.0 - start / l).max(0.0);
+            kp += uu * k_lim + (DMat3::IDENTITY - uu) * (k_lim * t);
+        }
         let dp = uu * s.damping;
         system.add_diag(i, kp, dp, &vel);
         system.add_diag(j, kp, dp, &vel);
@@ -43,14 +60,44 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
     }
 }
 
-/// Elastic energy stored in the springs (J).
+/// Where a limit spring starts, as a fraction of the rest length before the
+/// tau_s / tau_c limit.
+pub const LIMIT_MARGIN: f64 = 0.002;
+
+/// The rest length and stiffness of the limit spring acting on spring `s` at
+/// length `l`, if any.
+#[inline]
+fn limit_spring(model: &Model, s: &crate::model::Spring, l: f64) -> Option<(f64, f64)> {
+    if model.limit_stiffness == 0.0 {
+        return None;
+    }
+    let k = model.limit_stiffness * s.stiffness;
+    if let Some(t) = model.tau_s {
+        let start = (1.0 + t - LIMIT_MARGIN) * s.rest_length;
+        if l > start {
+            return Some((start, k));
+        }
+    }
+    if let Some(t) = model.tau_c {
+        let start = (1.0 - t + LIMIT_MARGIN) * s.rest_length;
+        if l < start {
+            return Some((start, k));
+        }
+    }
+    None
+}
+
+/// Elastic energy stored in the springs and their limit springs (J).
 pub fn energy(model: &Model, state: &State) -> f64 {
     model
         .springs
         .iter()
         .map(|s| {
             let l = state.positions[s.i as usize].distance(state.positions[s.j as usize]);
-            0.5 * s.stiffness * (l - s.rest_length).powi(2)
+            let limit = limit_spring(model, s, l)
+                .map(|(start, k)| 0.5 * k * (l - start).powi(2))
+                .unwrap_or(0.0);
+            0.5 * s.stiffness * (l - s.rest_length).powi(2) + limit
         })
         .sum()
 }
