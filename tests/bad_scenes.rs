@@ -227,22 +227,29 @@ fn diverging_run_is_an_error_not_a_panic() {
     );
 }
 
+/// Two free 1 kg particles 1 cm apart, joined by a spring (N/m) and damper
+/// (N s/m), separating at 1 cm/s.
+fn separating_pair(stiffness: f64, damping: f64) -> Simulation {
+    let model = softgrip::Model::from_particles(
+        vec![glam::DVec3::ZERO, glam::DVec3::new(0.01, 0.0, 0.0)],
+        vec![1.0, 1.0],
+        vec![false, false],
+        &[(0, 1, stiffness, damping)],
+        glam::DVec3::ZERO,
+        1e-3,
+    );
+    let mut sim = Simulation::from_model(model);
+    sim.state.velocities[1].x = 0.01;
+    sim
+}
+
 #[test]
 fn energy_growing_without_input_is_divergence() {
     // Two free particles joined by a damper with a negative coefficient (no
     // scene accepts one; the model is built by hand): their relative speed
     // grows by e every second, far below the speed limit for many seconds.
     // The energy watch must stop the run long before.
-    let model = softgrip::Model::from_particles(
-        vec![glam::DVec3::ZERO, glam::DVec3::new(0.01, 0.0, 0.0)],
-        vec![1.0, 1.0],
-        vec![false, false],
-        &[(0, 1, 0.0, -0.5)],
-        glam::DVec3::ZERO,
-        1e-3,
-    );
-    let mut sim = Simulation::from_model(model);
-    sim.state.velocities[1].x = 0.01;
+    let mut sim = separating_pair(0.0, -0.5);
     let mut outcome = Ok(());
     for _ in 0..2000 {
         outcome = sim.step();
@@ -263,16 +270,7 @@ fn energy_growing_without_input_is_divergence() {
 #[test]
 fn a_damped_run_does_not_trip_the_energy_watch() {
     // The same pair with a positive damper loses energy: 2000 steps pass.
-    let model = softgrip::Model::from_particles(
-        vec![glam::DVec3::ZERO, glam::DVec3::new(0.01, 0.0, 0.0)],
-        vec![1.0, 1.0],
-        vec![false, false],
-        &[(0, 1, 10.0, 0.5)],
-        glam::DVec3::ZERO,
-        1e-3,
-    );
-    let mut sim = Simulation::from_model(model);
-    sim.state.velocities[1].x = 0.01;
+    let mut sim = separating_pair(10.0, 0.5);
     for _ in 0..2000 {
         sim.step().expect("a damped pair is stable");
     }

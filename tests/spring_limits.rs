@@ -20,6 +20,21 @@ fn max_stretch(sim: &Simulation) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Steps `scene` 500 times; after each projection no spring is beyond its
+/// limits by more than the tolerance.
+fn assert_within_limits_for_500_steps(scene: &Scene) {
+    let mut sim = Simulation::new(scene).expect("sim");
+    for _ in 0..500 {
+        sim.step().expect("step");
+        assert!(
+            sim.state.stats.limit_violation <= TOLERANCE,
+            "violation {} at t = {}",
+            sim.state.stats.limit_violation,
+            sim.state.time
+        );
+    }
+}
+
 #[test]
 fn hung_object_springs_stay_within_tau_s() {
     let path = concat!(
@@ -42,16 +57,7 @@ fn hung_object_springs_stay_within_tau_s() {
 
     // ... with it (the default: limit springs, then the projection), no
     // spring is beyond it at any step.
-    let mut sim = Simulation::new(&scene).expect("sim");
-    for _ in 0..500 {
-        sim.step().expect("step");
-        assert!(
-            sim.state.stats.limit_violation <= TOLERANCE,
-            "violation {} at t = {}",
-            sim.state.stats.limit_violation,
-            sim.state.time
-        );
-    }
+    assert_within_limits_for_500_steps(&scene);
 
     // The projection alone (Alg. 3) pulls them back too, but its Jacobi
     // iterations converge slowly on this chain of corner springs: the
@@ -115,16 +121,7 @@ fn pulled_object_springs_stay_within_tau_c_and_tau_s() {
         "/assets/scenes/fixed_top_pull_bottom.toml"
     );
     let scene = Scene::load(std::path::Path::new(path)).expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
-    for _ in 0..500 {
-        sim.step().expect("step");
-        assert!(
-            sim.state.stats.limit_violation <= TOLERANCE,
-            "violation {} at t = {}",
-            sim.state.stats.limit_violation,
-            sim.state.time
-        );
-    }
+    assert_within_limits_for_500_steps(&scene);
 }
 
 /// Under the thesis's finger, tau_c limits the indentation, as the thesis's
