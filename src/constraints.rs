@@ -95,6 +95,7 @@ pub fn project_spring_limits(
     };
     let tolerance = model.constraint_tolerance.unwrap_or(0.0);
     let mut sweeps = 0;
+    let mut any_violated = false;
     for sweep in 0..max_sweeps {
         scratch.delta.clear();
         scratch.delta.resize(n, DVec3::ZERO);
@@ -105,7 +106,12 @@ pub fn project_spring_limits(
         for s in &model.springs {
             let (i, j) = (s.i as usize, s.j as usize);
             let d = state.positions[i] - state.positions[j];
-            let l = d.length();
+            let l2 = d.length_squared();
+            let (hi, lo) = (max_len * s.rest_length, min_len * s.rest_length);
+            if l2 <= hi * hi && l2 >= lo * lo {
+                continue;
+            }
+            let l = l2.sqrt();
             if l <= 0.0 {
                 continue;
             }
@@ -132,6 +138,7 @@ pub fn project_spring_limits(
             scratch.count[i] += (share_i > 0.0) as u32;
             scratch.count[j] += (share_j > 0.0) as u32;
         }
+        any_violated |= worst > 0.0;
         let done = sweep >= model.constraint_iterations && worst <= tolerance;
         if !active || done {
             break;
@@ -153,6 +160,11 @@ pub fn project_spring_limits(
     }
     ProjectionReport {
         sweeps,
-        violation: max_violation(model, &state.positions),
+        // A first sweep that found every spring inside its limits moved nothing.
+        violation: if any_violated || max_sweeps == 0 {
+            max_violation(model, &state.positions)
+        } else {
+            0.0
+        },
     }
 }

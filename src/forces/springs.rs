@@ -28,7 +28,7 @@ use crate::state::State;
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let x = &state.positions;
     let v = &state.velocities;
-    let vel = |dof: usize| super::velocity_of(state, dof);
+    let dt = system.dt();
     for (slot, s) in model.springs.iter().enumerate() {
         let (i, j) = (s.i as usize, s.j as usize);
         let delta = x[j] - x[i];
@@ -53,10 +53,15 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
             let t = (1.0 - start / l).max(0.0);
             kp += uu * k_lim + (DMat3::IDENTITY - uu) * (k_lim * t);
         }
-        let dp = uu * s.damping;
-        system.add_diag(i, kp, dp, &vel);
-        system.add_diag(j, kp, dp, &vel);
-        system.add_off(&model.springs, slot as u32, i, j, -kp, -dp, &vel);
+        // Blocks (i, i) and (j, j) get +W, block (i, j) = (spring.i, spring.j)
+        // gets -W, with W = dt^2 Kp + dt Dp; `Kp v` is Kp (v_i - v_j) at i.
+        let w = kp * (dt * dt) + uu * (s.damping * dt);
+        system.diag[i] += w;
+        system.diag[j] += w;
+        system.off[slot] -= w;
+        let kv = kp * (v[i] - v[j]);
+        system.kv[i] += kv;
+        system.kv[j] -= kv;
     }
 }
 
