@@ -1,0 +1,109 @@
+//! The `softgrip` command as a user runs it: each subcommand on a short
+//! scene, its output and exit status.
+
+use std::process::{Command, Output};
+
+fn softgrip(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_softgrip"))
+        .args(args)
+        .output()
+        .expect("softgrip runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn scene(name: &str) -> String {
+    format!("{}/assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn run_prints_the_results_a_user_needs() {
+    let o = softgrip(&["run", "--duration", "0.05"]);
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    for needle in [
+        "built-in thesis scene",
+        "indentation depth",
+        "contact force",
+        "volume error",
+        "CG iterations per step",
+    ] {
+        assert!(out.contains(needle), "missing {needle:?} in\n{out}");
+    }
+}
+
+#[test]
+fn scene_prints_a_file_that_check_accepts() {
+    let o = softgrip(&["scene"]);
+    assert!(o.status.success());
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("thesis.toml");
+    std::fs::write(&path, &o.stdout).expect("write");
+    let o = softgrip(&["check", path.to_str().expect("path")]);
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    assert!(out.contains("mesh: 1014 nodes, 4320 tetrahedra"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn ramp_reaches_each_load() {
+    let o = softgrip(&[
+        "ramp",
+        &scene("thesis_cuboid_light_guide.toml"),
+        "--loads",
+        "0.5,1",
+        "--max-seconds",
+        "2",
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    // One table row per load, each with its contact force.
+    let rows: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("| 0.5 ") || l.starts_with("| 1 "))
+        .collect();
+    assert_eq!(rows.len(), 2, "{out}");
+    let force = |row: &str| -> f64 {
+        row.split('|')
+            .nth(3)
+            .and_then(|c| c.trim().parse().ok())
+            .expect("contact force column")
+    };
+    assert!((force(rows[0]) - 0.5).abs() < 0.005, "{out}");
+    assert!((force(rows[1]) - 1.0).abs() < 0.01, "{out}");
+}
+
+#[test]
+fn bench_prints_a_row_per_size() {
+    let o = softgrip(&["bench", "--edges", "8,6", "--seconds", "0.01"]);
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    assert!(out.contains("machine:"), "{out}");
+    assert!(out.lines().any(|l| l.starts_with("| 8.0 |")), "{out}");
+    assert!(out.lines().any(|l| l.starts_with("| 6.0 |")), "{out}");
+}
+
+#[test]
+fn a_bad_scene_is_a_clear_error_and_a_failing_exit() {
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05, 0.02]\nyoung_modulus = -1.0\n",
+    )
+    .expect("write");
+    let o = softgrip(&["run", path.to_str().expect("path")]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("young_modulus") && err.contains("bad.toml"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
