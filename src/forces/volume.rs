@@ -54,12 +54,17 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
     if alpha == 0.0 && bulk == 0.0 {
         return;
     }
-    for (t, tet) in model.tets.iter().enumerate() {
+    let dt2 = system.dt() * system.dt();
+    for ((tet, &v0), slots) in model
+        .tets
+        .iter()
+        .zip(&model.rest_volume)
+        .zip(&model.tet_springs)
+    {
         let idx = tet.map(|i| i as usize);
         let p = idx.map(|i| state.positions[i]);
-        let volume = signed_volume(p[0], p[1], p[2], p[3]);
-        let v0 = model.rest_volume[t];
         let g = volume_gradients(p);
+        let volume = g[3].dot(p[3] - p[0]); // = signed_volume(p)
         let mut c = 0.0;
         if alpha != 0.0 {
             let barycentre = (p[0] + p[1] + p[2] + p[3]) * 0.25; // eq. 12 (four vertices)
@@ -86,21 +91,16 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
         }
         // Blocks weighted by dt^2 as they enter A; their product with the
         // velocities is rank one.
-        let cw = c * system.dt() * system.dt();
+        let cw = c * dt2;
         let rate: f64 = (0..4).map(|k| g[k].dot(state.velocities[idx[k]])).sum();
         for k in 0..4 {
             system.diag[idx[k]] += outer(g[k], g[k] * cw);
             system.kv[idx[k]] += (c * rate) * g[k];
         }
-        for (e, [a, b]) in TET_EDGES.iter().enumerate() {
-            let slot = model.tet_springs[t][e] as usize;
-            // Block (spring.i, spring.j) = c G_i G_j^T.
-            let (i, j) = if model.springs[slot].i as usize == idx[*a] {
-                (*a, *b)
-            } else {
-                (*b, *a)
-            };
-            system.off[slot] += outer(g[i], g[j] * cw);
+        for (&slot, [a, b]) in slots.iter().zip(TET_EDGES) {
+            // Block (spring.i, spring.j) = c G_i G_j^T, and spring.i < spring.j.
+            let (i, j) = if idx[a] < idx[b] { (a, b) } else { (b, a) };
+            system.off[slot as usize] += outer(g[i], g[j] * cw);
         }
     }
 }
@@ -109,13 +109,14 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
 /// stiffness (J), in one pass over the elements.
 pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
     let k = model.bulk_modulus;
-    model
-        .tets
-        .iter()
-        .zip(&model.rest_volume)
-        .fold((0.0, 0.0), |(volume, energy), (tet, v0)| {
-            let p = tet.map(|i| state.positions[i as usize]);
-            let v = signed_volume(p[0], p[1], p[2], p[3]);
-            (volume + v, energy + 0.5 * k * v0 * (v / v0 - 1.0).powi(2))
-        })
+    let volumes = model.tets.iter().zip(&model.rest_volume).map(|(tet, &v0)| {
+        let [a, b, c, d] = tet.map(|i| state.positions[i as usize]);
+        (signed_volume(a, b, c, d), v0)
+    });
+    if k == 0.0 {
+        return (volumes.map(|(v, _)| v).sum(), 0.0);
+    }
+    volumes.fold((0.0, 0.0), |(volume, energy), (v, v0)| {
+        (volume + v, energy + 0.5 * k * (v - v0) * (v - v0) / v0)
+    })
 }
