@@ -275,3 +275,19 @@ fn a_damped_run_does_not_trip_the_energy_watch() {
         sim.step().expect("a damped pair is stable");
     }
 }
+
+#[test]
+fn negative_limit_stiffness() {
+    expect(
+        &format!("{BASE}[model]\nlimit_stiffness = -1.0\n"),
+        &["limit_stiffness", "-1", "[0, 1e6]"],
+    );
+}
+
+#[test]
+fn constraint_tolerance_out_of_range() {
+    expect(
+        &format!("{BASE}[model]\nconstraint_tolerance = 0.5\n"),
+        &["constraint_tolerance", "0.5", "(0, 0.1]"],
+    );
+}
