@@ -37,9 +37,6 @@ pub struct ProjectionScratch {
 /// `constraint_iterations` (at least this many) even if the tolerance is not met.
 pub const MAX_SWEEPS_FACTOR: usize = 100;
 
-/// Relative slack within which a spring counts as inside its limits.
-const ROUNDING: f64 = 1e-12;
-
 /// What a projection did.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ProjectionReport {
@@ -110,11 +107,7 @@ pub fn project_spring_limits(
             let (i, j) = (s.i as usize, s.j as usize);
             let d = state.positions[i] - state.positions[j];
             let l2 = d.length_squared();
-            // Within rounding of its limits a spring is inside them: a spring
-            // the projection left exactly at a limit must not count as active
-            // (it kept ~5 sweeps a step going at rest).
-            let hi = max_len * s.rest_length * (1.0 + ROUNDING);
-            let lo = min_len * s.rest_length * (1.0 - ROUNDING);
+            let (hi, lo) = (max_len * s.rest_length, min_len * s.rest_length);
             if l2 <= hi * hi && l2 >= lo * lo {
                 continue;
             }
