@@ -42,6 +42,8 @@ pub struct Contact {
     pub stick: f64,
     /// Barycentric weights of the contact point (the H of eq. 38).
     pub weights: [f64; 3],
+    /// Energy stored in the stick spring, `k_stick |d|^2 / 2` (J).
+    pub stick_energy: f64,
 }
 
 /// What a contact remembers between steps.
@@ -62,7 +64,8 @@ pub struct StepStats {
     /// Relative residual |b - A dv| / |b| at the end of CG.
     pub cg_residual: f64,
     pub kinetic_energy: f64,
-    /// Kinetic + spring + gravity + applied-force + contact energy (J).
+    /// Kinetic + spring (with limit springs) + bulk + gravity + applied-force
+    /// + contact (with stick springs) energy (J).
     pub energy: f64,
     /// |V - V0| / V0 of the whole object (thesis eq. 47-48).
     pub volume_error: f64,

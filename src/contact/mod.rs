@@ -244,6 +244,7 @@ pub fn accumulate(
                 tangential_force: tangential.force,
                 stick: tangential.stick,
                 weights: w,
+                stick_energy: 0.5 * params.stick_stiffness * drift.length_squared(),
             });
         }
     }
@@ -254,7 +255,8 @@ pub fn accumulate(
         .retain(|key, _| touched.binary_search(key).is_ok());
 }
 
-/// Elastic energy stored in the contacts of the last step (J).
+/// Elastic energy stored in the contacts of the last step, the stick springs
+/// included (J).
 pub fn energy(model: &Model, state: &State) -> f64 {
     state
         .contacts
@@ -264,7 +266,7 @@ pub fn energy(model: &Model, state: &State) -> f64 {
             let p = tri.map(|i| state.positions[i as usize]);
             let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
             let (k, e) = stiffness_and_exponent(model, c.finger as usize, area);
-            hunt_crossley::elastic_energy(k, e, c.penetration)
+            hunt_crossley::elastic_energy(k, e, c.penetration) + c.stick_energy
         })
         .sum()
 }
