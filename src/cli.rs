@@ -208,15 +208,22 @@ fn run(
         );
     }
     println!(
-        "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J",
-        st.volume_error, st.contacts, st.limit_violation, st.energy
+        "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J; top particle speed {:.1e} m/s",
+        st.volume_error, st.contacts, st.limit_violation, st.energy, st.max_speed
     );
     let inverted = sim.state.inverted_elements(&sim.model);
     if inverted > 0 {
+        let remedy = if scene.model.bulk_modulus == 0.0 {
+            format!(
+                "Add [model] bulk_modulus = {:.3e} (E / (3 (1 - 2 nu)) for this material) or lower the load",
+                scene.object.young_modulus / (3.0 * (1.0 - 2.0 * scene.object.poisson_ratio))
+            )
+        } else {
+            "Lower the load, refine the mesh, or raise [model] bulk_modulus".to_string()
+        };
         println!(
-            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see ACCURACY.md, \"Large loads\"). Add [model] bulk_modulus = {:.3e} (E / (3 (1 - 2 nu)) for this material) or lower the load",
+            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see ACCURACY.md, \"Large loads\"). {remedy}",
             sim.model.tets.len(),
-            scene.object.young_modulus / (3.0 * (1.0 - 2.0 * scene.object.poisson_ratio))
         );
     }
     println!(

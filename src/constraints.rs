@@ -29,8 +29,6 @@ pub struct ProjectionScratch {
     count: Vec<u32>,
     total: Vec<DVec3>,
     held: Vec<bool>,
-    /// Particles the previous sweep moved.
-    moved: Vec<bool>,
 }
 
 /// With `constraint_tolerance`, the sweeps stop at this many times
@@ -144,8 +142,6 @@ pub fn project_spring_limits(
             break;
         }
         sweeps += 1;
-        scratch.moved.clear();
-        scratch.moved.extend(scratch.count.iter().map(|&c| c > 0));
         for i in 0..n {
             if scratch.count[i] > 0 {
                 let step = scratch.delta[i] / scratch.count[i] as f64; // eq. 13

@@ -133,10 +133,7 @@ impl Simulation {
             .iter()
             .map(|p| p.dot(d))
             .fold(f64::INFINITY, f64::min);
-        let reach = match self.model.fingers[k].shape {
-            crate::scene::FingerShape::Sphere { radius } => radius,
-            crate::scene::FingerShape::Plate { .. } => 0.0,
-        };
+        let reach = self.model.fingers[k].shape.reach();
         ((self.state.fingers[k].position.dot(d) + reach) - surface).max(0.0)
     }
 

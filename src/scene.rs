@@ -257,6 +257,17 @@ pub enum FingerShape {
     },
 }
 
+impl FingerShape {
+    /// How far the finger's pressing surface lies from its centre (m): the
+    /// sphere's radius; 0 for a plate, whose centre is on its face.
+    pub fn reach(&self) -> f64 {
+        match *self {
+            FingerShape::Sphere { radius } => radius,
+            FingerShape::Plate { .. } => 0.0,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Control {
     Force,

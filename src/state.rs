@@ -114,18 +114,6 @@ impl State {
         }
     }
 
-    /// Current total signed volume of the object.
-    pub fn volume(&self, model: &Model) -> f64 {
-        model
-            .tets
-            .iter()
-            .map(|t| {
-                let p = t.map(|i| self.positions[i as usize]);
-                crate::mesh::signed_volume(p[0], p[1], p[2], p[3])
-            })
-            .sum()
-    }
-
     /// Number of elements turned inside out (signed volume <= 0).
     pub fn inverted_elements(&self, model: &Model) -> usize {
         model

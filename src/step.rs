@@ -102,10 +102,7 @@ impl Simulation {
                 .fold(0.0, f64::max);
             let centre_inside = fs.position.cmpgt(lo).all() && fs.position.cmplt(hi).all();
             if deepest > 1e-9 || centre_inside {
-                let reach = match self.model.fingers[k].shape {
-                    crate::scene::FingerShape::Sphere { radius } => radius,
-                    crate::scene::FingerShape::Plate { .. } => 0.0,
-                };
+                let reach = self.model.fingers[k].shape.reach();
                 // A buried centre is at least its height below the top inside.
                 let buried = if centre_inside {
                     hi.z - fs.position.z + reach
