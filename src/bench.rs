@@ -2,7 +2,7 @@
 
 use crate::error::SimError;
 use crate::scene::Scene;
-use crate::step::Simulation;
+use crate::step::{Simulation, StageSeconds};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BenchRun {
@@ -12,6 +12,8 @@ pub struct BenchRun {
     pub simulated_seconds: f64,
     pub wall_seconds: f64,
     pub cg_iterations: u64,
+    /// Where the time went, per stage of the step.
+    pub stages: StageSeconds,
 }
 
 /// The thesis scene at another edge length.
@@ -37,6 +39,7 @@ pub fn thesis_scene_run(edge_length: f64, seconds: f64) -> Result<BenchRun, SimE
         simulated_seconds: sim.state.time,
         wall_seconds: sim.wall_seconds,
         cg_iterations: cg,
+        stages: sim.stage_seconds(),
     })
 }
 

@@ -329,8 +329,10 @@ fn bench(edges_mm: &[f64], seconds: f64) -> Result<()> {
         "| edge (mm) | particles | tetrahedra | ms per step | CG iterations per step | wall s per simulated s | peak memory (MiB) |"
     );
     println!("|---|---|---|---|---|---|---|");
+    let mut breakdown = Vec::new();
     for &e in &edges_mm {
         let r = softgrip::bench::thesis_scene_run(e * 1e-3, seconds)?;
+        breakdown.push((e, r));
         println!(
             "| {:.1} | {} | {} | {:.2} | {:.1} | {:.2} | {} |",
             e,
@@ -344,5 +346,24 @@ fn bench(edges_mm: &[f64], seconds: f64) -> Result<()> {
                 .unwrap_or_else(|| "n/a".into())
         );
     }
+    println!();
+    println!(
+        "| edge (mm) | springs | external + contact | volume | solve (CG) | projection | diagnostics |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for (e, r) in breakdown {
+        let ms = |s: f64| format!("{:.3}", 1e3 * s / r.steps as f64);
+        let t = r.stages;
+        println!(
+            "| {e:.1} | {} | {} | {} | {} | {} | {} |",
+            ms(t.springs),
+            ms(t.external_and_contact),
+            ms(t.volume),
+            ms(t.solve),
+            ms(t.projection),
+            ms(t.diagnostics)
+        );
+    }
+    println!("(ms per step in each stage)");
     Ok(())
 }

@@ -12,6 +12,9 @@
 //!   far (m), so a pinch can squeeze and then hold.
 //! - `[[finger]] guide_speed`: the speed (m/s) at which a mass-less
 //!   force-controlled finger approaches before contact (see `model::finger`).
+//! - `[[finger]] contact_stiffness_scale`: multiplies eq. 27's contact
+//!   stiffness (the lattice already carries the object's compliance; see
+//!   ARCHITECTURE.md, choice 10).
 
 use std::path::{Path, PathBuf};
 
@@ -143,6 +146,7 @@ struct RawFinger {
     stick_damping: Option<f64>,
     travel: Option<f64>,
     guide_speed: Option<f64>,
+    contact_stiffness_scale: Option<f64>,
 }
 
 // ---------------------------------------------------------------------------
@@ -294,6 +298,8 @@ pub struct Finger {
     pub travel: Option<f64>,
     /// Mass-less force control: approach speed before contact (m/s).
     pub guide_speed: f64,
+    /// Multiplies the contact stiffness of thesis eq. 27 (1 = the thesis).
+    pub contact_stiffness_scale: f64,
 }
 
 impl Finger {
@@ -468,7 +474,7 @@ impl Scene {
             };
             let _ = writeln!(
                 s,
-                "position = {}\nfree_axes = \"{axes}\"\ncontrol = \"{control}\"\nforce = {}\nvelocity = {}\nmass = {:?}\nyoung_modulus = {:?}\npoisson_ratio = {:?}\nrestitution = {:?}\nfriction = {:?}\nstick_velocity = {:?}\nstick_stiffness = {:?}\nstick_damping = {:?}\nguide_speed = {:?}",
+                "position = {}\nfree_axes = \"{axes}\"\ncontrol = \"{control}\"\nforce = {}\nvelocity = {}\nmass = {:?}\nyoung_modulus = {:?}\npoisson_ratio = {:?}\nrestitution = {:?}\nfriction = {:?}\nstick_velocity = {:?}\nstick_stiffness = {:?}\nstick_damping = {:?}\nguide_speed = {:?}\ncontact_stiffness_scale = {:?}",
                 v3(f.position),
                 v3(f.force),
                 v3(f.velocity),
@@ -480,7 +486,8 @@ impl Scene {
                 f.stick_velocity,
                 f.stick_stiffness,
                 f.stick_damping,
-                f.guide_speed
+                f.guide_speed,
+                f.contact_stiffness_scale
             );
             if let Some(t) = f.travel {
                 let _ = writeln!(s, "travel = {t:?}");
@@ -1112,6 +1119,13 @@ impl<'a> Resolver<'a> {
             |x| x > 0.0,
             "must be > 0 m/s",
         )?;
+        let contact_stiffness_scale = self.number(
+            at("contact_stiffness_scale"),
+            f.contact_stiffness_scale,
+            1.0,
+            |x| x > 0.0 && x <= 1e6,
+            "must be in (0, 1e6] (1 = thesis eq. 27)",
+        )?;
         Ok(Finger {
             shape,
             position,
@@ -1129,6 +1143,7 @@ impl<'a> Resolver<'a> {
             stick_damping,
             travel,
             guide_speed,
+            contact_stiffness_scale,
         })
     }
 }

@@ -26,6 +26,45 @@ pub struct Scratch {
     contact: ContactScratch,
     projection: ProjectionScratch,
     energy_watch: EnergyWatch,
+    stage_seconds: StageSeconds,
+}
+
+/// Wall-clock seconds spent in each stage of [`step`], summed over the steps
+/// (MuJoCo's stage timers). Not part of the state: timings differ from run to
+/// run, the physics does not.
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+pub struct StageSeconds {
+    /// Spring and damper forces with their blocks (eq. 3-4).
+    pub springs: f64,
+    /// Gravity, loads, finger drive and contact (eq. 5, 18-39).
+    pub external_and_contact: f64,
+    /// Volume forces (eq. 10-12) and the bulk term.
+    pub volume: f64,
+    /// The implicit-Euler solve (eq. 43) and the update.
+    pub solve: f64,
+    /// The spring-limit projection (Alg. 3).
+    pub projection: f64,
+    /// Energy, volume error, speeds and the divergence checks.
+    pub diagnostics: f64,
+}
+
+impl StageSeconds {
+    pub fn total(&self) -> f64 {
+        self.springs
+            + self.external_and_contact
+            + self.volume
+            + self.solve
+            + self.projection
+            + self.diagnostics
+    }
+}
+
+/// Adds the time since `*mark` to `slot` and moves the mark.
+#[inline]
+fn lap(mark: &mut Instant, slot: &mut f64) {
+    let now = Instant::now();
+    *slot += (now - *mark).as_secs_f64();
+    *mark = now;
 }
 
 /// Steps in a row of rising energy, without input, that count as divergence
@@ -129,6 +168,11 @@ impl Simulation {
         result
     }
 
+    /// Wall-clock seconds per stage, summed over the steps so far.
+    pub fn stage_seconds(&self) -> StageSeconds {
+        self.scratch.stage_seconds
+    }
+
     /// Steps until `time` (s) is reached.
     pub fn run_until(&mut self, time: f64) -> Result<(), SimError> {
         while self.state.time + 0.5 * self.model.dt < time {
@@ -142,6 +186,8 @@ impl Simulation {
 pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), SimError> {
     let n = model.particle_count();
     let total = n + model.fingers.len();
+    let mut mark = Instant::now();
+    let times = &mut s.stage_seconds;
     s.force.clear();
     s.force.resize(total, DVec3::ZERO);
     integrate::drive_fingers(model, state);
@@ -149,9 +195,12 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
     integrate::set_mask(model, &mut s.system);
 
     forces::springs::accumulate(model, state, &mut s.force, &mut s.system);
+    lap(&mut mark, &mut times.springs);
     forces::external::accumulate(model, state, &mut s.force, &mut s.system);
     contact::accumulate(model, state, &mut s.force, &mut s.system, &mut s.contact);
+    lap(&mut mark, &mut times.external_and_contact);
     forces::volume::accumulate(model, state, &mut s.force, &mut s.system);
+    lap(&mut mark, &mut times.volume);
 
     let report = integrate::implicit_euler_update(
         model,
@@ -163,7 +212,9 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
         &mut s.cg,
     )
     .map_err(|e| diverged(model, state, cg_message(e)))?;
+    lap(&mut mark, &mut times.solve);
     let projection = project_spring_limits(model, state, &mut s.projection);
+    lap(&mut mark, &mut times.projection);
 
     state.time += model.dt;
     state.step += 1;
@@ -174,8 +225,10 @@ pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), Sim
     st.projection_sweeps = projection.sweeps;
     st.contacts = state.contacts.len();
     update_diagnostics(model, state);
-    check_divergence(model, state)?;
-    watch_energy(model, state, &mut s.energy_watch)
+    let checked = check_divergence(model, state)
+        .and_then(|()| watch_energy(model, state, &mut s.energy_watch));
+    lap(&mut mark, &mut times.diagnostics);
+    checked
 }
 
 fn watch_energy(model: &Model, state: &State, w: &mut EnergyWatch) -> Result<(), SimError> {

@@ -41,8 +41,11 @@ pub struct FingerModel {
     pub guide_speed: f64,
     /// Effective modulus `1 / (sigma_f + sigma_o)` (thesis eq. 27-28), Pa.
     pub effective_modulus: f64,
-    /// Sphere: Hertz sphere-plane stiffness K (eq. 27), N/m^1.5.
+    /// Sphere: Hertz sphere-plane stiffness K (eq. 27) times
+    /// `contact_stiffness_scale`, N/m^1.5.
     pub hertz_stiffness: f64,
+    /// `contact_stiffness_scale`: multiplies every contact stiffness law.
+    pub contact_stiffness_scale: f64,
     pub restitution: f64,
     pub friction: f64,
     pub stick_velocity: f64,
@@ -70,7 +73,9 @@ impl FingerModel {
         let sigma_o = (1.0 - object_poisson * object_poisson) / object_modulus;
         let effective_modulus = 1.0 / (sigma_f + sigma_o);
         let hertz_stiffness = match f.shape {
-            FingerShape::Sphere { radius } => 4.0 / 3.0 * effective_modulus * radius.sqrt(),
+            FingerShape::Sphere { radius } => {
+                4.0 / 3.0 * effective_modulus * radius.sqrt() * f.contact_stiffness_scale
+            }
             FingerShape::Plate { .. } => 0.0,
         };
         FingerModel {
@@ -85,6 +90,7 @@ impl FingerModel {
             guide_speed: f.guide_speed,
             effective_modulus,
             hertz_stiffness,
+            contact_stiffness_scale: f.contact_stiffness_scale,
             restitution: f.restitution,
             friction: f.friction,
             stick_velocity: f.stick_velocity,
