@@ -3,9 +3,13 @@
 //! `softgrip bench` (see BENCHMARKS.md), which is too long for criterion's
 //! repeated sampling at the finest mesh.
 
+use std::hint::black_box;
+
 use criterion::{Criterion, criterion_group, criterion_main};
+use glam::DVec3;
 use softgrip::Simulation;
 use softgrip::bench::thesis_scene_with_edge;
+use softgrip::solver::System;
 
 fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("thesis_step");
@@ -35,5 +39,53 @@ fn build(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, step, build);
+/// The kernels of one step on the 4 mm thesis scene with the finger pressed
+/// in (0.3 s after release): what `softgrip bench`'s stage timers add up.
+fn kernels(c: &mut Criterion) {
+    let Ok(mut sim) = Simulation::new(&thesis_scene_with_edge(4e-3)) else {
+        return;
+    };
+    if sim.run_until(0.3).is_err() {
+        return;
+    }
+    let (model, state) = (&sim.model, &sim.state);
+    let total = model.particle_count() + model.fingers.len();
+    let mut force = vec![DVec3::ZERO; total];
+    let mut system = System::default();
+    let mut group = c.benchmark_group("kernels_4mm");
+    group.bench_function("springs", |b| {
+        b.iter(|| {
+            system.begin(model, model.dt);
+            softgrip::forces::springs::accumulate(model, state, &mut force, &mut system);
+        })
+    });
+    group.bench_function("volume", |b| {
+        b.iter(|| {
+            system.begin(model, model.dt);
+            softgrip::forces::volume::accumulate(model, state, &mut force, &mut system);
+        })
+    });
+    system.begin(model, model.dt);
+    softgrip::integrate::set_mask(model, &mut system);
+    softgrip::forces::springs::accumulate(model, state, &mut force, &mut system);
+    softgrip::forces::volume::accumulate(model, state, &mut force, &mut system);
+    system.finish();
+    let x: Vec<DVec3> = (0..total)
+        .map(|i| DVec3::new(1.0, (i as f64).sin(), 0.5) * system.mask[i])
+        .collect();
+    let mut y = vec![DVec3::ZERO; total];
+    group.bench_function("system_multiply", |b| {
+        b.iter(|| system.multiply(&model.springs, black_box(&x), &mut y))
+    });
+    let mut diagnosed = state.clone();
+    group.bench_function("diagnostics", |b| {
+        b.iter(|| softgrip::step::update_diagnostics(model, &mut diagnosed))
+    });
+    group.bench_function("limit_check", |b| {
+        b.iter(|| softgrip::constraints::max_violation(model, black_box(&state.positions)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, step, build, kernels);
 criterion_main!(benches);

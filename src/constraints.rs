@@ -29,6 +29,39 @@ pub struct ProjectionScratch {
     count: Vec<u32>,
     total: Vec<DVec3>,
     held: Vec<bool>,
+    /// The springs at each particle: `incident[incident_start[i]..incident_start[i + 1]]`.
+    incident_start: Vec<u32>,
+    incident: Vec<u32>,
+    /// Springs to check in the next sweep, in index order.
+    candidates: Vec<u32>,
+    queued: Vec<bool>,
+}
+
+impl ProjectionScratch {
+    /// Builds the particle-to-spring lists once per model.
+    fn prepare(&mut self, model: &Model) {
+        let n = model.particle_count();
+        if self.incident_start.len() == n + 1 && self.incident.len() == 2 * model.springs.len() {
+            return;
+        }
+        let mut degree = vec![0u32; n + 1];
+        for s in &model.springs {
+            degree[s.i as usize + 1] += 1;
+            degree[s.j as usize + 1] += 1;
+        }
+        for i in 0..n {
+            degree[i + 1] += degree[i];
+        }
+        self.incident_start = degree.clone();
+        self.incident = vec![0; 2 * model.springs.len()];
+        for (k, s) in model.springs.iter().enumerate() {
+            for end in [s.i as usize, s.j as usize] {
+                self.incident[degree[end] as usize] = k as u32;
+                degree[end] += 1;
+            }
+        }
+        self.queued = vec![false; model.springs.len()];
+    }
 }
 
 /// With `constraint_tolerance`, the sweeps stop at this many times
@@ -92,16 +125,29 @@ pub fn project_spring_limits(
         Some(_) => MAX_SWEEPS_FACTOR * model.constraint_iterations.max(1),
     };
     let tolerance = model.constraint_tolerance.unwrap_or(0.0);
+    scratch.prepare(model);
     let mut sweeps = 0;
     let mut any_violated = false;
+    // The first sweep checks every spring; later sweeps only the springs at
+    // particles the previous sweep moved (no other spring changed length, and
+    // a violated spring with a free end always moves that end). Violated
+    // springs with both ends held never change: their worst carries over.
+    let mut held_worst: f64 = 0.0;
     for sweep in 0..max_sweeps {
         scratch.delta.clear();
         scratch.delta.resize(n, DVec3::ZERO);
         scratch.count.clear();
         scratch.count.resize(n, 0);
         let mut active = false;
-        let mut worst: f64 = 0.0;
-        for s in &model.springs {
+        let mut worst = held_worst;
+        let all = 0..model.springs.len() as u32;
+        let checked: &mut dyn Iterator<Item = u32> = if sweep == 0 {
+            &mut all.into_iter()
+        } else {
+            &mut scratch.candidates.iter().copied()
+        };
+        for k in checked {
+            let s = &model.springs[k as usize];
             let (i, j) = (s.i as usize, s.j as usize);
             let d = state.positions[i] - state.positions[j];
             let l2 = d.length_squared();
@@ -114,10 +160,10 @@ pub fn project_spring_limits(
                 continue;
             }
             // Signed correction of the length: negative = too long (eq. 14), positive = too short (eq. 16).
-            let c = if l > max_len * s.rest_length {
-                max_len * s.rest_length - l
-            } else if l < min_len * s.rest_length {
-                min_len * s.rest_length - l
+            let c = if l > hi {
+                hi - l
+            } else if l < lo {
+                lo - l
             } else {
                 continue;
             };
@@ -128,7 +174,10 @@ pub fn project_spring_limits(
                 (false, false) => (0.5, 0.5), // eq. 15 / 17
                 (true, false) => (0.0, 1.0),
                 (false, true) => (1.0, 0.0),
-                (true, true) => continue,
+                (true, true) => {
+                    held_worst = held_worst.max(c.abs() / s.rest_length);
+                    continue;
+                }
             };
             active = true;
             scratch.delta[i] += share_i * c * u;
@@ -142,12 +191,26 @@ pub fn project_spring_limits(
             break;
         }
         sweeps += 1;
+        scratch.candidates.clear();
         for i in 0..n {
             if scratch.count[i] > 0 {
                 let step = scratch.delta[i] / scratch.count[i] as f64; // eq. 13
                 state.positions[i] += step;
                 scratch.total[i] += step;
+                let springs =
+                    scratch.incident_start[i] as usize..scratch.incident_start[i + 1] as usize;
+                for &k in &scratch.incident[springs] {
+                    if !scratch.queued[k as usize] {
+                        scratch.queued[k as usize] = true;
+                        scratch.candidates.push(k);
+                    }
+                }
             }
+        }
+        // Index order, as a full sweep visits them: the same sums, bit for bit.
+        scratch.candidates.sort_unstable();
+        for &k in &scratch.candidates {
+            scratch.queued[k as usize] = false;
         }
     }
     let dt = model.dt;
