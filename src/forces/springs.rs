@@ -69,34 +69,36 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
 /// tau_s / tau_c limit.
 pub const LIMIT_MARGIN: f64 = 0.002;
 
-/// How much stiffer the limit spring becomes past the limit itself.
+/// How much stiffer the limit spring becomes half way to the limit.
 pub const LIMIT_WALL: f64 = 3.0;
 
 /// The limit springs acting on spring `s` at length `l`, as (rest length,
 /// stiffness): the one from [`LIMIT_MARGIN`] before the tau_s / tau_c limit,
-/// and past the limit a second one [`LIMIT_WALL`] times stiffer still. The
-/// projection cannot move the particles a finger holds, so under a finger
-/// only these springs keep the limit; the wall cuts the overshoot there to a
-/// quarter of what the first spring alone leaves (ARCHITECTURE.md, choice 5).
+/// and from half that margin a second one [`LIMIT_WALL`] times stiffer
+/// still. The projection cannot move the particles a finger holds, so under
+/// a finger only these springs keep the limit; the second one keeps them
+/// inside it under the stiffer contact of `contact_stiffness_scale`. Both
+/// start inside the limit, so at rest the projection has nothing to do
+/// (ARCHITECTURE.md, choice 5).
 #[inline]
 fn limit_springs(model: &Model, s: &crate::model::Spring, l: f64) -> [Option<(f64, f64)>; 2] {
     if model.limit_stiffness == 0.0 {
         return [None, None];
     }
     let k = model.limit_stiffness * s.stiffness;
-    let wall = |limit: f64, beyond: bool| beyond.then_some((limit, LIMIT_WALL * k));
+    let wall = |at: f64, beyond: bool| beyond.then_some((at, LIMIT_WALL * k));
     if let Some(t) = model.tau_s {
         let start = (1.0 + t - LIMIT_MARGIN) * s.rest_length;
         if l > start {
-            let limit = (1.0 + t) * s.rest_length;
-            return [Some((start, k)), wall(limit, l > limit)];
+            let at = (1.0 + t - 0.5 * LIMIT_MARGIN) * s.rest_length;
+            return [Some((start, k)), wall(at, l > at)];
         }
     }
     if let Some(t) = model.tau_c {
         let start = (1.0 - t + LIMIT_MARGIN) * s.rest_length;
         if l < start {
-            let limit = (1.0 - t) * s.rest_length;
-            return [Some((start, k)), wall(limit, l < limit)];
+            let at = (1.0 - t + 0.5 * LIMIT_MARGIN) * s.rest_length;
+            return [Some((start, k)), wall(at, l < at)];
         }
     }
     [None, None]

@@ -13,8 +13,11 @@ pub trait LinearOperator {
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CgParams {
-    /// Stop when |r| <= tolerance * |b|.
+    /// Stop when |r| <= tolerance * max(|b|, reference).
     pub tolerance: f64,
+    /// The size of right-hand side the tolerance is relative to when `b`
+    /// itself is smaller (0: relative to |b| alone).
+    pub reference: f64,
     pub max_iterations: usize,
 }
 
@@ -78,7 +81,7 @@ pub fn conjugate_gradient(
     a.precondition(&s.r, &mut s.z);
     s.d.copy_from_slice(&s.z);
     let mut rz = dot(&s.r, &s.z);
-    let target = params.tolerance * b_norm;
+    let target = params.tolerance * b_norm.max(params.reference);
     let mut r_norm = dot(&s.r, &s.r).sqrt();
     let mut it = 0;
     while r_norm > target {
@@ -154,6 +157,7 @@ mod tests {
         let mut x = vec![DVec3::ZERO; n];
         let params = CgParams {
             tolerance: 1e-12,
+            reference: 0.0,
             max_iterations: 500,
         };
         let report = conjugate_gradient(&Laplacian, &b, &mut x, params, &mut CgScratch::default())
@@ -193,6 +197,7 @@ mod tests {
             &mut x,
             CgParams {
                 tolerance: 1e-10,
+                reference: 0.0,
                 max_iterations: 10,
             },
             &mut CgScratch::default(),
