@@ -9,6 +9,13 @@ use glam::DVec3;
 pub trait LinearOperator {
     fn apply(&self, x: &[DVec3], y: &mut [DVec3]);
     fn precondition(&self, r: &[DVec3], z: &mut [DVec3]);
+
+    /// `z = P^-1 r` and `r . z` (summed in index order), in one pass where
+    /// the operator can.
+    fn precondition_dot(&self, r: &[DVec3], z: &mut [DVec3]) -> f64 {
+        self.precondition(r, z);
+        dot(r, z)
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,8 +56,13 @@ pub struct CgScratch {
     q: Vec<DVec3>,
 }
 
-fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x.dot(*y)).sum()
+/// `a . b`, summed in index order.
+pub fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
+    let mut sum = 0.0;
+    for (x, y) in a.iter().zip(b) {
+        sum += x.dot(*y);
+    }
+    sum
 }
 
 /// Solves `A x = b` starting from the given `x` (a warm start).
@@ -103,18 +115,20 @@ pub fn conjugate_gradient(
             });
         }
         let alpha = rz / curvature;
+        // Fused passes; each sum still runs in index order (bit-identical).
+        let mut rr = 0.0;
         for i in 0..n {
             x[i] += alpha * s.d[i];
             s.r[i] -= alpha * s.q[i];
+            rr += s.r[i].dot(s.r[i]);
         }
-        a.precondition(&s.r, &mut s.z);
-        let rz_new = dot(&s.r, &s.z);
+        let rz_new = a.precondition_dot(&s.r, &mut s.z);
         let beta = rz_new / rz;
         rz = rz_new;
         for i in 0..n {
             s.d[i] = s.z[i] + beta * s.d[i];
         }
-        r_norm = dot(&s.r, &s.r).sqrt();
+        r_norm = rr.sqrt();
         it += 1;
         if !r_norm.is_finite() {
             return Err(CgError::NonFinite { iteration: it });

@@ -198,6 +198,15 @@ impl LinearOperator for SystemOperator<'_> {
             *z = *inv * *r;
         }
     }
+
+    fn precondition_dot(&self, r: &[DVec3], z: &mut [DVec3]) -> f64 {
+        let mut rz = 0.0;
+        for ((z, inv), r) in z.iter_mut().zip(&self.system.inv_diag).zip(r) {
+            *z = *inv * *r;
+            rz += r.dot(*z);
+        }
+        rz
+    }
 }
 
 /// `a b^T`.
