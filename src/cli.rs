@@ -347,18 +347,14 @@ fn bench(edges_mm: &[f64], seconds: f64) -> Result<()> {
         );
     }
     println!();
-    println!(
-        "| edge (mm) | springs | external + contact | volume | solve (CG) | projection | diagnostics |"
-    );
-    println!("|---|---|---|---|---|---|---|");
+    println!("| edge (mm) | forces | solve (CG) | projection | diagnostics |");
+    println!("|---|---|---|---|---|");
     for (e, r) in breakdown {
         let ms = |s: f64| format!("{:.3}", 1e3 * s / r.steps as f64);
         let t = r.stages;
         println!(
-            "| {e:.1} | {} | {} | {} | {} | {} | {} |",
-            ms(t.springs),
-            ms(t.external_and_contact),
-            ms(t.volume),
+            "| {e:.1} | {} | {} | {} | {} |",
+            ms(t.forces),
             ms(t.solve),
             ms(t.projection),
             ms(t.diagnostics)

@@ -9,6 +9,7 @@
 use glam::DVec3;
 
 use crate::model::{AxisDrive, Model};
+use crate::parallel::Parallel;
 use crate::solver::System;
 use crate::solver::cg::{CgError, CgParams, CgReport, CgScratch, conjugate_gradient};
 use crate::solver::system::SystemOperator;
@@ -32,11 +33,14 @@ pub fn set_mask(model: &Model, system: &mut System) {
 }
 
 /// Solves eq. 43 for `dv` (warm-started from `dv`) and updates the state.
+/// `system` is assembled and [`System::finish`]ed; `parallel` shares its
+/// products with the helper thread.
 pub fn implicit_euler_update(
     model: &Model,
     state: &mut State,
     force: &[DVec3],
-    system: &mut System,
+    system: &System,
+    parallel: &Parallel,
     rhs: &mut Vec<DVec3>,
     dv: &mut Vec<DVec3>,
     cg: &mut CgScratch,
@@ -44,7 +48,6 @@ pub fn implicit_euler_update(
     let n = model.particle_count();
     let total = n + model.fingers.len();
     let dt = model.dt;
-    system.finish();
     rhs.clear();
     rhs.extend((0..total).map(|i| (force[i] - dt * system.kv[i]) * dt * system.mask[i]));
     if dv.len() != total {
@@ -57,6 +60,7 @@ pub fn implicit_euler_update(
     let op = SystemOperator {
         system,
         springs: &model.springs,
+        parallel,
     };
     let params = CgParams {
         tolerance: model.cg_tolerance,

@@ -17,6 +17,7 @@
 //! - [`integrate`]: implicit Euler; [`constraints`]: spring limits.
 //! - [`step`]: one time step and [`step::Simulation`]; [`quasi_static`]: loads to rest.
 //! - [`output`]: ParaView and CSV output; [`bench`]: the `softgrip bench` runs.
+//! - [`parallel`]: the helper thread that takes half of each step's work.
 //!
 //! The core has no GUI dependency: `cargo test --no-default-features`.
 
@@ -31,6 +32,7 @@ pub mod integrate;
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod parallel;
 pub mod quasi_static;
 pub mod scene;
 pub mod solver;

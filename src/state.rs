@@ -78,7 +78,7 @@ pub struct StepStats {
     pub max_speed: f64,
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct State {
     pub time: f64,
     pub step: u64,

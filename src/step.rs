@@ -1,6 +1,7 @@
 //! One time step, in the order of thesis Fig. 9: forces, contact, volume,
 //! integrate, constraints; then the diagnostics and the divergence check.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
@@ -9,17 +10,20 @@ use crate::constraints::{ProjectionScratch, project_spring_limits};
 use crate::contact::ContactScratch;
 use crate::error::SimError;
 use crate::model::Model;
+use crate::parallel::Parallel;
 use crate::scene::Scene;
-use crate::solver::System;
 use crate::solver::cg::{CgError, CgScratch};
 use crate::state::State;
 use crate::{contact, forces, integrate};
 
 /// Scratch memory of a step: allocated once, reused every step.
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Default)]
 pub struct Scratch {
     force: Vec<DVec3>,
-    system: System,
+    /// The system matrix lives here, shared with the helper thread.
+    parallel: Option<Parallel>,
+    /// Threads to use (1 or 2); 0 = as many as the machine has, up to 2.
+    threads: usize,
     rhs: Vec<DVec3>,
     dv: Vec<DVec3>,
     cg: CgScratch,
@@ -29,17 +33,56 @@ pub struct Scratch {
     stage_seconds: StageSeconds,
 }
 
+impl Clone for Scratch {
+    /// Buffers are copied; the clone starts its own helper thread on its
+    /// first step.
+    fn clone(&self) -> Scratch {
+        Scratch {
+            force: self.force.clone(),
+            parallel: None,
+            threads: self.threads,
+            rhs: self.rhs.clone(),
+            dv: self.dv.clone(),
+            cg: self.cg.clone(),
+            contact: self.contact.clone(),
+            projection: self.projection.clone(),
+            energy_watch: self.energy_watch.clone(),
+            stage_seconds: self.stage_seconds,
+        }
+    }
+}
+
+impl Scratch {
+    /// Starts the work split for `model` on first use, and again when the
+    /// model changes.
+    fn ensure_parallel(&mut self, model: &Arc<Model>) {
+        let stale = self
+            .parallel
+            .as_ref()
+            .is_none_or(|p| !Arc::ptr_eq(p.model(), model));
+        if stale {
+            let threads = match self.threads {
+                0 => std::thread::available_parallelism()
+                    .map(|n| n.get())
+                    .unwrap_or(1)
+                    .min(2),
+                n => n,
+            };
+            self.parallel = None; // stop the old helper first
+            self.parallel = Some(Parallel::new(Arc::clone(model), threads));
+        }
+    }
+}
+
 /// Wall-clock seconds spent in each stage of [`step`], summed over the steps
 /// (MuJoCo's stage timers). Not part of the state: timings differ from run to
 /// run, the physics does not.
 #[derive(Debug, Default, Clone, Copy, PartialEq)]
 pub struct StageSeconds {
-    /// Spring and damper forces with their blocks (eq. 3-4).
-    pub springs: f64,
-    /// Gravity, loads, finger drive and contact (eq. 5, 18-39).
-    pub external_and_contact: f64,
-    /// Volume forces (eq. 10-12) and the bulk term.
-    pub volume: f64,
+    /// Every force and its blocks: springs (eq. 3-4), gravity, loads, finger
+    /// drive, contact (eq. 5, 18-39), volume (eq. 10-12) and the bulk term,
+    /// both threads' shares added, and the preconditioner.
+    pub forces: f64,
     /// The implicit-Euler solve (eq. 43) and the update.
     pub solve: f64,
     /// The spring-limit projection (Alg. 3).
@@ -50,12 +93,7 @@ pub struct StageSeconds {
 
 impl StageSeconds {
     pub fn total(&self) -> f64 {
-        self.springs
-            + self.external_and_contact
-            + self.volume
-            + self.solve
-            + self.projection
-            + self.diagnostics
+        self.forces + self.solve + self.projection + self.diagnostics
     }
 }
 
@@ -89,7 +127,9 @@ struct EnergyWatch {
 /// A model, its state and the scratch memory: everything a run needs.
 #[derive(Debug, Clone)]
 pub struct Simulation {
-    pub model: Model,
+    /// Shared with the helper thread ([`crate::parallel`]); replace it
+    /// whole to change it.
+    pub model: Arc<Model>,
     pub state: State,
     scratch: Scratch,
     /// Wall-clock seconds spent in `step` so far.
@@ -108,7 +148,7 @@ impl Simulation {
     pub fn from_model(model: Model) -> Simulation {
         let state = State::initial(&model);
         Simulation {
-            model,
+            model: Arc::new(model),
             state,
             scratch: Scratch::default(),
             wall_seconds: 0.0,
@@ -168,6 +208,22 @@ impl Simulation {
         result
     }
 
+    /// Threads for the step: 1 (this thread only) or 2 (a helper takes
+    /// half the work); 0 = as many as the machine has, up to 2 (default).
+    /// The results are the same bit for bit whatever the count.
+    pub fn set_threads(&mut self, threads: usize) {
+        self.scratch.threads = threads.min(2);
+        self.scratch.parallel = None;
+    }
+
+    /// Whether a helper thread took part in the last step.
+    pub fn is_threaded(&self) -> bool {
+        self.scratch
+            .parallel
+            .as_ref()
+            .is_some_and(|p| p.is_threaded())
+    }
+
     /// Wall-clock seconds per stage, summed over the steps so far.
     pub fn stage_seconds(&self) -> StageSeconds {
         self.scratch.stage_seconds
@@ -183,30 +239,39 @@ impl Simulation {
 }
 
 /// One step: the thesis's simulation loop body (Fig. 9).
-pub fn step(model: &Model, state: &mut State, s: &mut Scratch) -> Result<(), SimError> {
+pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<(), SimError> {
     let n = model.particle_count();
     let total = n + model.fingers.len();
     let mut mark = Instant::now();
-    let times = &mut s.stage_seconds;
     s.force.clear();
     s.force.resize(total, DVec3::ZERO);
     integrate::drive_fingers(model, state);
-    s.system.begin(model, model.dt);
-    integrate::set_mask(model, &mut s.system);
+    s.ensure_parallel(model);
+    let Some(parallel) = s.parallel.as_ref() else {
+        unreachable!("ensure_parallel sets it")
+    };
+    // The helper thread runs the springs and half the elements meanwhile.
+    parallel.start_assembly(state);
+    let mut system = parallel.system_mut();
+    system.begin(model, model.dt);
+    integrate::set_mask(model, &mut system);
 
-    forces::springs::accumulate(model, state, &mut s.force, &mut s.system);
-    lap(&mut mark, &mut times.springs);
-    forces::external::accumulate(model, state, &mut s.force, &mut s.system);
-    contact::accumulate(model, state, &mut s.force, &mut s.system, &mut s.contact);
-    lap(&mut mark, &mut times.external_and_contact);
-    forces::volume::accumulate(model, state, &mut s.force, &mut s.system);
-    lap(&mut mark, &mut times.volume);
+    let times = &mut s.stage_seconds;
+    forces::external::accumulate(model, state, &mut s.force, &mut system);
+    contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
+    let elements = parallel.main_elements();
+    forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
+    parallel.finish_assembly(&mut s.force, &mut system);
+    system.finish();
+    drop(system);
+    lap(&mut mark, &mut times.forces);
 
     let report = integrate::implicit_euler_update(
         model,
         state,
         &s.force,
-        &mut s.system,
+        &parallel.system(),
+        parallel,
         &mut s.rhs,
         &mut s.dv,
         &mut s.cg,

@@ -50,13 +50,24 @@ pub fn volume_gradients(p: [DVec3; 4]) -> [DVec3; 4] {
 /// for the bulk term), so they share one set of blocks, and their product
 /// with the velocities is `c G_a (sum_b G_b . v_b)`.
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    accumulate_elements(model, state, force, system, 0..model.tets.len());
+}
+
+/// [`accumulate`] for the elements in `elements` only.
+pub fn accumulate_elements(
+    model: &Model,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    elements: std::ops::Range<usize>,
+) {
     let (alpha, bulk) = (model.alpha, model.bulk_modulus);
     if alpha == 0.0 && bulk == 0.0 {
         return;
     }
     let dt2 = system.dt() * system.dt();
     let (x, v) = (&state.positions, &state.velocities);
-    for e in 0..model.tets.len() {
+    for e in elements {
         let tet = model.tets[e];
         let v0 = model.rest_volume[e];
         let idx = [

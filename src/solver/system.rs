@@ -45,8 +45,20 @@ pub struct System {
 impl System {
     /// Starts a step: `A = M`, `Kp v = 0`; the mask is set by the caller.
     pub fn begin(&mut self, model: &Model, dt: f64) {
+        self.begin_with(model, dt, true);
+    }
+
+    /// Starts a partial system for a share of the force passes (see
+    /// `crate::parallel`): every block zero, no mass, to be added to a full
+    /// one with [`System::add`].
+    pub fn begin_partial(&mut self, model: &Model, dt: f64) {
+        self.begin_with(model, dt, false);
+    }
+
+    fn begin_with(&mut self, model: &Model, dt: f64, with_mass: bool) {
         let n = model.particle_count();
         let nf = model.fingers.len();
+        let mass = if with_mass { 1.0 } else { 0.0 };
         self.dt = dt;
         self.particles = n;
         self.diag.clear();
@@ -54,13 +66,13 @@ impl System {
             model
                 .mass
                 .iter()
-                .map(|&m| DMat3::from_diagonal(DVec3::splat(m))),
+                .map(|&m| DMat3::from_diagonal(DVec3::splat(mass * m))),
         );
         self.diag.extend(
             model
                 .fingers
                 .iter()
-                .map(|f| DMat3::from_diagonal(DVec3::splat(f.mass))),
+                .map(|f| DMat3::from_diagonal(DVec3::splat(mass * f.mass))),
         );
         self.off.clear();
         self.off.resize(model.springs.len(), DMat3::ZERO);
@@ -78,6 +90,20 @@ impl System {
                 })
                 .collect();
         }
+    }
+
+    /// Adds the blocks and `Kp v` of a partial system (same model).
+    pub fn add(&mut self, part: &System) {
+        for (a, b) in self.diag.iter_mut().zip(&part.diag) {
+            *a += *b;
+        }
+        for (a, b) in self.off.iter_mut().zip(&part.off) {
+            *a += *b;
+        }
+        for (a, b) in self.kv.iter_mut().zip(&part.kv) {
+            *a += *b;
+        }
+        self.coupling.extend_from_slice(&part.coupling);
     }
 
     #[inline]
@@ -159,17 +185,53 @@ impl System {
     }
 
     /// `y = A x` restricted to the free components, for `x` zero on the
-    /// fixed components (as every vector CG multiplies is).
-    pub fn multiply(&self, springs: &[crate::model::Spring], x: &[DVec3], y: &mut [DVec3]) {
+    /// fixed components (as every vector CG multiplies is). `second` is
+    /// scratch: the product is always summed as [`System::multiply_first`]
+    /// plus [`System::multiply_second`], whether one thread computes both
+    /// halves or two do (`crate::parallel`), so results do not depend on it.
+    pub fn multiply(
+        &self,
+        springs: &[crate::model::Spring],
+        x: &[DVec3],
+        y: &mut [DVec3],
+        second: &mut Vec<DVec3>,
+    ) {
+        self.multiply_first(springs, x, y);
+        self.multiply_second(springs, x, second);
+        self.multiply_finish(x, y, second);
+    }
+
+    /// Where the spring blocks split between the halves: the first half
+    /// is smaller, since its thread also does the diagonal and the rest.
+    fn split(&self) -> usize {
+        self.free_springs.len() / 2
+    }
+
+    /// `y = D x` plus the first half of the spring blocks.
+    pub fn multiply_first(&self, springs: &[crate::model::Spring], x: &[DVec3], y: &mut [DVec3]) {
         for ((y, d), x) in y.iter_mut().zip(&self.diag).zip(x) {
             *y = *d * *x;
         }
         debug_assert!(x.iter().zip(&self.mask).all(|(x, m)| *x == *x * *m));
-        for &slot in &self.free_springs {
-            let (s, block) = (&springs[slot as usize], &self.off[slot as usize]);
-            let (i, j) = (s.i as usize, s.j as usize);
-            y[i] += *block * x[j];
-            y[j] += block.transpose() * x[i];
+        self.add_spring_blocks(springs, &self.free_springs[..self.split()], x, y);
+    }
+
+    /// `y` = the second half of the spring blocks times `x`.
+    pub fn multiply_second(
+        &self,
+        springs: &[crate::model::Spring],
+        x: &[DVec3],
+        y: &mut Vec<DVec3>,
+    ) {
+        y.clear();
+        y.resize(x.len(), DVec3::ZERO);
+        self.add_spring_blocks(springs, &self.free_springs[self.split()..], x, y);
+    }
+
+    /// Adds the second half, the contact blocks, and masks.
+    pub fn multiply_finish(&self, x: &[DVec3], y: &mut [DVec3], second: &[DVec3]) {
+        for (y, s) in y.iter_mut().zip(second) {
+            *y += *s;
         }
         for &(p, f, block) in &self.coupling {
             let (p, f) = (p as usize, f as usize);
@@ -180,17 +242,33 @@ impl System {
             *y *= *m;
         }
     }
+
+    fn add_spring_blocks(
+        &self,
+        springs: &[crate::model::Spring],
+        slots: &[u32],
+        x: &[DVec3],
+        y: &mut [DVec3],
+    ) {
+        for &slot in slots {
+            let (s, block) = (&springs[slot as usize], &self.off[slot as usize]);
+            let (i, j) = (s.i as usize, s.j as usize);
+            y[i] += *block * x[j];
+            y[j] += block.transpose() * x[i];
+        }
+    }
 }
 
 /// The assembled system seen as an operator for CG.
 pub struct SystemOperator<'a> {
     pub system: &'a System,
     pub springs: &'a [crate::model::Spring],
+    pub parallel: &'a crate::parallel::Parallel,
 }
 
 impl LinearOperator for SystemOperator<'_> {
     fn apply(&self, x: &[DVec3], y: &mut [DVec3]) {
-        self.system.multiply(self.springs, x, y);
+        self.parallel.product(self.system, self.springs, x, y);
     }
 
     fn precondition(&self, r: &[DVec3], z: &mut [DVec3]) {
