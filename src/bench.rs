@@ -23,9 +23,15 @@ pub fn thesis_scene_with_edge(edge_length: f64) -> Scene {
     scene
 }
 
-/// Runs the thesis scene for `seconds` of simulated time and times it.
-pub fn thesis_scene_run(edge_length: f64, seconds: f64) -> Result<BenchRun, SimError> {
+/// Runs the thesis scene for `seconds` of simulated time and times it, on
+/// `threads` threads (0 = the default, see [`Simulation::set_threads`]).
+pub fn thesis_scene_run(
+    edge_length: f64,
+    seconds: f64,
+    threads: usize,
+) -> Result<BenchRun, SimError> {
     let mut sim = Simulation::new(&thesis_scene_with_edge(edge_length))?;
+    sim.set_threads(threads);
     let steps = (seconds / sim.model.dt).round() as u64;
     let mut cg = 0;
     for _ in 0..steps {
