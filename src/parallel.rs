@@ -33,7 +33,7 @@ const ASSEMBLE: u64 = 1;
 const PRODUCT: u64 = 2;
 
 /// How long the helper spins for the next job before it parks.
-const SPIN_TIME: Duration = Duration::from_micros(300);
+const SPIN_TIME: Duration = Duration::from_millis(5);
 
 /// Helper threads running in this process. Each spins while its simulation
 /// runs, so there are at most one fewer than the cores: more simulations at
