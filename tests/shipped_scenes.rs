@@ -34,7 +34,7 @@ fn thesis_scene_has_the_thesis_values() {
     // Its extensions: the bulk modulus that keeps it from collapsing and
     // the contact stiffness that keeps the finger on the surface.
     assert_eq!(s.model.bulk_modulus, 9.6e5);
-    assert_eq!(s.fingers[0].contact_stiffness_scale, 5.0);
+    assert_eq!(s.fingers[0].contact_stiffness_scale, 3.0);
     // Every contract key is explicit; only softgrip's extension keys default.
     let contract: Vec<_> = s
         .defaults_applied

@@ -46,7 +46,7 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
         let uu = outer(u, u);
         let transverse = (1.0 - s.rest_length / l).max(0.0);
         let mut kp = uu * s.stiffness + (DMat3::IDENTITY - uu) * (s.stiffness * transverse);
-        for (start, k_lim) in limit_springs(model, s, l).into_iter().flatten() {
+        if let Some((start, k_lim)) = limit_spring(model, s, l) {
             let f = k_lim * (l - start) * u;
             force[i] += f;
             force[j] -= f;
@@ -69,39 +69,27 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
 /// tau_s / tau_c limit.
 pub const LIMIT_MARGIN: f64 = 0.002;
 
-/// How much stiffer the limit spring becomes half way to the limit.
-pub const LIMIT_WALL: f64 = 3.0;
-
-/// The limit springs acting on spring `s` at length `l`, as (rest length,
-/// stiffness): the one from [`LIMIT_MARGIN`] before the tau_s / tau_c limit,
-/// and from half that margin a second one [`LIMIT_WALL`] times stiffer
-/// still. The projection cannot move the particles a finger holds, so under
-/// a finger only these springs keep the limit; the second one keeps them
-/// inside it under the stiffer contact of `contact_stiffness_scale`. Both
-/// start inside the limit, so at rest the projection has nothing to do
-/// (ARCHITECTURE.md, choice 5).
+/// The rest length and stiffness of the limit spring acting on spring `s` at
+/// length `l`, if any.
 #[inline]
-fn limit_springs(model: &Model, s: &crate::model::Spring, l: f64) -> [Option<(f64, f64)>; 2] {
+fn limit_spring(model: &Model, s: &crate::model::Spring, l: f64) -> Option<(f64, f64)> {
     if model.limit_stiffness == 0.0 {
-        return [None, None];
+        return None;
     }
     let k = model.limit_stiffness * s.stiffness;
-    let wall = |at: f64, beyond: bool| beyond.then_some((at, LIMIT_WALL * k));
     if let Some(t) = model.tau_s {
         let start = (1.0 + t - LIMIT_MARGIN) * s.rest_length;
         if l > start {
-            let at = (1.0 + t - 0.5 * LIMIT_MARGIN) * s.rest_length;
-            return [Some((start, k)), wall(at, l > at)];
+            return Some((start, k));
         }
     }
     if let Some(t) = model.tau_c {
         let start = (1.0 - t + LIMIT_MARGIN) * s.rest_length;
         if l < start {
-            let at = (1.0 - t + 0.5 * LIMIT_MARGIN) * s.rest_length;
-            return [Some((start, k)), wall(at, l < at)];
+            return Some((start, k));
         }
     }
-    [None, None]
+    None
 }
 
 /// Elastic energy stored in the springs and their limit springs (J).
@@ -111,11 +99,9 @@ pub fn energy(model: &Model, state: &State) -> f64 {
         .iter()
         .map(|s| {
             let l = state.positions[s.i as usize].distance(state.positions[s.j as usize]);
-            let limit: f64 = limit_springs(model, s, l)
-                .into_iter()
-                .flatten()
+            let limit = limit_spring(model, s, l)
                 .map(|(start, k)| 0.5 * k * (l - start).powi(2))
-                .sum();
+                .unwrap_or(0.0);
             0.5 * s.stiffness * (l - s.rest_length).powi(2) + limit
         })
         .sum()
