@@ -90,10 +90,11 @@ pub fn implicit_euler_update(
 }
 
 /// CG's tolerance is relative to the right-hand side `dt (f - dt Kp v)`, or
-/// to this fraction of `dt` times the load norm when that is larger. At rest
-/// the right-hand side is rounding noise, and a tolerance relative to it
-/// alone took ~80 iterations a step to solve the noise to five digits; with
-/// this floor a resting object keeps still to ~1e-8 m/s and takes ~8.
+/// to this fraction of `dt` times the load norm when that is larger. When an
+/// object comes truly to rest the right-hand side is rounding noise, and a
+/// tolerance relative to it alone took ~80 iterations a step to solve the
+/// noise to five digits (measured on the built-in scene with a stiffer limit
+/// spring that let it settle to 1e-9 m/s).
 pub const REST_REFERENCE: f64 = 1e-3;
 
 /// The 2-norm of the loads (gravity, `[[load]]`, the fingers' applied forces
