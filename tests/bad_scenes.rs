@@ -291,3 +291,11 @@ fn constraint_tolerance_out_of_range() {
         &["constraint_tolerance", "0.5", "(0, 0.1]"],
     );
 }
+
+#[test]
+fn non_positive_contact_stiffness_scale() {
+    expect(
+        &format!("{BASE}[[finger]]\nposition = [0.0, 0.0, 0.05]\ncontact_stiffness_scale = 0.0\n"),
+        &["contact_stiffness_scale", "0", "(0, 1e6]"],
+    );
+}
