@@ -173,9 +173,7 @@ impl Parallel {
 
     /// Waits for the helper's share of the force passes and adds it.
     pub fn finish_assembly(&self, force: &mut [DVec3], system: &mut System) {
-        if self.is_threaded() {
-            self.wait();
-        } else {
+        if !(self.is_threaded() && self.wait()) {
             assemble(&self.shared);
         }
         let share = lock(&self.shared.assembly);
@@ -195,8 +193,15 @@ impl Parallel {
             }
             self.post(PRODUCT);
             system.multiply_first(springs, x, y);
-            self.wait();
-            let share = lock(&self.shared.product);
+            let done = self.wait();
+            let mut share = lock(&self.shared.product);
+            if !done {
+                let ProductShare {
+                    x: shared_x,
+                    y: second,
+                } = &mut *share;
+                system.multiply_second(springs, shared_x, second);
+            }
             system.multiply_finish(x, y, &share.y);
         } else {
             system.multiply_first(springs, x, y);
@@ -219,16 +224,15 @@ impl Parallel {
     }
 
     /// Spins until the helper has finished the last job, yielding the core
-    /// if that takes long (the helper was descheduled). If the helper is
-    /// gone (it panicked), the main thread does the job itself.
-    fn wait(&self) {
+    /// if that takes long (the helper was descheduled). False if the helper
+    /// is gone (it panicked): the caller then does the job itself.
+    fn wait(&self) -> bool {
         let job = self.shared.job.load(Ordering::Relaxed);
         let mut spins = 0u32;
         while self.shared.done.load(Ordering::Acquire) != job {
             spins = spins.wrapping_add(1);
             if spins.is_multiple_of(4096) && self.helper.as_ref().is_none_or(|h| h.is_finished()) {
-                run(&self.shared, job & 3);
-                return;
+                return false;
             }
             if spins > 2000 {
                 thread::yield_now();
@@ -236,6 +240,7 @@ impl Parallel {
                 std::hint::spin_loop();
             }
         }
+        true
     }
 }
 
