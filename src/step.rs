@@ -91,12 +91,6 @@ pub struct StageSeconds {
     pub diagnostics: f64,
 }
 
-impl StageSeconds {
-    pub fn total(&self) -> f64 {
-        self.forces + self.solve + self.projection + self.diagnostics
-    }
-}
-
 /// Adds the time since `*mark` to `slot` and moves the mark.
 #[inline]
 fn lap(mark: &mut Instant, slot: &mut f64) {

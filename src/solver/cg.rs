@@ -58,7 +58,7 @@ pub struct CgScratch {
 }
 
 /// `a . b`, summed in index order.
-pub fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
+fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
     let mut sum = 0.0;
     for (x, y) in a.iter().zip(b) {
         sum += x.dot(*y);
