@@ -11,7 +11,7 @@
 //! Results never depend on whether the helper runs: without it (one core,
 //! or `Simulation::set_threads(1)`) the main thread does the helper's share
 //! itself, on the same buffers and in the same order, so the sums are the
-//! same bit for bit (`tests/invariants.rs`).
+//! same bit for bit (`tests/threads.rs`).
 //!
 //! Hand-offs use two atomic counters and spin-waits: on this kind of machine
 //! a spin round trip costs ~0.1 us, while waking a parked thread costs
