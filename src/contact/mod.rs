@@ -48,7 +48,7 @@ pub struct ContactScratch {
 fn stiffness_and_exponent(model: &Model, finger: usize, facet_area: f64) -> (f64, f64) {
     let f = &model.fingers[finger];
     match f.shape {
-        FingerShape::Sphere { .. } => (f.hertz_stiffness, 1.5),
+        FingerShape::Sphere { .. } => (f.hertz_stiffness * f.contact_stiffness_scale, 1.5),
         // A rigid flat punch of the facet's area: F = 2 a E* d (Boussinesq), exponent 1.
         FingerShape::Plate { .. } => (
             2.0 * (facet_area / std::f64::consts::PI).sqrt()

@@ -41,10 +41,10 @@ pub struct FingerModel {
     pub guide_speed: f64,
     /// Effective modulus `1 / (sigma_f + sigma_o)` (thesis eq. 27-28), Pa.
     pub effective_modulus: f64,
-    /// Sphere: Hertz sphere-plane stiffness K (eq. 27) times
-    /// `contact_stiffness_scale`, N/m^1.5.
+    /// Sphere: Hertz sphere-plane stiffness K (eq. 27), N/m^1.5.
     pub hertz_stiffness: f64,
-    /// `contact_stiffness_scale`: multiplies every contact stiffness law.
+    /// `contact_stiffness_scale`: multiplies every contact stiffness law
+    /// (applied in `contact::stiffness_and_exponent`).
     pub contact_stiffness_scale: f64,
     pub restitution: f64,
     pub friction: f64,
@@ -73,9 +73,7 @@ impl FingerModel {
         let sigma_o = (1.0 - object_poisson * object_poisson) / object_modulus;
         let effective_modulus = 1.0 / (sigma_f + sigma_o);
         let hertz_stiffness = match f.shape {
-            FingerShape::Sphere { radius } => {
-                4.0 / 3.0 * effective_modulus * radius.sqrt() * f.contact_stiffness_scale
-            }
+            FingerShape::Sphere { radius } => 4.0 / 3.0 * effective_modulus * radius.sqrt(),
             FingerShape::Plate { .. } => 0.0,
         };
         FingerModel {
