@@ -13,9 +13,16 @@
 //! itself, on the same buffers and in the same order, so the sums are the
 //! same bit for bit (`tests/threads.rs`).
 //!
-//! Hand-offs use two atomic counters and spin-waits: on this kind of machine
+//! Hand-offs use atomic counters and spin-waits: on this kind of machine
 //! a spin round trip costs ~0.1 us, while waking a parked thread costs
-//! ~50 us, more than the whole product it would share.
+//! ~50 us, more than the whole product it would share. A posted job is
+//! *claimed* by whichever thread gets to it first: when the main thread has
+//! done its own half and the helper has not yet started the other (it is
+//! descheduled: another process, a second simulation, the viewer's render
+//! thread wants the core), the main thread takes it back and does it
+//! itself instead of waiting. Without that, two simulations with helpers
+//! on two cores ran 50 times slower than one thread (each hand-off waited
+//! for a scheduler time slice).
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, RwLock, RwLockReadGuard, RwLockWriteGuard};
@@ -31,6 +38,10 @@ use crate::state::State;
 
 const ASSEMBLE: u64 = 1;
 const PRODUCT: u64 = 2;
+
+/// Spins of the idle helper before it starts yielding its core between
+/// looks at the job (~20 us).
+const IDLE_SPINS: u32 = 20_000;
 
 /// How long the helper spins for the next job before it parks.
 const SPIN_TIME: Duration = Duration::from_millis(5);
@@ -72,7 +83,10 @@ struct Shared {
     model: Arc<Model>,
     /// `(sequence << 2) | kind` of the last job posted ...
     job: AtomicU64,
-    /// ... and of the last one finished.
+    /// ... of the last one claimed (by the helper or, taken back, by the
+    /// main thread) ...
+    claimed: AtomicU64,
+    /// ... and of the last one the helper finished.
     done: AtomicU64,
     stop: AtomicBool,
     sleeping: AtomicBool,
@@ -102,6 +116,7 @@ impl Parallel {
         let shared = Arc::new(Shared {
             model,
             job: AtomicU64::new(0),
+            claimed: AtomicU64::new(0),
             done: AtomicU64::new(0),
             stop: AtomicBool::new(false),
             sleeping: AtomicBool::new(false),
@@ -223,11 +238,23 @@ impl Parallel {
         }
     }
 
-    /// Spins until the helper has finished the last job, yielding the core
-    /// if that takes long (the helper was descheduled). False if the helper
-    /// is gone (it panicked): the caller then does the job itself.
+    /// Waits for the helper's share of the last job. False if the helper
+    /// has not started it (it is claimed back here) or is gone (it
+    /// panicked): the caller then does that share itself. Otherwise spins
+    /// until the helper has finished, yielding the core if that takes long
+    /// (the helper was descheduled mid-job).
     fn wait(&self) -> bool {
         let job = self.shared.job.load(Ordering::Relaxed);
+        let previous = self.shared.claimed.load(Ordering::Acquire);
+        if previous != job
+            && self
+                .shared
+                .claimed
+                .compare_exchange(previous, job, Ordering::AcqRel, Ordering::Acquire)
+                .is_ok()
+        {
+            return false;
+        }
         let mut spins = 0u32;
         while self.shared.done.load(Ordering::Acquire) != job {
             spins = spins.wrapping_add(1);
@@ -267,12 +294,26 @@ fn helper_loop(shared: &Shared) {
         let job = shared.job.load(Ordering::Acquire);
         if job != last {
             last = job;
-            run(shared, job & 3);
-            shared.done.store(job, Ordering::Release);
+            // The main thread may have taken it back already.
+            let previous = shared.claimed.load(Ordering::Acquire);
+            if previous != job
+                && shared
+                    .claimed
+                    .compare_exchange(previous, job, Ordering::AcqRel, Ordering::Acquire)
+                    .is_ok()
+            {
+                run(shared, job & 3);
+                shared.done.store(job, Ordering::Release);
+            }
             idle_since = Instant::now();
+            spins = 0;
             continue;
         }
         spins = spins.wrapping_add(1);
+        if spins > IDLE_SPINS {
+            // Let another thread that wants this core have it.
+            thread::yield_now();
+        }
         if spins.is_multiple_of(256) && idle_since.elapsed() > SPIN_TIME {
             shared.sleeping.store(true, Ordering::SeqCst);
             if shared.job.load(Ordering::SeqCst) == last && !shared.stop.load(Ordering::SeqCst) {

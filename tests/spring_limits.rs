@@ -1,10 +1,15 @@
 //! Acceptance 6: after the projection of Alg. 3 no spring is outside
-//! [(1 - tau_c) l0, (1 + tau_s) l0] by more than the documented tolerance,
-//! 1e-3 of its rest length: on Fig. 6, Fig. 5 and under the thesis's finger
-//! with the default limit springs; with the projection alone (the thesis's
-//! Alg. 3, `limit_stiffness = 0`) on Fig. 5 only with `constraint_tolerance`,
-//! as ten sweeps are not enough there (ACCURACY.md).
+//! [(1 - tau_c) l0, (1 + tau_s) l0] by more than the documented tolerance
+//! (ACCURACY.md, "Spring limits"):
+//! - with the default limit springs, by more than `PROJECTION_BAND` (1e-2 of
+//!   its rest length) at any step, and by more than 1e-3 once at rest: the
+//!   limit springs hold the limit, the projection caps fast transients;
+//! - with `constraint_tolerance = 1e-3`, by more than 1e-3 at every step;
+//! - with the projection alone (the thesis's Alg. 3, `limit_stiffness = 0`)
+//!   on Fig. 5 only with `constraint_tolerance`, as ten sweeps are not
+//!   enough there.
 
+use softgrip::constraints::{PROJECTION_BAND, max_violation};
 use softgrip::{Scene, Simulation};
 
 const TOLERANCE: f64 = 1e-3;
@@ -21,18 +26,40 @@ fn max_stretch(sim: &Simulation) -> f64 {
 }
 
 /// Steps `scene` 500 times; after each projection no spring is beyond its
-/// limits by more than the tolerance.
-fn assert_within_limits_for_500_steps(scene: &Scene) {
+/// limits by more than `bound`. Returns the worst violation and the one at
+/// the end.
+fn assert_within_limits_for_500_steps(scene: &Scene, bound: f64) -> (f64, f64) {
     let mut sim = Simulation::new(scene).expect("sim");
+    let mut worst: f64 = 0.0;
     for _ in 0..500 {
         sim.step().expect("step");
+        let violation = sim.state.stats.limit_violation;
+        worst = worst.max(violation);
         assert!(
-            sim.state.stats.limit_violation <= TOLERANCE,
-            "violation {} at t = {}",
-            sim.state.stats.limit_violation,
+            violation <= bound,
+            "violation {violation} at t = {}",
             sim.state.time
         );
+        // The reported figure is the true one, not relative to the band.
+        assert_eq!(violation, max_violation(&sim.model, &sim.state.positions));
     }
+    (worst, sim.state.stats.limit_violation)
+}
+
+/// The default (limit springs) within the band at every step and within
+/// the tolerance at the end; with `constraint_tolerance` within the
+/// tolerance at every step.
+fn assert_within_limits(scene: &Scene) {
+    // The band's edge itself, plus rounding.
+    let band = PROJECTION_BAND * (1.0 + 1e-9);
+    let (worst, end) = assert_within_limits_for_500_steps(scene, band);
+    assert!(end <= TOLERANCE, "violation {end} at the end");
+    let mut strict = scene.clone();
+    strict.model.constraint_tolerance = Some(TOLERANCE);
+    let (strict_worst, _) = assert_within_limits_for_500_steps(&strict, TOLERANCE);
+    println!(
+        "worst violation over 500 steps {worst:.2e}, at the end {end:.2e}; with constraint_tolerance {strict_worst:.2e}"
+    );
 }
 
 #[test]
@@ -56,8 +83,9 @@ fn hung_object_springs_stay_within_tau_s() {
     );
 
     // ... with it (the default: limit springs, then the projection), no
-    // spring is beyond it at any step.
-    assert_within_limits_for_500_steps(&scene);
+    // spring is beyond it by more than the band at any step, nor by more
+    // than the tolerance at the end; with the tolerance, at any step.
+    assert_within_limits(&scene);
 
     // The projection alone (Alg. 3) pulls them back too, but its Jacobi
     // iterations converge slowly on this chain of corner springs: the
@@ -121,7 +149,7 @@ fn pulled_object_springs_stay_within_tau_c_and_tau_s() {
         "/assets/scenes/fixed_top_pull_bottom.toml"
     );
     let scene = Scene::load(std::path::Path::new(path)).expect("scene");
-    assert_within_limits_for_500_steps(&scene);
+    assert_within_limits(&scene);
 }
 
 /// Under the thesis's finger, tau_c limits the indentation, as the thesis's
@@ -151,4 +179,26 @@ fn tau_c_limits_the_indentation_under_a_finger() {
     for (_, violation) in &results {
         assert!(*violation <= TOLERANCE, "{results:?}");
     }
+}
+
+/// The limit springs hold the limit inside the implicit step and the
+/// projection only caps what gets past them, so the two do not pull against
+/// each other: the built-in scene comes truly to rest, with no spring beyond
+/// its limits. (The band is what lets the 1.6 mm mesh come to rest; that
+/// run is too long for the test suite: ACCURACY.md, "Spring limits".)
+#[test]
+fn limit_springs_and_projection_let_the_built_in_scene_come_to_rest() {
+    let mut sim = Simulation::new(&Scene::thesis()).expect("sim");
+    sim.run_until(1.4).expect("run");
+    let mut fastest: f64 = 0.0;
+    for _ in 0..100 {
+        sim.step().expect("step");
+        fastest = fastest.max(sim.state.stats.max_speed);
+    }
+    let violation = sim.state.stats.limit_violation;
+    println!("top speed over 1.4-1.5 s {fastest:.2e} m/s, violation {violation:.2e}");
+    // Before (limit springs 0.2 % before the limit, projection to the
+    // limit itself) the particles under the finger jittered at ~1e-6 m/s.
+    assert!(fastest < 1e-7, "{fastest}");
+    assert!(violation <= TOLERANCE, "{violation}");
 }
