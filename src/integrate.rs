@@ -59,7 +59,6 @@ pub fn implicit_euler_update(
     }
     let op = SystemOperator {
         system,
-        springs: &model.springs,
         parallel,
     };
     let params = CgParams {

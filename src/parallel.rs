@@ -32,7 +32,7 @@ use std::time::{Duration, Instant};
 use glam::DVec3;
 
 use crate::forces;
-use crate::model::{Model, Spring};
+use crate::model::Model;
 use crate::solver::System;
 use crate::state::State;
 
@@ -199,7 +199,7 @@ impl Parallel {
     }
 
     /// `y = A x` for the `system` read from [`Parallel::system`].
-    pub fn product(&self, system: &System, springs: &[Spring], x: &[DVec3], y: &mut [DVec3]) {
+    pub fn product(&self, system: &System, x: &[DVec3], y: &mut [DVec3]) {
         if self.is_threaded() {
             {
                 let mut share = lock(&self.shared.product);
@@ -207,7 +207,7 @@ impl Parallel {
                 share.x.extend_from_slice(x);
             }
             self.post(PRODUCT);
-            system.multiply_first(springs, x, y);
+            system.multiply_first(x, y);
             let done = self.wait();
             let mut share = lock(&self.shared.product);
             if !done {
@@ -215,13 +215,13 @@ impl Parallel {
                     x: shared_x,
                     y: second,
                 } = &mut *share;
-                system.multiply_second(springs, shared_x, second);
+                system.multiply_second(shared_x, second);
             }
             system.multiply_finish(x, y, &share.y);
         } else {
-            system.multiply_first(springs, x, y);
+            system.multiply_first(x, y);
             let mut share = lock(&self.shared.product);
-            system.multiply_second(springs, x, &mut share.y);
+            system.multiply_second(x, &mut share.y);
             system.multiply_finish(x, y, &share.y);
         }
     }
@@ -334,7 +334,7 @@ fn run(shared: &Shared, kind: u64) {
             let system = shared.system.read().unwrap_or_else(|e| e.into_inner());
             let mut share = lock(&shared.product);
             let ProductShare { x, y } = &mut *share;
-            system.multiply_second(&shared.model.springs, x, y);
+            system.multiply_second(x, y);
         }
         _ => {}
     }
