@@ -197,12 +197,7 @@ impl System {
     /// scratch: the product is always summed as [`System::multiply_first`]
     /// plus [`System::multiply_second`], whether one thread computes both
     /// halves or two do (`crate::parallel`), so results do not depend on it.
-    pub fn multiply(
-        &self,
-        x: &[DVec3],
-        y: &mut [DVec3],
-        second: &mut Vec<DVec3>,
-    ) {
+    pub fn multiply(&self, x: &[DVec3], y: &mut [DVec3], second: &mut Vec<DVec3>) {
         self.multiply_first(x, y);
         self.multiply_second(x, second);
         self.multiply_finish(x, y, second);
