@@ -37,9 +37,10 @@ use crate::state::State;
 #[inline]
 pub fn volume_gradients(p: [DVec3; 4]) -> [DVec3; 4] {
     let [a, b, c, d] = p;
-    let gb = (c - a).cross(d - a) / 6.0;
-    let gc = (d - a).cross(b - a) / 6.0;
-    let gd = (b - a).cross(c - a) / 6.0;
+    const SIXTH: f64 = 1.0 / 6.0;
+    let gb = (c - a).cross(d - a) * SIXTH;
+    let gc = (d - a).cross(b - a) * SIXTH;
+    let gd = (b - a).cross(c - a) * SIXTH;
     [-(gb + gc + gd), gb, gc, gd]
 }
 
@@ -107,12 +108,12 @@ pub fn accumulate_elements(
             }
         }
         if bulk != 0.0 {
-            let strain = volume / v0 - 1.0;
-            let s = bulk * strain;
+            let bulk_per_volume = bulk / v0;
+            let s = bulk_per_volume * (volume - v0); // K (V / V0 - 1)
             for k in 0..4 {
                 force[idx[k]] -= s * g[k];
             }
-            c += bulk / v0;
+            c += bulk_per_volume;
         }
         if c == 0.0 {
             continue;
