@@ -18,6 +18,7 @@
 //! - [`step`]: one time step and [`step::Simulation`]; [`quasi_static`]: loads to rest.
 //! - [`output`]: ParaView and CSV output; [`bench`]: the `softgrip bench` runs.
 //! - [`parallel`]: the helper thread that takes half of each step's work.
+//! - [`live`]: a simulation on its own thread, driven by commands, publishing frames (the viewer's core).
 //!
 //! The core has no GUI dependency: `cargo test --no-default-features`.
 
@@ -29,6 +30,7 @@ pub mod contact;
 pub mod error;
 pub mod forces;
 pub mod integrate;
+pub mod live;
 pub mod mesh;
 pub mod model;
 pub mod output;

@@ -89,7 +89,12 @@ pub fn spring_damping(damping_ratio: f64, stiffness: f64, m_i: f64, m_j: f64) ->
 impl Model {
     /// Builds the model of a scene (meshes the object first).
     pub fn from_scene(scene: &Scene) -> Result<Model, SimError> {
-        let mesh = match &scene.object.shape {
+        Model::from_mesh(scene, Model::mesh_of(scene)?)
+    }
+
+    /// The mesh a scene's object is made of.
+    pub fn mesh_of(scene: &Scene) -> Result<TetMesh, SimError> {
+        Ok(match &scene.object.shape {
             Shape::Cuboid { size } => TetMesh::cuboid(*size, scene.object.edge_length),
             Shape::Cylinder { radius, height } => {
                 TetMesh::cylinder(*radius, *height, scene.object.edge_length)
@@ -102,8 +107,7 @@ impl Model {
                     ),
                 });
             }
-        };
-        Model::from_mesh(scene, mesh)
+        })
     }
 
     /// Builds the model of a scene on a given mesh.

@@ -1,0 +1,552 @@
+//! A simulation that runs on its own thread while something else (the
+//! viewer) watches it and changes it: rerun's and MuJoCo's viewer split.
+//!
+//! The solver thread (`softgrip-solver`) owns the [`Simulation`]. Others
+//! talk to it through a bounded channel of [`Command`]s, which they send
+//! without ever blocking ([`LiveSimulation::send`] fails with
+//! [`SendError::Busy`] rather than wait), and read the latest published
+//! [`Frame`] ([`LiveSimulation::latest`]): latest wins, frames nobody read
+//! are dropped, and publishing never waits for a reader. So the viewer never
+//! waits for the solver, and the solver never waits for the viewer.
+//!
+//! Changing a parameter is sending the edited [`Scene`]
+//! ([`Command::SetScene`]). The solver thread checks it as a scene file is
+//! checked (an invalid value is an error in the frame, and the run goes on
+//! with the scene it had), then rebuilds what the change affects: the model
+//! (masses, springs, fingers, limits...) on the mesh it already has, keeping
+//! the state, when the object's shape and edge length are unchanged; a new
+//! mesh and a fresh start otherwise (the frame says it is re-meshing while it
+//! does). A step that fails (the solver diverged) pauses the run with the
+//! error in the frame; [`Command::Reset`] or a new scene goes on from there.
+//!
+//! The core has no GUI dependency, and neither has this: it is tested with
+//! `--no-default-features` (`tests/live.rs`).
+
+use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::{self, JoinHandle};
+use std::time::{Duration, Instant};
+
+use crate::error::SimError;
+use crate::mesh::TetMesh;
+use crate::model::Model;
+use crate::scene::{Scene, Shape};
+use crate::state::State;
+use crate::step::Simulation;
+
+/// Commands the channel holds before [`LiveSimulation::send`] reports
+/// [`SendError::Busy`].
+pub const CHANNEL_CAPACITY: usize = 64;
+
+/// How often a running simulation publishes a frame (wall time).
+pub const PUBLISH_INTERVAL: Duration = Duration::from_millis(15);
+
+/// Samples of finger history kept for plots; older ones are thinned out.
+pub const HISTORY_LENGTH: usize = 2000;
+
+/// What the solver thread is told to do.
+#[derive(Debug, Clone)]
+pub enum Command {
+    /// Run (paced by the speed; see [`Command::SetSpeed`]).
+    Play,
+    Pause,
+    /// Pause and take this many steps.
+    Step(u32),
+    /// Back to the scene's start state (the current scene, re-meshed only
+    /// if it has to be).
+    Reset,
+    /// Simulated seconds per wall second; `None` = as fast as it goes.
+    SetSpeed(Option<f64>),
+    /// Use this scene from now on (a parameter moved, a finger added or
+    /// switched to velocity control, a file opened): checked, then only
+    /// what changed is rebuilt.
+    SetScene(Box<Scene>),
+}
+
+/// Why a command was not taken.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SendError {
+    #[error("the solver has {CHANNEL_CAPACITY} commands waiting; try again next frame")]
+    Busy,
+    #[error("the solver thread has stopped")]
+    Stopped,
+}
+
+/// Run state of the solver thread.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunState {
+    Running,
+    Paused,
+    /// Building a new mesh and model; no state to show yet.
+    Meshing,
+}
+
+/// One finger's history sample, for plots.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerSample {
+    pub time: f64,
+    /// Indentation depth (m), as `Simulation::indentation`.
+    pub depth: f64,
+    /// Normal contact force on the finger (N).
+    pub normal_force: f64,
+    /// Magnitude of the tangential force (N).
+    pub tangential_force: f64,
+}
+
+/// What the solver thread publishes: everything a viewer draws.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    /// The scene in use (edits that failed are not in it).
+    pub scene: Arc<Scene>,
+    /// The model in use; `None` while the first one is being built, or if
+    /// no scene could be built at all.
+    pub model: Option<Arc<Model>>,
+    pub state: State,
+    pub run: RunState,
+    /// The last error (a bad edit, a failed step), cleared by the next
+    /// command that succeeds.
+    pub error: Option<String>,
+    /// Steps per wall second and simulated seconds per wall second, over
+    /// the last publishing interval while running (0 when paused).
+    pub steps_per_second: f64,
+    pub realtime_factor: f64,
+    /// Per finger, its recent history (time-ordered).
+    pub history: Arc<Vec<Vec<FingerSample>>>,
+    /// Counts the commands the solver has taken: a viewer that sent its
+    /// n-th command can wait for a frame with `commands >= n`.
+    pub commands: u64,
+}
+
+/// The viewer's side: send commands, read frames.
+#[derive(Debug)]
+pub struct LiveSimulation {
+    sender: Option<SyncSender<Command>>,
+    latest: Arc<Mutex<Option<Arc<Frame>>>>,
+    thread: Option<JoinHandle<()>>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl LiveSimulation {
+    /// Starts the solver thread on `scene`, paused. The model is built on
+    /// that thread; the first frame says whether it worked.
+    pub fn start(scene: Scene) -> Result<LiveSimulation, std::io::Error> {
+        let (sender, receiver) = sync_channel(CHANNEL_CAPACITY);
+        let latest = Arc::new(Mutex::new(None));
+        let published = Arc::clone(&latest);
+        let thread = thread::Builder::new()
+            .name("softgrip-solver".into())
+            .spawn(move || Solver::new(scene, published).run(&receiver))?;
+        Ok(LiveSimulation {
+            sender: Some(sender),
+            latest,
+            thread: Some(thread),
+        })
+    }
+
+    /// Queues a command; never blocks.
+    pub fn send(&self, command: Command) -> Result<(), SendError> {
+        let Some(sender) = &self.sender else {
+            return Err(SendError::Stopped);
+        };
+        sender.try_send(command).map_err(|e| match e {
+            TrySendError::Full(_) => SendError::Busy,
+            TrySendError::Disconnected(_) => SendError::Stopped,
+        })
+    }
+
+    /// The latest frame published, if any.
+    pub fn latest(&self) -> Option<Arc<Frame>> {
+        lock(&self.latest).clone()
+    }
+
+    /// Waits (polling) until a published frame satisfies `ready`, for at
+    /// most `timeout`; for tests and headless use, never for a UI.
+    pub fn wait_for(
+        &self,
+        timeout: Duration,
+        ready: impl Fn(&Frame) -> bool,
+    ) -> Option<Arc<Frame>> {
+        let start = Instant::now();
+        loop {
+            if let Some(frame) = self.latest()
+                && ready(&frame)
+            {
+                return Some(frame);
+            }
+            if start.elapsed() > timeout {
+                return None;
+            }
+            thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    /// Whether the solver thread is still there.
+    pub fn is_alive(&self) -> bool {
+        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+    }
+}
+
+impl Drop for LiveSimulation {
+    fn drop(&mut self) {
+        // Closing the channel ends the solver's loop.
+        self.sender = None;
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// The solver thread's side.
+struct Solver {
+    scene: Arc<Scene>,
+    /// The mesh of `scene`, kept so that parameter edits need not re-mesh.
+    mesh: Option<TetMesh>,
+    sim: Option<Simulation>,
+    run: RunState,
+    speed: Option<f64>,
+    error: Option<String>,
+    published: Arc<Mutex<Option<Arc<Frame>>>>,
+    history: Vec<Vec<FingerSample>>,
+    commands: u64,
+    /// Pacing: wall time and simulated time when the run (re)started.
+    anchor: (Instant, f64),
+    /// Rates: wall time, step and simulated time at the last publication.
+    last_publish: (Instant, u64, f64),
+    rates: (f64, f64),
+}
+
+impl Solver {
+    fn new(scene: Scene, published: Arc<Mutex<Option<Arc<Frame>>>>) -> Solver {
+        Solver {
+            scene: Arc::new(scene),
+            mesh: None,
+            sim: None,
+            run: RunState::Meshing,
+            speed: Some(1.0),
+            error: None,
+            published,
+            history: Vec::new(),
+            commands: 0,
+            anchor: (Instant::now(), 0.0),
+            last_publish: (Instant::now(), 0, 0.0),
+            rates: (0.0, 0.0),
+        }
+    }
+
+    fn run(mut self, commands: &Receiver<Command>) {
+        self.publish();
+        self.rebuild_all();
+        self.run = RunState::Paused;
+        self.publish();
+        loop {
+            // Take every waiting command; wait for one only when paused.
+            let next = if self.run == RunState::Running {
+                match commands.try_recv() {
+                    Ok(c) => Some(c),
+                    Err(std::sync::mpsc::TryRecvError::Empty) => None,
+                    Err(std::sync::mpsc::TryRecvError::Disconnected) => return,
+                }
+            } else {
+                match commands.recv_timeout(Duration::from_millis(100)) {
+                    Ok(c) => Some(c),
+                    Err(RecvTimeoutError::Timeout) => None,
+                    Err(RecvTimeoutError::Disconnected) => return,
+                }
+            };
+            if let Some(command) = next {
+                self.commands += 1;
+                self.apply(command);
+                self.publish();
+                continue;
+            }
+            if self.run == RunState::Running {
+                self.advance();
+            }
+        }
+    }
+
+    fn apply(&mut self, command: Command) {
+        match command {
+            Command::Play => {
+                if self.sim.is_some() {
+                    self.run = RunState::Running;
+                    self.error = None;
+                    self.reanchor();
+                }
+            }
+            Command::Pause => self.run = RunState::Paused,
+            Command::Step(n) => {
+                self.run = RunState::Paused;
+                if self.sim.is_some() {
+                    self.error = None;
+                }
+                for _ in 0..n {
+                    if !self.step_once() {
+                        break;
+                    }
+                }
+            }
+            Command::Reset => {
+                self.reset_state();
+                self.reanchor();
+            }
+            Command::SetSpeed(speed) => {
+                self.speed = speed.filter(|s| s.is_finite() && *s > 0.0);
+                self.reanchor();
+            }
+            Command::SetScene(scene) => self.set_scene(*scene),
+        }
+    }
+
+    fn reanchor(&mut self) {
+        let time = self.sim.as_ref().map_or(0.0, |s| s.state.time);
+        self.anchor = (Instant::now(), time);
+    }
+
+    /// Steps once, or waits a little if ahead of the requested speed.
+    fn advance(&mut self) {
+        if let (Some(speed), Some(sim)) = (self.speed, &self.sim) {
+            let allowed = self.anchor.1 + speed * self.anchor.0.elapsed().as_secs_f64();
+            if sim.state.time >= allowed {
+                let ahead = (sim.state.time - allowed) / speed;
+                thread::sleep(Duration::from_secs_f64(ahead.clamp(0.0005, 0.005)));
+                self.maybe_publish();
+                return;
+            }
+        }
+        if self.step_once() {
+            self.maybe_publish();
+        } else {
+            // Paused with an error: show it now.
+            self.publish();
+        }
+    }
+
+    /// One step; on failure, pauses with the error. False if it failed.
+    fn step_once(&mut self) -> bool {
+        let Some(sim) = self.sim.as_mut() else {
+            return false;
+        };
+        match sim.step() {
+            Ok(()) => {
+                record_history(&mut self.history, sim);
+                true
+            }
+            Err(e) => {
+                self.run = RunState::Paused;
+                self.error = Some(format!("{e}"));
+                false
+            }
+        }
+    }
+
+    fn maybe_publish(&mut self) {
+        if self.last_publish.0.elapsed() >= PUBLISH_INTERVAL {
+            self.publish();
+        }
+    }
+
+    fn publish(&mut self) {
+        let now = Instant::now();
+        let (step, time) = self
+            .sim
+            .as_ref()
+            .map_or((0, 0.0), |s| (s.state.step, s.state.time));
+        let wall = (now - self.last_publish.0).as_secs_f64();
+        if self.run == RunState::Running && wall > 0.0 {
+            self.rates = (
+                step.saturating_sub(self.last_publish.1) as f64 / wall,
+                (time - self.last_publish.2) / wall,
+            );
+        } else if self.run != RunState::Running {
+            self.rates = (0.0, 0.0);
+        }
+        self.last_publish = (now, step, time);
+        let frame = Frame {
+            scene: Arc::clone(&self.scene),
+            model: self.sim.as_ref().map(|s| Arc::clone(&s.model)),
+            state: self
+                .sim
+                .as_ref()
+                .map(|s| s.state.clone())
+                .unwrap_or_default(),
+            run: self.run,
+            error: self.error.clone(),
+            steps_per_second: self.rates.0,
+            realtime_factor: self.rates.1,
+            history: Arc::new(self.history.clone()),
+            commands: self.commands,
+        };
+        *lock(&self.published) = Some(Arc::new(frame));
+    }
+
+    /// Meshes the current scene and starts it afresh.
+    fn rebuild_all(&mut self) {
+        self.run = RunState::Meshing;
+        self.publish();
+        match build(&self.scene) {
+            Ok((mesh, sim)) => {
+                self.mesh = Some(mesh);
+                self.history = vec![Vec::new(); sim.model.fingers.len()];
+                self.sim = Some(sim);
+                self.error = None;
+            }
+            Err(e) => {
+                self.mesh = None;
+                self.sim = None;
+                self.error = Some(format!("{e}"));
+            }
+        }
+        self.run = RunState::Paused;
+    }
+
+    fn reset_state(&mut self) {
+        let Some(mesh) = self.mesh.clone() else {
+            self.rebuild_all();
+            return;
+        };
+        match Model::from_mesh(&self.scene, mesh) {
+            Ok(model) => {
+                self.history = vec![Vec::new(); model.fingers.len()];
+                self.sim = Some(Simulation::from_model(model));
+                self.error = None;
+            }
+            Err(e) => self.error = Some(format!("{e}")),
+        }
+    }
+
+    /// Checks `scene` as a file would be checked, then rebuilds what it
+    /// changes. A scene that fails leaves everything as it was.
+    fn set_scene(&mut self, scene: Scene) {
+        let checked = match check(&scene) {
+            Ok(s) => s,
+            Err(message) => {
+                self.error = Some(message);
+                return;
+            }
+        };
+        let same_mesh = self.mesh.is_some()
+            && checked.object.shape == self.scene.object.shape
+            && checked.object.edge_length == self.scene.object.edge_length;
+        if !same_mesh {
+            let was_running = self.run == RunState::Running;
+            let previous = std::mem::replace(&mut self.scene, Arc::new(checked));
+            self.rebuild_all();
+            if self.sim.is_none() {
+                // Keep the message, go back to what ran before.
+                let message = self.error.take();
+                self.scene = previous;
+                self.rebuild_all();
+                self.error = message;
+            } else if was_running {
+                self.run = RunState::Running;
+                self.reanchor();
+            }
+            return;
+        }
+        let Some(mesh) = self.mesh.clone() else {
+            return;
+        };
+        let model = match Model::from_mesh(&checked, mesh) {
+            Ok(m) => m,
+            Err(e) => {
+                self.error = Some(format!("{e}"));
+                return;
+            }
+        };
+        if let Some(sim) = self.sim.as_mut() {
+            carry_state(&self.scene, &checked, &model, &mut sim.state);
+            sim.model = Arc::new(model);
+            self.history.resize(sim.model.fingers.len(), Vec::new());
+        }
+        self.scene = Arc::new(checked);
+        self.error = None;
+    }
+}
+
+/// A scene checked by the same resolver as a file: written out and read
+/// back, so every range check is the file's; the message names the key and
+/// the allowed range, not a line.
+fn check(scene: &Scene) -> Result<Scene, String> {
+    const NAME: &str = "edit";
+    let mut checked = Scene::from_toml_str(&scene.to_toml(), NAME).map_err(|e| {
+        // The line is one of the written-out text, which nobody sees.
+        let message = e.to_string();
+        let rest = message
+            .strip_prefix(NAME)
+            .and_then(|r| r.strip_prefix(':'))
+            .map(|r| r.trim_start_matches(|c: char| c.is_ascii_digit()))
+            .and_then(|r| r.strip_prefix(':'))
+            .unwrap_or(&message)
+            .trim();
+        format!("edit rejected, the run goes on unchanged: {rest}")
+    })?;
+    checked.source.clone_from(&scene.source);
+    if let (Shape::Mesh { path: a }, Shape::Mesh { path: b }) =
+        (&mut checked.object.shape, &scene.object.shape)
+    {
+        a.clone_from(b);
+    }
+    Ok(checked)
+}
+
+fn build(scene: &Scene) -> Result<(TetMesh, Simulation), SimError> {
+    let mesh = Model::mesh_of(scene)?;
+    // `Simulation::new` also checks that no finger starts inside.
+    let sim = Simulation::new(scene)?;
+    Ok((mesh, sim))
+}
+
+/// Keeps the state across a model rebuilt on the same mesh: particles as
+/// they are; fingers that stay keep their motion (a finger moved in the
+/// scene is put there; a new applied force replaces the old); new fingers
+/// start at their scene positions; contacts of removed fingers go.
+fn carry_state(old: &Scene, new: &Scene, model: &Model, state: &mut State) {
+    let fresh = State::initial(model);
+    let mut fingers = fresh.fingers.clone();
+    for (k, f) in fingers.iter_mut().enumerate() {
+        let (Some(kept), Some(was), Some(now)) =
+            (state.fingers.get(k), old.fingers.get(k), new.fingers.get(k))
+        else {
+            continue;
+        };
+        let moved = was.position != now.position;
+        *f = *kept;
+        if moved {
+            f.position = now.position;
+            f.velocity = glam::DVec3::ZERO;
+        }
+        if was.force != now.force {
+            f.applied_force = model.fingers[k].force;
+        }
+    }
+    state.fingers = fingers;
+    let count = model.fingers.len() as u32;
+    state.contacts.retain(|c| c.finger < count);
+    state
+        .contact_memory
+        .retain(|(finger, _), _| *finger < count);
+}
+
+fn record_history(history: &mut Vec<Vec<FingerSample>>, sim: &Simulation) {
+    history.resize(sim.state.fingers.len(), Vec::new());
+    for (k, samples) in history.iter_mut().enumerate() {
+        let fs = &sim.state.fingers[k];
+        samples.push(FingerSample {
+            time: sim.state.time,
+            depth: sim.indentation(k),
+            normal_force: fs.normal_force,
+            tangential_force: fs.tangential_force.length(),
+        });
+        if samples.len() > HISTORY_LENGTH {
+            // Keep every other sample of the older half: long runs thin out.
+            let half = samples.len() / 2;
+            let mut kept: Vec<FingerSample> = samples[..half].iter().step_by(2).copied().collect();
+            kept.extend_from_slice(&samples[half..]);
+            *samples = kept;
+        }
+    }
+}

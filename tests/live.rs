@@ -1,0 +1,175 @@
+//! The solver thread the viewer drives (`softgrip::live`): commands in,
+//! frames out, edits applied live, errors reported without stopping.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use softgrip::live::{Command, Frame, LiveSimulation, RunState};
+use softgrip::scene::Control;
+use softgrip::{Scene, Simulation};
+
+/// Generous: the solver answers a command within milliseconds; CI machines
+/// are slow and shared.
+const PATIENCE: Duration = Duration::from_secs(10);
+
+fn started(scene: Scene) -> LiveSimulation {
+    let live = LiveSimulation::start(scene).expect("solver thread");
+    live.wait_for(PATIENCE, |f| f.run == RunState::Paused)
+        .expect("first frame");
+    live
+}
+
+/// Sends `command` and waits for the frame that shows it was taken.
+fn send(live: &LiveSimulation, command: Command) -> Arc<Frame> {
+    let before = live.latest().map_or(0, |f| f.commands);
+    live.send(command).expect("sent");
+    live.wait_for(PATIENCE, |f| f.commands > before)
+        .expect("command taken")
+}
+
+#[test]
+fn starts_paused_on_its_scene_and_steps_as_a_headless_run_does() {
+    let live = started(Scene::thesis());
+    let first = live.latest().expect("frame");
+    assert!(first.model.is_some() && first.error.is_none());
+    assert_eq!(first.state.step, 0);
+
+    let frame = send(&live, Command::Step(25));
+    assert_eq!(frame.state.step, 25);
+    assert_eq!(frame.run, RunState::Paused);
+    let mut headless = Simulation::new(&Scene::thesis()).expect("sim");
+    for _ in 0..25 {
+        headless.step().expect("step");
+    }
+    assert_eq!(frame.state.positions, headless.state.positions);
+    assert_eq!(frame.state.fingers, headless.state.fingers);
+    // The plots' history has a sample per step.
+    assert_eq!(frame.history[0].len(), 25);
+}
+
+#[test]
+fn play_runs_until_pause() {
+    let live = started(Scene::thesis());
+    send(&live, Command::SetSpeed(None));
+    send(&live, Command::Play);
+    let running = live
+        .wait_for(PATIENCE, |f| f.state.time > 0.02)
+        .expect("time advances while playing");
+    assert_eq!(running.run, RunState::Running);
+    let paused = send(&live, Command::Pause);
+    assert_eq!(paused.run, RunState::Paused);
+    std::thread::sleep(Duration::from_millis(100));
+    let later = live.latest().expect("frame");
+    assert_eq!(later.state.step, paused.state.step, "no steps while paused");
+}
+
+/// Acceptance 3 (the solver's side): alpha set to 0 while the run goes on
+/// changes the volume error, and the run is not restarted.
+#[test]
+fn an_alpha_edit_acts_without_a_restart() {
+    // The thesis model alone, whose volume error alpha governs.
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/thesis_cuboid_no_bulk.toml"
+    );
+    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let run = |edit: bool| {
+        let live = started(scene.clone());
+        send(&live, Command::Step(150));
+        if edit {
+            let mut edited = scene.clone();
+            edited.model.alpha = 0.0;
+            let frame = send(&live, Command::SetScene(Box::new(edited)));
+            assert!(frame.error.is_none(), "{:?}", frame.error);
+            assert_eq!(frame.scene.model.alpha, 0.0);
+            assert_eq!(frame.model.as_ref().expect("model").alpha, 0.0);
+            assert_eq!(frame.state.step, 150, "the run goes on from where it was");
+        }
+        send(&live, Command::Step(150)).state.stats.volume_error
+    };
+    let (kept, zeroed) = (run(false), run(true));
+    println!("volume error 0.15 s after the edit: alpha 6e6 {kept:.3e}, alpha 0 {zeroed:.3e}");
+    assert!(zeroed > 1.05 * kept, "alpha 6e6 {kept}, alpha 0 {zeroed}");
+}
+
+/// Acceptance 3: switching a finger to velocity control acts on the next step.
+#[test]
+fn switching_to_velocity_control_acts_at_once() {
+    let live = started(Scene::thesis());
+    send(&live, Command::Step(10));
+    let mut scene = Scene::thesis();
+    scene.fingers[0].control = Control::Velocity;
+    scene.fingers[0].force = glam::DVec3::ZERO;
+    scene.fingers[0].velocity = glam::DVec3::new(0.0, 0.0, -0.01);
+    send(&live, Command::SetScene(Box::new(scene)));
+    let frame = send(&live, Command::Step(1));
+    assert_eq!(frame.state.step, 11);
+    assert_eq!(frame.state.fingers[0].velocity.z, -0.01);
+}
+
+#[test]
+fn a_bad_edit_is_an_error_and_the_run_goes_on() {
+    let live = started(Scene::thesis());
+    send(&live, Command::Step(5));
+    let mut bad = Scene::thesis();
+    bad.object.young_modulus = -1.0;
+    let frame = send(&live, Command::SetScene(Box::new(bad)));
+    let message = frame.error.clone().expect("an error");
+    println!("{message}");
+    assert!(message.contains("young_modulus"), "{message}");
+    assert!(
+        !message.contains("edit:"),
+        "no line of the written-out text: {message}"
+    );
+    assert!(
+        frame.scene.object.young_modulus > 0.0,
+        "the old scene stays"
+    );
+    let frame = send(&live, Command::Step(1));
+    assert_eq!(frame.state.step, 6);
+}
+
+#[test]
+fn a_scene_that_cannot_be_built_keeps_the_current_one() {
+    let live = started(Scene::thesis());
+    send(&live, Command::Step(5));
+    let mut bad = Scene::thesis();
+    bad.object.edge_length = 0.5; // larger than the object
+    let frame = send(&live, Command::SetScene(Box::new(bad)));
+    assert!(frame.error.is_some());
+    assert_eq!(frame.scene.object.edge_length, 0.004);
+    assert!(frame.model.is_some());
+    let frame = send(&live, Command::Step(1));
+    assert_eq!(frame.error, None);
+}
+
+#[test]
+fn a_failing_step_pauses_with_the_error_and_reset_recovers() {
+    let live = started(Scene::thesis());
+    let mut starved = Scene::thesis();
+    starved.simulation.cg_tolerance = 1e-12;
+    starved.simulation.cg_max_iterations = 2;
+    let frame = send(&live, Command::SetScene(Box::new(starved)));
+    assert_eq!(frame.error, None);
+    assert_eq!(frame.scene.simulation.cg_max_iterations, 2);
+    send(&live, Command::SetSpeed(None));
+    send(&live, Command::Play);
+    let failed = live
+        .wait_for(PATIENCE, |f| f.error.is_some())
+        .expect("the step fails");
+    assert_eq!(failed.run, RunState::Paused);
+    assert!(
+        failed
+            .error
+            .as_deref()
+            .is_some_and(|e| e.contains("did not converge")),
+        "{:?}",
+        failed.error
+    );
+    assert!(live.is_alive());
+    send(&live, Command::SetScene(Box::new(Scene::thesis())));
+    let frame = send(&live, Command::Reset);
+    assert_eq!(frame.state.step, 0);
+    let frame = send(&live, Command::Step(3));
+    assert_eq!((frame.state.step, frame.error.clone()), (3, None));
+}
