@@ -56,6 +56,24 @@ enum Command {
     Check { scene: Option<PathBuf> },
     /// Print the built-in thesis scene as TOML (a starting point for your own).
     Scene,
+    /// Render a scene at a simulated time to a PNG, headless (no window, no
+    /// display: a software adapter where there is no GPU).
+    #[cfg(feature = "gui")]
+    Screenshot {
+        /// Scene file (.toml); omit for the built-in thesis scene.
+        scene: Option<PathBuf>,
+        /// Simulated time of the picture (s).
+        #[arg(long, default_value_t = 0.0)]
+        at: f64,
+        /// The PNG to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Image size, WIDTHxHEIGHT in pixels.
+        #[arg(long, default_value = "800x600", value_parser = parse_size)]
+        size: (u32, u32),
+        #[arg(long, value_enum, default_value_t = softgrip::render::View::Iso)]
+        view: softgrip::render::View,
+    },
     /// Measure wall seconds per simulated second of the thesis scene at several mesh sizes.
     Bench {
         /// Edge lengths in mm.
@@ -102,6 +120,14 @@ pub fn main() -> ExitCode {
             seconds,
             threads,
         }) => bench(&edges, seconds, threads),
+        #[cfg(feature = "gui")]
+        Some(Command::Screenshot {
+            scene,
+            at,
+            out,
+            size,
+            view,
+        }) => screenshot(scene.as_deref(), at, &out, size, view),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -110,6 +136,55 @@ pub fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// `WIDTHxHEIGHT`, each 16 to 8192 pixels.
+#[cfg(feature = "gui")]
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("size {text:?}: expected WIDTHxHEIGHT, e.g. 800x600 (16 to 8192 each)");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+#[cfg(feature = "gui")]
+fn screenshot(
+    scene_path: Option<&Path>,
+    at: f64,
+    out: &Path,
+    (width, height): (u32, u32),
+    view: softgrip::render::View,
+) -> Result<()> {
+    anyhow::ensure!(
+        at.is_finite() && at >= 0.0,
+        "--at {at}: the simulated time must be 0 or more (s)"
+    );
+    let scene = load_scene(scene_path)?;
+    let mut sim = Simulation::new(&scene)?;
+    let steps = (at / sim.model.dt).round() as u64;
+    let bar = progress_bar(steps);
+    for _ in 0..steps {
+        sim.step()?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let style = softgrip::render::Style::default();
+    let image = softgrip::render::screenshot(&sim.model, &sim.state, view, width, height, &style)?;
+    image
+        .save(out)
+        .with_context(|| format!("writing {}", out.display()))?;
+    println!(
+        "{}: {width}x{height}, t = {:.3} s, view {view:?}",
+        out.display(),
+        sim.state.time
+    );
+    Ok(())
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {

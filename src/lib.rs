@@ -36,6 +36,8 @@ pub mod model;
 pub mod output;
 pub mod parallel;
 pub mod quasi_static;
+#[cfg(feature = "gui")]
+pub mod render;
 pub mod scene;
 pub mod solver;
 pub mod state;

@@ -1,0 +1,334 @@
+//! What is drawn, as lit triangles: the object's boundary surface with
+//! smooth normals, the fingers, the contact points (stick or slip) and the
+//! force arrows. Built on the CPU from a model and a state every frame.
+
+use glam::{DVec3, Vec3};
+
+use crate::model::Model;
+use crate::scene::FingerShape;
+use crate::state::State;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub color: [f32; 4],
+}
+
+/// An indexed triangle list.
+#[derive(Debug, Clone, Default)]
+pub struct Mesh {
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+/// Colours (linear RGBA, 0..1) and what to show.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Style {
+    pub object: [f32; 4],
+    pub finger: [f32; 4],
+    pub fixed: [f32; 4],
+    pub stick: [f32; 4],
+    pub slip: [f32; 4],
+    pub normal_force: [f32; 4],
+    pub tangential_force: [f32; 4],
+    pub finger_force: [f32; 4],
+    /// Arrow length per newton (m/N).
+    pub force_scale: f32,
+    pub fingers: bool,
+    pub contacts: bool,
+    pub arrows: bool,
+}
+
+impl Default for Style {
+    fn default() -> Style {
+        Style {
+            object: [0.93, 0.62, 0.45, 1.0],
+            finger: [0.25, 0.45, 0.85, 1.0],
+            fixed: [0.35, 0.35, 0.38, 1.0],
+            stick: [0.15, 0.80, 0.25, 1.0],
+            slip: [0.95, 0.55, 0.05, 1.0],
+            normal_force: [0.85, 0.10, 0.10, 1.0],
+            tangential_force: [0.95, 0.85, 0.10, 1.0],
+            finger_force: [0.60, 0.10, 0.75, 1.0],
+            force_scale: 0.002,
+            fingers: true,
+            contacts: true,
+            arrows: true,
+        }
+    }
+}
+
+fn f32v(v: DVec3) -> Vec3 {
+    v.as_vec3()
+}
+
+impl Mesh {
+    fn push(&mut self, position: Vec3, normal: Vec3, color: [f32; 4]) -> u32 {
+        self.vertices.push(Vertex {
+            position: position.to_array(),
+            normal: normal.to_array(),
+            color,
+        });
+        (self.vertices.len() - 1) as u32
+    }
+
+    /// A UV sphere.
+    pub fn add_sphere(&mut self, centre: Vec3, radius: f32, color: [f32; 4]) {
+        const RINGS: u32 = 16;
+        const SEGMENTS: u32 = 24;
+        let base = self.vertices.len() as u32;
+        for r in 0..=RINGS {
+            let theta = std::f32::consts::PI * r as f32 / RINGS as f32;
+            for s in 0..=SEGMENTS {
+                let phi = std::f32::consts::TAU * s as f32 / SEGMENTS as f32;
+                let n = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                self.push(centre + radius * n, n, color);
+            }
+        }
+        let row = SEGMENTS + 1;
+        for r in 0..RINGS {
+            for s in 0..SEGMENTS {
+                let a = base + r * row + s;
+                let b = a + row;
+                self.indices
+                    .extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
+            }
+        }
+    }
+
+    /// An axis-aligned box.
+    pub fn add_box(&mut self, min: Vec3, max: Vec3, color: [f32; 4]) {
+        let c = |x: bool, y: bool, z: bool| {
+            Vec3::new(
+                if x { max.x } else { min.x },
+                if y { max.y } else { min.y },
+                if z { max.z } else { min.z },
+            )
+        };
+        // (normal, four corners counter-clockwise seen from outside)
+        let faces = [
+            (
+                Vec3::X,
+                [
+                    c(true, false, false),
+                    c(true, true, false),
+                    c(true, true, true),
+                    c(true, false, true),
+                ],
+            ),
+            (
+                -Vec3::X,
+                [
+                    c(false, true, false),
+                    c(false, false, false),
+                    c(false, false, true),
+                    c(false, true, true),
+                ],
+            ),
+            (
+                Vec3::Y,
+                [
+                    c(true, true, false),
+                    c(false, true, false),
+                    c(false, true, true),
+                    c(true, true, true),
+                ],
+            ),
+            (
+                -Vec3::Y,
+                [
+                    c(false, false, false),
+                    c(true, false, false),
+                    c(true, false, true),
+                    c(false, false, true),
+                ],
+            ),
+            (
+                Vec3::Z,
+                [
+                    c(false, false, true),
+                    c(true, false, true),
+                    c(true, true, true),
+                    c(false, true, true),
+                ],
+            ),
+            (
+                -Vec3::Z,
+                [
+                    c(false, true, false),
+                    c(true, true, false),
+                    c(true, false, false),
+                    c(false, false, false),
+                ],
+            ),
+        ];
+        for (n, corners) in faces {
+            let i: Vec<u32> = corners.iter().map(|&p| self.push(p, n, color)).collect();
+            self.indices
+                .extend_from_slice(&[i[0], i[1], i[2], i[0], i[2], i[3]]);
+        }
+    }
+
+    /// An arrow from `from` along `vector` (its full length), a shaft and a
+    /// head; nothing for a vector shorter than a micrometre.
+    pub fn add_arrow(&mut self, from: Vec3, vector: Vec3, radius: f32, color: [f32; 4]) {
+        let length = vector.length();
+        if length < 1e-6 {
+            return;
+        }
+        let axis = vector / length;
+        let helper = if axis.z.abs() < 0.9 { Vec3::Z } else { Vec3::X };
+        let u = axis.cross(helper).normalize();
+        let v = axis.cross(u);
+        let head = (4.0 * radius).min(0.4 * length);
+        let shaft_end = from + axis * (length - head);
+        const SEGMENTS: u32 = 10;
+        let ring = |k: u32| {
+            let a = std::f32::consts::TAU * k as f32 / SEGMENTS as f32;
+            u * a.cos() + v * a.sin()
+        };
+        // Shaft.
+        let base = self.vertices.len() as u32;
+        for k in 0..=SEGMENTS {
+            let d = ring(k);
+            self.push(from + radius * d, d, color);
+            self.push(shaft_end + radius * d, d, color);
+        }
+        for k in 0..SEGMENTS {
+            let a = base + 2 * k;
+            self.indices
+                .extend_from_slice(&[a, a + 2, a + 1, a + 1, a + 2, a + 3]);
+        }
+        // Head: a cone from a ring of twice the shaft's radius to the tip.
+        let tip = from + vector;
+        let base = self.vertices.len() as u32;
+        for k in 0..=SEGMENTS {
+            let d = ring(k);
+            let n = (d * head + axis * 2.0 * radius).normalize();
+            self.push(shaft_end + 2.0 * radius * d, n, color);
+            self.push(tip, n, color);
+        }
+        for k in 0..SEGMENTS {
+            let a = base + 2 * k;
+            self.indices.extend_from_slice(&[a, a + 2, a + 1]);
+        }
+    }
+}
+
+/// The scene drawn for `state` of `model`.
+pub fn build(model: &Model, state: &State, style: &Style) -> Mesh {
+    let mut mesh = Mesh::default();
+    add_surface(&mut mesh, model, state, style);
+    let scale = bounds_size(model).max(1e-3);
+    for (k, f) in model.fingers.iter().enumerate() {
+        let Some(fs) = state.fingers.get(k) else {
+            continue;
+        };
+        let centre = f32v(fs.position);
+        if !style.fingers {
+            continue;
+        }
+        match f.shape {
+            FingerShape::Sphere { radius } => mesh.add_sphere(centre, radius as f32, style.finger),
+            FingerShape::Plate { half_size } => {
+                let h = Vec3::new(half_size[0] as f32, half_size[1] as f32, 0.0);
+                let thickness = 0.02 * scale;
+                mesh.add_box(centre - h, centre + h + Vec3::Z * thickness, style.finger);
+            }
+        }
+        if style.arrows {
+            // From the finger's surface, along the force on it.
+            let force = f32v(fs.contact_force) * style.force_scale;
+            let from = centre + force.normalize_or_zero() * f.shape.reach() as f32;
+            mesh.add_arrow(from, force, 0.006 * scale, style.finger_force);
+        }
+    }
+    for c in &state.contacts {
+        let at = f32v(c.point);
+        if style.contacts {
+            let color = if c.stick >= 0.5 {
+                style.stick
+            } else {
+                style.slip
+            };
+            mesh.add_sphere(at, 0.008 * scale, color);
+        }
+        if style.arrows {
+            let force = f32v(c.normal * c.normal_force) * style.force_scale;
+            mesh.add_arrow(at, force, 0.0025 * scale, style.normal_force);
+            let tangential = f32v(c.tangential_force) * style.force_scale;
+            mesh.add_arrow(at, tangential, 0.0025 * scale, style.tangential_force);
+        }
+    }
+    mesh
+}
+
+/// The object's extent (m), for marker sizes.
+fn bounds_size(model: &Model) -> f32 {
+    let (lo, hi) = crate::mesh::bounds_of(&model.rest_positions);
+    (hi - lo).max_element() as f32
+}
+
+/// Facets meeting at a sharper angle than this keep their own normals at
+/// the shared vertex (the cuboid's edges stay sharp); smoother ones share
+/// the area-weighted mean.
+const CREASE_COS: f32 = 0.766; // cos 40 degrees
+
+/// The boundary facets, three vertices each, with normals smoothed over the
+/// facets around each corner that meet it at less than the crease angle.
+/// Pinned particles are grey.
+fn add_surface(mesh: &mut Mesh, model: &Model, state: &State, style: &Style) {
+    let n = model.particle_count();
+    // Facet normals (length = twice the area) and the facets at each particle.
+    let normals: Vec<Vec3> = model
+        .facets
+        .iter()
+        .map(|tri| {
+            let p = tri.map(|i| f32v(state.positions[i as usize]));
+            (p[1] - p[0]).cross(p[2] - p[0])
+        })
+        .collect();
+    let mut start = vec![0u32; n + 1];
+    for tri in &model.facets {
+        for &i in tri {
+            start[i as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut around = vec![0u32; start[n] as usize];
+    for (f, tri) in model.facets.iter().enumerate() {
+        for &i in tri {
+            around[fill[i as usize] as usize] = f as u32;
+            fill[i as usize] += 1;
+        }
+    }
+    for (f, tri) in model.facets.iter().enumerate() {
+        let own = normals[f].normalize_or_zero();
+        for &i in tri {
+            let i = i as usize;
+            let mut sum = Vec3::ZERO;
+            for &g in &around[start[i] as usize..start[i + 1] as usize] {
+                let other = normals[g as usize];
+                if other.normalize_or_zero().dot(own) >= CREASE_COS {
+                    sum += other;
+                }
+            }
+            let color = if model.fixed[i] {
+                style.fixed
+            } else {
+                style.object
+            };
+            let at = mesh.push(f32v(state.positions[i]), sum.normalize_or_zero(), color);
+            mesh.indices.push(at);
+        }
+    }
+}
