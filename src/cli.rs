@@ -56,6 +56,10 @@ enum Command {
     Check { scene: Option<PathBuf> },
     /// Print the built-in thesis scene as TOML (a starting point for your own).
     Scene,
+    /// Open the viewer on a scene (the built-in thesis scene when none is
+    /// given); what `softgrip` alone does.
+    #[cfg(feature = "gui")]
+    View { scene: Option<PathBuf> },
     /// Render a scene at a simulated time to a PNG, headless (no window, no
     /// display: a software adapter where there is no GPU).
     #[cfg(feature = "gui")]
@@ -92,11 +96,18 @@ enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        #[cfg(feature = "gui")]
+        None => softgrip::viewer::run(Scene::thesis()),
+        #[cfg(not(feature = "gui"))]
         None => {
             eprintln!(
-                "softgrip: the viewer is not built yet; running the built-in thesis scene headless (see `softgrip --help`)."
+                "softgrip: built without the viewer (feature `gui`); running the built-in thesis scene headless (see `softgrip --help`)."
             );
             run(None, None, None, 50.0)
+        }
+        #[cfg(feature = "gui")]
+        Some(Command::View { scene }) => {
+            load_scene(scene.as_deref()).and_then(softgrip::viewer::run)
         }
         Some(Command::Run {
             scene,

@@ -19,6 +19,8 @@
 //! - [`output`]: ParaView and CSV output; [`bench`]: the `softgrip bench` runs.
 //! - [`parallel`]: the helper thread that takes half of each step's work.
 //! - [`live`]: a simulation on its own thread, driven by commands, publishing frames (the viewer's core).
+//! - `render`, `viewer` (feature `gui`): the 3-D renderer (also headless, for
+//!   `softgrip screenshot`) and the desktop viewer.
 //!
 //! The core has no GUI dependency: `cargo test --no-default-features`.
 
@@ -42,6 +44,8 @@ pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod step;
+#[cfg(feature = "gui")]
+pub mod viewer;
 
 pub use error::SimError;
 pub use model::Model;

@@ -16,6 +16,14 @@ pub struct Vertex {
     pub color: [f32; 4],
 }
 
+/// What a frame draws: opaque triangles, then translucent ones (fingers
+/// drawn see-through, so the contacts under them show).
+#[derive(Debug, Clone, Default)]
+pub struct Drawing {
+    pub opaque: Mesh,
+    pub translucent: Mesh,
+}
+
 /// An indexed triangle list.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
@@ -36,6 +44,8 @@ pub struct Style {
     pub finger_force: [f32; 4],
     /// Arrow length per newton (m/N).
     pub force_scale: f32,
+    /// 1 = opaque fingers; below, they are drawn see-through.
+    pub finger_opacity: f32,
     pub fingers: bool,
     pub contacts: bool,
     pub arrows: bool,
@@ -53,6 +63,7 @@ impl Default for Style {
             tangential_force: [0.95, 0.85, 0.10, 1.0],
             finger_force: [0.60, 0.10, 0.75, 1.0],
             force_scale: 0.002,
+            finger_opacity: 1.0,
             fingers: true,
             contacts: true,
             arrows: true,
@@ -222,9 +233,11 @@ impl Mesh {
 }
 
 /// The scene drawn for `state` of `model`.
-pub fn build(model: &Model, state: &State, style: &Style) -> Mesh {
-    let mut mesh = Mesh::default();
-    add_surface(&mut mesh, model, state, style);
+pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
+    let mut drawing = Drawing::default();
+    add_surface(&mut drawing.opaque, model, state, style);
+    let mut finger_color = style.finger;
+    finger_color[3] = style.finger_opacity.clamp(0.0, 1.0);
     let scale = bounds_size(model).max(1e-3);
     for (k, f) in model.fingers.iter().enumerate() {
         let Some(fs) = state.fingers.get(k) else {
@@ -234,14 +247,20 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Mesh {
         if !style.fingers {
             continue;
         }
+        let body = if finger_color[3] < 1.0 {
+            &mut drawing.translucent
+        } else {
+            &mut drawing.opaque
+        };
         match f.shape {
-            FingerShape::Sphere { radius } => mesh.add_sphere(centre, radius as f32, style.finger),
+            FingerShape::Sphere { radius } => body.add_sphere(centre, radius as f32, finger_color),
             FingerShape::Plate { half_size } => {
                 let h = Vec3::new(half_size[0] as f32, half_size[1] as f32, 0.0);
                 let thickness = 0.02 * scale;
-                mesh.add_box(centre - h, centre + h + Vec3::Z * thickness, style.finger);
+                body.add_box(centre - h, centre + h + Vec3::Z * thickness, finger_color);
             }
         }
+        let mesh = &mut drawing.opaque;
         if style.arrows {
             // From the finger's surface, along the force on it.
             let force = f32v(fs.contact_force) * style.force_scale;
@@ -249,6 +268,7 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Mesh {
             mesh.add_arrow(from, force, 0.006 * scale, style.finger_force);
         }
     }
+    let mesh = &mut drawing.opaque;
     for c in &state.contacts {
         let at = f32v(c.point);
         if style.contacts {
@@ -266,7 +286,7 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Mesh {
             mesh.add_arrow(at, tangential, 0.0025 * scale, style.tangential_force);
         }
     }
-    mesh
+    drawing
 }
 
 /// The object's extent (m), for marker sizes.

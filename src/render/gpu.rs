@@ -7,7 +7,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::camera::Camera;
-use super::geometry::{Mesh, Vertex};
+use super::geometry::{Drawing, Mesh, Vertex};
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -35,46 +35,68 @@ struct CameraUniform {
     light: [f32; 4],
 }
 
-/// A device, the pipeline and an offscreen target of a fixed size.
-pub struct Offscreen {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
+/// The pipeline and its camera uniform, on a given device.
+pub struct Pipeline {
     pipeline: wgpu::RenderPipeline,
+    /// Alpha-blended, depth-tested but not depth-writing: see-through fingers.
+    blended: wgpu::RenderPipeline,
     camera_buffer: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
-    color: wgpu::Texture,
-    depth: wgpu::TextureView,
-    width: u32,
-    height: u32,
-    /// Name and backend of the adapter, for reports.
-    pub adapter: String,
 }
 
-impl Offscreen {
-    pub fn new(width: u32, height: u32) -> Result<Offscreen, RenderError> {
-        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        if std::env::var_os("WGPU_BACKEND").is_none() {
-            // GL (Mesa's llvmpipe where there is no GPU) unless told
-            // otherwise: where Vulkan's lavapipe is also installed, the two
-            // differ by a few pixels, and the reference images are GL's.
-            descriptor.backends = wgpu::Backends::GL;
+/// A colour texture (RGBA8) and its depth buffer, of one size.
+pub struct Target {
+    pub color: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    depth: wgpu::TextureView,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Target {
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Target {
+        let size = wgpu::Extent3d {
+            width: width.max(1),
+            height: height.max(1),
+            depth_or_array_layers: 1,
+        };
+        let color = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("color"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: COLOR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let depth = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("depth"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let view = color.create_view(&Default::default());
+        Target {
+            color,
+            view,
+            depth,
+            width: size.width,
+            height: size.height,
         }
-        let instance = wgpu::Instance::new(descriptor);
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::default(),
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
-        let info = adapter.get_info();
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("softgrip offscreen"),
-            required_limits:
-                wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits()),
-            ..Default::default()
-        }))
-        .map_err(|e| RenderError::NoDevice(e.to_string()))?;
+    }
+}
+
+impl Pipeline {
+    pub fn new(device: &wgpu::Device) -> Pipeline {
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lit.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/lit.wgsl").into()),
@@ -111,7 +133,8 @@ impl Offscreen {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        let make = |blend: Option<wgpu::BlendState>, depth_write: bool| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("lit"),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
@@ -131,7 +154,7 @@ impl Offscreen {
             },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
+                depth_write_enabled: Some(depth_write),
                 depth_compare: Some(wgpu::CompareFunction::Less),
                 stencil: Default::default(),
                 bias: Default::default(),
@@ -143,157 +166,188 @@ impl Offscreen {
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: COLOR_FORMAT,
-                    blend: None,
+                    blend,
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
             }),
             multiview_mask: None,
             cache: None,
-        });
-        let size = wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
+        })
         };
-        let color = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("color"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let depth = device
-            .create_texture(&wgpu::TextureDescriptor {
-                label: Some("depth"),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                view_formats: &[],
+        let pipeline = make(None, true);
+        let blended = make(Some(wgpu::BlendState::ALPHA_BLENDING), false);
+        Pipeline {
+            pipeline,
+            blended,
+            camera_buffer,
+            bind_group,
+        }
+    }
+
+    /// Records the drawing of `mesh` seen by `camera` into `target`.
+    pub fn draw(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &Target,
+        drawing: &Drawing,
+        camera: &Camera,
+    ) {
+        let light = (Vec3::new(0.4, -0.6, 1.0)).normalize();
+        let uniform = CameraUniform {
+            view_proj: camera
+                .view_projection(target.width as f32 / target.height as f32)
+                .to_cols_array_2d(),
+            eye: camera.eye().extend(1.0).to_array(),
+            light: light.extend(0.0).to_array(),
+        };
+        queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&uniform));
+        let upload = |mesh: &Mesh| {
+            (!mesh.indices.is_empty()).then(|| {
+                (
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("vertices"),
+                        contents: bytemuck::cast_slice(&mesh.vertices),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    }),
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("indices"),
+                        contents: bytemuck::cast_slice(&mesh.indices),
+                        usage: wgpu::BufferUsages::INDEX,
+                    }),
+                    mesh.indices.len() as u32,
+                )
             })
-            .create_view(&Default::default());
+        };
+        let layers = [
+            (&self.pipeline, upload(&drawing.opaque)),
+            (&self.blended, upload(&drawing.translucent)),
+        ];
+        let [r, g, b, a] = BACKGROUND;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for (pipeline, buffers) in &layers {
+            if let Some((vertices, indices, count)) = buffers {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.set_vertex_buffer(0, vertices.slice(..));
+                pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..*count, 0, 0..1);
+            }
+        }
+    }
+}
+
+/// A device of its own, the pipeline and an offscreen target of a fixed
+/// size, read back as images.
+pub struct Offscreen {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    pipeline: Pipeline,
+    target: Target,
+    /// Name and backend of the adapter, for reports.
+    pub adapter: String,
+}
+
+impl Offscreen {
+    pub fn new(width: u32, height: u32) -> Result<Offscreen, RenderError> {
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            // GL (Mesa's llvmpipe where there is no GPU) unless told
+            // otherwise: where Vulkan's lavapipe is also installed, the two
+            // differ by a few pixels, and the reference images are GL's.
+            descriptor.backends = wgpu::Backends::GL;
+        }
+        let instance = wgpu::Instance::new(descriptor);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::default(),
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("softgrip offscreen"),
+            required_limits:
+                wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits()),
+            ..Default::default()
+        }))
+        .map_err(|e| RenderError::NoDevice(e.to_string()))?;
+        let pipeline = Pipeline::new(&device);
+        let target = Target::new(&device, width, height);
         Ok(Offscreen {
             device,
             queue,
             pipeline,
-            camera_buffer,
-            bind_group,
-            color,
-            depth,
-            width,
-            height,
+            target,
             adapter: format!("{} ({:?})", info.name, info.backend),
         })
     }
 
     /// Draws `mesh` seen by `camera` and reads the image back (RGBA8).
-    pub fn render(&self, mesh: &Mesh, camera: &Camera) -> Result<image::RgbaImage, RenderError> {
-        let eye = camera.eye();
-        let light = (Vec3::new(0.4, -0.6, 1.0)).normalize();
-        let uniform = CameraUniform {
-            view_proj: camera
-                .view_projection(self.width as f32 / self.height as f32)
-                .to_cols_array_2d(),
-            eye: eye.extend(1.0).to_array(),
-            light: light.extend(0.0).to_array(),
-        };
-        self.queue
-            .write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&uniform));
-        // An empty mesh still needs a buffer to bind.
-        let dummy = [Vertex {
-            position: [0.0; 3],
-            normal: [0.0; 3],
-            color: [0.0; 4],
-        }];
-        let vertices: &[Vertex] = if mesh.vertices.is_empty() {
-            &dummy
-        } else {
-            &mesh.vertices
-        };
-        let vertex_buffer = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("vertices"),
-                contents: bytemuck::cast_slice(vertices),
-                usage: wgpu::BufferUsages::VERTEX,
-            });
-        let indices: &[u32] = if mesh.indices.is_empty() {
-            &[0, 0, 0]
-        } else {
-            &mesh.indices
-        };
-        let index_buffer = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("indices"),
-                contents: bytemuck::cast_slice(indices),
-                usage: wgpu::BufferUsages::INDEX,
-            });
-        let view = self.color.create_view(&Default::default());
+    pub fn render(
+        &self,
+        drawing: &Drawing,
+        camera: &Camera,
+    ) -> Result<image::RgbaImage, RenderError> {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        {
-            let [r, g, b, a] = BACKGROUND;
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("scene"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if !mesh.indices.is_empty() {
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.set_vertex_buffer(0, vertex_buffer.slice(..));
-                pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..mesh.indices.len() as u32, 0, 0..1);
-            }
-        }
+        self.pipeline.draw(
+            &self.device,
+            &self.queue,
+            &mut encoder,
+            &self.target,
+            drawing,
+            camera,
+        );
+        let (width, height) = (self.target.width, self.target.height);
         // Rows of the read-back buffer are padded to 256 bytes.
-        let row = 4 * self.width;
+        let row = 4 * width;
         let padded =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
-            size: (padded * self.height) as u64,
+            size: (padded * height) as u64,
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
         encoder.copy_texture_to_buffer(
-            self.color.as_image_copy(),
+            self.target.color.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
                 buffer: &readback,
                 layout: wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(padded),
-                    rows_per_image: Some(self.height),
+                    rows_per_image: Some(height),
                 },
             },
             wgpu::Extent3d {
-                width: self.width,
-                height: self.height,
+                width,
+                height,
                 depth_or_array_layers: 1,
             },
         );
@@ -312,14 +366,14 @@ impl Offscreen {
         let data = slice
             .get_mapped_range()
             .map_err(|e| RenderError::Readback(e.to_string()))?;
-        let mut pixels = Vec::with_capacity((row * self.height) as usize);
-        for y in 0..self.height {
+        let mut pixels = Vec::with_capacity((row * height) as usize);
+        for y in 0..height {
             let start = (y * padded) as usize;
             pixels.extend_from_slice(&data[start..start + row as usize]);
         }
         drop(data);
         readback.unmap();
-        image::RgbaImage::from_raw(self.width, self.height, pixels)
+        image::RgbaImage::from_raw(width, height, pixels)
             .ok_or_else(|| RenderError::Readback("image size mismatch".into()))
     }
 }

@@ -7,7 +7,7 @@ pub mod geometry;
 pub mod gpu;
 
 pub use camera::{Camera, View};
-pub use geometry::{Mesh, Style, Vertex};
+pub use geometry::{Drawing, Mesh, Style, Vertex};
 pub use gpu::{Offscreen, RenderError};
 
 use glam::DVec3;
@@ -36,6 +36,6 @@ pub fn screenshot(
     style: &Style,
 ) -> Result<image::RgbaImage, RenderError> {
     let renderer = Offscreen::new(width, height)?;
-    let mesh = geometry::build(model, state, style);
-    renderer.render(&mesh, &frame_camera(model, state, view))
+    let drawing = geometry::build(model, state, style);
+    renderer.render(&drawing, &frame_camera(model, state, view))
 }

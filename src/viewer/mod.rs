@@ -1,0 +1,510 @@
+//! The desktop viewer (eframe: winit + egui + egui-wgpu): the 3-D view
+//! rendered by `crate::render` on eframe's wgpu device into a texture
+//! shown in the central panel, the parameter panels on the left, the
+//! statistics on the right. The simulation runs on `crate::live`'s solver
+//! thread: the UI sends edits without waiting and draws the latest frame.
+
+use std::sync::Arc;
+
+use anyhow::{Result, anyhow};
+use eframe::egui;
+use glam::Vec3;
+
+use crate::live::{Command, Frame, LiveSimulation, RunState};
+use crate::render::gpu::{Pipeline, Target};
+use crate::render::{self, Camera, Style, View};
+use crate::scene::{Control, FingerShape, Scene};
+
+/// Opens the viewer on `scene`; returns when the window is closed.
+pub fn run(scene: Scene) -> Result<()> {
+    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
+        return Err(anyhow!(
+            "no display to open the viewer on (neither DISPLAY nor WAYLAND_DISPLAY is set). Headless, use `softgrip run` for the numbers or `softgrip screenshot --at 1 --out shot.png` for a picture"
+        ));
+    }
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_inner_size([1280.0, 820.0])
+            .with_title("softgrip"),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    eframe::run_native(
+        "softgrip",
+        options,
+        Box::new(move |cc| {
+            let app = Viewer::new(cc, scene).map_err(|e| e.to_string())?;
+            Ok(Box::new(app))
+        }),
+    )
+    .map_err(|e| anyhow!("the viewer could not start: {e}"))
+}
+
+struct View3d {
+    pipeline: Pipeline,
+    target: Target,
+    texture: egui::TextureId,
+    camera: Option<Camera>,
+}
+
+/// The panels and the solver they drive, without the 3-D view: what the
+/// UI tests exercise (`tests/viewer_ui.rs`).
+pub struct Panels {
+    pub live: LiveSimulation,
+    /// The scene as the panels show it; sent when a widget changes it.
+    pub edited: Scene,
+    /// Commands sent so far; once the solver has taken them all, the
+    /// panels show the scene it runs (a rejected edit springs back).
+    sent: std::cell::Cell<u64>,
+    /// The latest frame, read at the start of each UI frame.
+    pub frame: Option<Arc<Frame>>,
+    speed: f64,
+    max_speed: bool,
+    pub style: Style,
+    /// A preset view button pressed this frame.
+    view_request: Option<View>,
+    /// UI frame time (s), smoothed, and when the last frame started.
+    frame_time: f64,
+    last_frame: Option<std::time::Instant>,
+}
+
+struct Viewer {
+    panels: Panels,
+    view: View3d,
+}
+
+impl Viewer {
+    fn new(cc: &eframe::CreationContext<'_>, scene: Scene) -> Result<Viewer> {
+        let rs = cc
+            .wgpu_render_state
+            .as_ref()
+            .ok_or_else(|| anyhow!("eframe started without wgpu"))?;
+        let pipeline = Pipeline::new(&rs.device);
+        let target = Target::new(&rs.device, 800, 600);
+        let texture = rs.renderer.write().register_native_texture(
+            &rs.device,
+            &target.view,
+            wgpu::FilterMode::Linear,
+        );
+        let panels = Panels::start(scene)?;
+        // The viewer opens running, in real time.
+        panels.send(Command::Play);
+        Ok(Viewer {
+            panels,
+            view: View3d {
+                pipeline,
+                target,
+                texture,
+                camera: None,
+            },
+        })
+    }
+}
+
+impl Panels {
+    /// Starts the solver thread on `scene` (paused).
+    pub fn start(scene: Scene) -> Result<Panels> {
+        Ok(Panels {
+            live: LiveSimulation::start(scene.clone())?,
+            edited: scene,
+            sent: std::cell::Cell::new(0),
+            frame: None,
+            speed: 1.0,
+            max_speed: false,
+            style: Style {
+                finger_opacity: 0.45,
+                ..Style::default()
+            },
+            view_request: None,
+            frame_time: 0.0,
+            last_frame: None,
+        })
+    }
+
+    /// The left and right panels for one UI frame (the central area is
+    /// left to the caller).
+    pub fn ui(&mut self, ui: &mut egui::Ui) {
+        let now = std::time::Instant::now();
+        if let Some(last) = self.last_frame {
+            let dt = (now - last).as_secs_f64();
+            self.frame_time = if self.frame_time == 0.0 {
+                dt
+            } else {
+                0.95 * self.frame_time + 0.05 * dt
+            };
+        }
+        self.last_frame = Some(now);
+        self.frame = self.live.latest();
+        if let Some(f) = &self.frame
+            && f.commands >= self.sent.get()
+            && *f.scene != self.edited
+        {
+            // The solver took all our commands: show what it runs (a
+            // rejected edit springs back, with the error beside it).
+            self.edited = (*f.scene).clone();
+        }
+        egui::Panel::left("parameters")
+            .resizable(true)
+            .default_size(320.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    ui.heading("softgrip");
+                    self.controls(ui);
+                    ui.separator();
+                    if self.parameters(ui) {
+                        self.send(Command::SetScene(Box::new(self.edited.clone())));
+                    }
+                });
+            });
+        egui::Panel::right("statistics")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| {
+                if let Some(error) = self.frame.as_ref().and_then(|f| f.error.clone()) {
+                    ui.colored_label(egui::Color32::from_rgb(200, 40, 40), error);
+                    ui.separator();
+                }
+                self.statistics(ui);
+            });
+    }
+
+    fn send(&self, command: Command) {
+        // A full channel only drops this click; the next frame can resend.
+        if self.live.send(command).is_ok() {
+            self.sent.set(self.sent.get() + 1);
+        }
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        let running = self
+            .frame
+            .as_ref()
+            .is_some_and(|f| f.run == RunState::Running);
+        ui.horizontal(|ui| {
+            if running {
+                if ui.button("Pause").clicked() {
+                    self.send(Command::Pause);
+                }
+            } else if ui.button("Play").clicked() {
+                self.send(Command::Play);
+            }
+            if ui.button("Step").clicked() {
+                self.send(Command::Step(1));
+            }
+            if ui.button("Reset").clicked() {
+                self.send(Command::Reset);
+            }
+        });
+        let mut speed_changed = ui
+            .checkbox(&mut self.max_speed, "as fast as it goes")
+            .changed();
+        ui.add_enabled_ui(!self.max_speed, |ui| {
+            speed_changed |= ui
+                .add(
+                    egui::Slider::new(&mut self.speed, 0.01..=10.0)
+                        .logarithmic(true)
+                        .text("x real time"),
+                )
+                .changed();
+        });
+        if speed_changed {
+            self.send(Command::SetSpeed((!self.max_speed).then_some(self.speed)));
+        }
+    }
+
+    /// The parameter panels; true if the user changed the scene.
+    fn parameters(&mut self, ui: &mut egui::Ui) -> bool {
+        let mut changed = false;
+        let s = &mut self.edited;
+        egui::CollapsingHeader::new("Material")
+            .default_open(true)
+            .show(ui, |ui| {
+                changed |= log_slider(ui, &mut s.object.young_modulus, 1e3..=1e8, "E (Pa)");
+                changed |= ui
+                    .add(egui::Slider::new(&mut s.object.poisson_ratio, 0.0..=0.499).text("nu"))
+                    .changed();
+                changed |= ui
+                    .add(
+                        egui::Slider::new(&mut s.object.density, 100.0..=3000.0)
+                            .text("density (kg/m3)"),
+                    )
+                    .changed();
+            });
+        egui::CollapsingHeader::new("Model")
+            .default_open(true)
+            .show(ui, |ui| {
+                changed |= log_slider(ui, &mut s.model.alpha, 0.0..=1e8, "alpha");
+                changed |= optional_slider(ui, &mut s.model.tau_s, 0.0..=1.0, "tau_s", 0.16);
+                changed |= optional_slider(ui, &mut s.model.tau_c, 0.0..=0.9, "tau_c", 0.155);
+                changed |= ui
+                    .add(
+                        egui::Slider::new(&mut s.model.damping_ratio, 0.0..=5.0)
+                            .text("damping ratio"),
+                    )
+                    .changed();
+                changed |= ui
+                    .add(
+                        egui::Slider::new(&mut s.model.constraint_iterations, 0..=100)
+                            .text("constraint iterations"),
+                    )
+                    .changed();
+                changed |= log_slider(
+                    ui,
+                    &mut s.model.bulk_modulus,
+                    0.0..=1e8,
+                    "bulk modulus (Pa)",
+                );
+                changed |= log_slider(
+                    ui,
+                    &mut s.model.limit_stiffness,
+                    0.0..=1e5,
+                    "limit stiffness (x)",
+                );
+            });
+        egui::CollapsingHeader::new("Fingers")
+            .default_open(true)
+            .show(ui, |ui| {
+                for (k, f) in s.fingers.iter_mut().enumerate() {
+                    ui.push_id(k, |ui| {
+                        ui.label(format!("finger {}", k + 1));
+                        ui.horizontal(|ui| {
+                            changed |= ui
+                                .radio_value(&mut f.control, Control::Force, "force")
+                                .changed();
+                            changed |= ui
+                                .radio_value(&mut f.control, Control::Velocity, "velocity")
+                                .changed();
+                        });
+                        changed |= ui
+                            .add(
+                                egui::Slider::new(&mut f.force.z, -50.0..=50.0).text("force z (N)"),
+                            )
+                            .changed();
+                        changed |= ui
+                            .add(
+                                egui::Slider::new(&mut f.velocity.z, -0.05..=0.05)
+                                    .text("velocity z (m/s)"),
+                            )
+                            .changed();
+                        if let FingerShape::Sphere { radius } = &mut f.shape {
+                            changed |= ui
+                                .add(egui::Slider::new(radius, 0.001..=0.05).text("radius (m)"))
+                                .changed();
+                        }
+                        changed |= ui
+                            .add(egui::Slider::new(&mut f.friction, 0.0..=2.0).text("friction"))
+                            .changed();
+                        changed |= ui
+                            .add(
+                                egui::Slider::new(&mut f.restitution, 0.0..=1.0)
+                                    .text("restitution"),
+                            )
+                            .changed();
+                        changed |= log_slider(ui, &mut f.young_modulus, 1e4..=1e11, "E (Pa)");
+                        changed |= log_slider(
+                            ui,
+                            &mut f.contact_stiffness_scale,
+                            0.1..=100.0,
+                            "contact scale",
+                        );
+                    });
+                    ui.separator();
+                }
+            });
+        egui::CollapsingHeader::new("Display").show(ui, |ui| {
+            let st = &mut self.style;
+            ui.add(
+                egui::Slider::new(&mut st.force_scale, 1e-4..=1e-2)
+                    .logarithmic(true)
+                    .text("arrow m per N"),
+            );
+            ui.add(egui::Slider::new(&mut st.finger_opacity, 0.1..=1.0).text("finger opacity"));
+            ui.checkbox(&mut st.contacts, "contact points");
+            ui.checkbox(&mut st.arrows, "force arrows");
+            ui.horizontal(|ui| {
+                for (name, view) in [
+                    ("front", View::Front),
+                    ("side", View::Side),
+                    ("top", View::Top),
+                    ("iso", View::Iso),
+                ] {
+                    if ui.button(name).clicked() {
+                        self.view_request = Some(view);
+                    }
+                }
+            });
+        });
+        changed
+    }
+
+    fn statistics(&self, ui: &mut egui::Ui) {
+        let Some(f) = &self.frame else {
+            ui.label("starting...");
+            return;
+        };
+        let st = &f.state.stats;
+        egui::Grid::new("stats").num_columns(2).show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.monospace(value);
+                ui.end_row();
+            };
+            row("state", format!("{:?}", f.run));
+            row("UI frame", format!("{:.1} ms", 1e3 * self.frame_time));
+            row("time", format!("{:.3} s", f.state.time));
+            row("steps/s", format!("{:.0}", f.steps_per_second));
+            row("x real time", format!("{:.2}", f.realtime_factor));
+            row("CG iterations", format!("{}", st.cg_iterations));
+            row("CG residual", format!("{:.1e}", st.cg_residual));
+            row("volume error", format!("{:.2e}", st.volume_error));
+            row("energy", format!("{:.4e} J", st.energy));
+            row("limit violation", format!("{:.1e}", st.limit_violation));
+            row("contacts", format!("{}", st.contacts));
+            for (k, fs) in f.state.fingers.iter().enumerate() {
+                let depth = f
+                    .history
+                    .get(k)
+                    .and_then(|h| h.last())
+                    .map_or(0.0, |s| s.depth);
+                row(
+                    &format!("finger {}", k + 1),
+                    format!(
+                        "Fn {:.3} N, Ft {:.3} N, depth {:.3} mm",
+                        fs.normal_force,
+                        fs.tangential_force.length(),
+                        depth * 1e3
+                    ),
+                );
+            }
+        });
+    }
+}
+
+fn log_slider(
+    ui: &mut egui::Ui,
+    value: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    text: &str,
+) -> bool {
+    ui.add(egui::Slider::new(value, range).logarithmic(true).text(text))
+        .changed()
+}
+
+/// A limit that may be off (`None`: the key omitted).
+fn optional_slider(
+    ui: &mut egui::Ui,
+    value: &mut Option<f64>,
+    range: std::ops::RangeInclusive<f64>,
+    text: &str,
+    default: f64,
+) -> bool {
+    let mut on = value.is_some();
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        changed |= ui
+            .checkbox(&mut on, "on")
+            .on_hover_text(format!("{text}: off means no limit"))
+            .changed();
+        let mut v = value.unwrap_or(default);
+        ui.add_enabled_ui(on, |ui| {
+            changed |= ui
+                .add(egui::Slider::new(&mut v, range).text(text))
+                .changed();
+        });
+        *value = on.then_some(v);
+    });
+    changed
+}
+
+impl Viewer {
+    /// Draws the 3-D view into the panel; drag orbits, right-drag pans,
+    /// scroll zooms.
+    fn view3d(&mut self, ui: &mut egui::Ui, frame: &eframe::Frame) {
+        let size = ui.available_size();
+        let (rect, response) = ui.allocate_exact_size(size, egui::Sense::drag());
+        let Some(f) = self.panels.frame.clone() else {
+            return;
+        };
+        let Some(model) = &f.model else {
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "building the model...",
+                Default::default(),
+                egui::Color32::GRAY,
+            );
+            return;
+        };
+        if let Some(view) = self.panels.view_request.take() {
+            self.view.camera = Some(render::frame_camera(model, &f.state, view));
+        }
+        let camera = self
+            .view
+            .camera
+            .get_or_insert_with(|| render::frame_camera(model, &f.state, View::Iso));
+        if response.dragged_by(egui::PointerButton::Primary) {
+            let d = response.drag_delta();
+            camera.yaw -= d.x * 0.008;
+            camera.pitch = (camera.pitch + d.y * 0.008).clamp(-1.55, 1.55);
+        }
+        if response.dragged_by(egui::PointerButton::Secondary) {
+            let d = response.drag_delta();
+            let eye = camera.eye();
+            let forward = (camera.target - eye).normalize_or_zero();
+            let right = forward.cross(Vec3::Z).normalize_or_zero();
+            let up = right.cross(forward);
+            let per_pixel = camera.distance * 0.0015;
+            camera.target += (-d.x * right + d.y * up) * per_pixel;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            camera.distance *= (-scroll * 0.002).exp();
+        }
+        let Some(rs) = frame.wgpu_render_state() else {
+            return;
+        };
+        let ppp = ui.ctx().pixels_per_point();
+        let (w, h) = (
+            (rect.width() * ppp).round().max(16.0) as u32,
+            (rect.height() * ppp).round().max(16.0) as u32,
+        );
+        if (w, h) != (self.view.target.width, self.view.target.height) {
+            self.view.target = Target::new(&rs.device, w, h);
+            rs.renderer.write().update_egui_texture_from_wgpu_texture(
+                &rs.device,
+                &self.view.target.view,
+                wgpu::FilterMode::Linear,
+                self.view.texture,
+            );
+        }
+        let drawing = render::geometry::build(model, &f.state, &self.panels.style);
+        let mut encoder = rs
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("3-D view"),
+            });
+        self.view.pipeline.draw(
+            &rs.device,
+            &rs.queue,
+            &mut encoder,
+            &self.view.target,
+            &drawing,
+            camera,
+        );
+        rs.queue.submit([encoder.finish()]);
+        ui.painter().image(
+            self.view.texture,
+            rect,
+            egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+            egui::Color32::WHITE,
+        );
+    }
+}
+
+impl eframe::App for Viewer {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        self.panels.ui(ui);
+        egui::CentralPanel::default().show(ui, |ui| self.view3d(ui, frame));
+        ui.ctx().request_repaint();
+    }
+}
