@@ -50,3 +50,63 @@ fn play_and_the_alpha_slider_reach_the_solver() {
     assert_eq!(edited.run, RunState::Running, "no restart: still running");
     assert!(edited.state.time > 0.0, "no restart: time went on");
 }
+
+/// Acceptance 5 (for scene files; mesh files come with the importers):
+/// opening a malformed file shows its error and leaves the running scene
+/// alone; a good file replaces it.
+#[test]
+fn a_malformed_file_is_an_error_and_the_run_goes_on() {
+    let dir = std::env::temp_dir().join(format!("softgrip-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05]\n").expect("write");
+
+    let panels = Panels::start(Scene::thesis()).expect("solver thread");
+    panels
+        .live
+        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
+        .expect("first frame");
+    let mut harness = Harness::new_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
+    harness.run();
+    harness.get_by_label("Play").click();
+    harness.run();
+
+    let open = |harness: &mut Harness<'_, Panels>, path: &std::path::Path| {
+        let field = harness.get_by_role(egui::accesskit::Role::TextInput);
+        field.focus();
+        harness.run();
+        harness
+            .get_by_role(egui::accesskit::Role::TextInput)
+            .type_text(&path.display().to_string());
+        harness.run();
+        harness.get_by_label("Open").click();
+        harness.run();
+    };
+    open(&mut harness, &bad);
+    let message = harness.state().file_error.clone().expect("an error shown");
+    assert!(message.contains("bad.toml"), "{message}");
+    let frame = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.state.time > 0.01)
+        .expect("still running");
+    assert_eq!(
+        *frame.scene,
+        Scene::thesis(),
+        "the running scene is untouched"
+    );
+    assert_eq!(frame.run, RunState::Running);
+
+    // A good file replaces it.
+    harness.state_mut().path.clear();
+    let good = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/pinch.toml");
+    open(&mut harness, &good);
+    assert_eq!(harness.state().file_error, None);
+    let frame = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.scene.fingers.len() == 2)
+        .expect("the pinch scene runs");
+    assert!(frame.error.is_none(), "{:?}", frame.error);
+    let _ = std::fs::remove_dir_all(dir);
+}

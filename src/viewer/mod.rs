@@ -63,6 +63,13 @@ pub struct Panels {
     pub style: Style,
     /// A preset view button pressed this frame.
     view_request: Option<View>,
+    /// The scene file box: a path to open or save.
+    pub path: String,
+    /// The last file error (a file that would not open or save); the run
+    /// is not touched.
+    pub file_error: Option<String>,
+    /// What the last save or open did, for the user.
+    pub file_status: Option<String>,
     /// UI frame time (s), smoothed, and when the last frame started.
     frame_time: f64,
     last_frame: Option<std::time::Instant>,
@@ -118,6 +125,9 @@ impl Panels {
             view_request: None,
             frame_time: 0.0,
             last_frame: None,
+            path: String::new(),
+            file_error: None,
+            file_status: None,
         })
     }
 
@@ -151,6 +161,8 @@ impl Panels {
                     ui.heading("softgrip");
                     self.controls(ui);
                     ui.separator();
+                    self.file(ui);
+                    ui.separator();
                     if self.parameters(ui) {
                         self.send(Command::SetScene(Box::new(self.edited.clone())));
                     }
@@ -172,6 +184,84 @@ impl Panels {
         // A full channel only drops this click; the next frame can resend.
         if self.live.send(command).is_ok() {
             self.sent.set(self.sent.get() + 1);
+        }
+    }
+
+    /// Open, reload and save scene files. A file that does not open shows
+    /// its error here; the running scene is not touched.
+    fn file(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Scene file")
+            .default_open(true)
+            .show(ui, |ui| {
+                ui.add(
+                    egui::TextEdit::singleline(&mut self.path)
+                        .hint_text("path/to/scene.toml")
+                        .desired_width(f32::INFINITY),
+                )
+                .labelled_by(ui.label("scene file path").id);
+                ui.horizontal(|ui| {
+                    if ui.button("Open").clicked() {
+                        self.open(std::path::PathBuf::from(self.path.trim()));
+                    }
+                    if ui.button("Browse...").clicked() {
+                        // The desktop's file dialog (XDG portal); where
+                        // there is none it returns at once and the path box
+                        // remains.
+                        match rfd::FileDialog::new()
+                            .add_filter("softgrip scene", &["toml"])
+                            .pick_file()
+                        {
+                            Some(path) => self.open(path),
+                            None => {
+                                self.file_status = Some(
+                                    "no file chosen (or no file dialog here): type a path above"
+                                        .into(),
+                                );
+                            }
+                        }
+                    }
+                    let source = self.frame.as_ref().and_then(|f| f.scene.source.clone());
+                    if ui
+                        .add_enabled(source.is_some(), egui::Button::new("Reload"))
+                        .clicked()
+                        && let Some(path) = source
+                    {
+                        self.open(path);
+                    }
+                    if ui.button("Save as").clicked() {
+                        let path = std::path::PathBuf::from(self.path.trim());
+                        match std::fs::write(&path, self.edited.to_toml()) {
+                            Ok(()) => {
+                                self.file_error = None;
+                                self.file_status = Some(format!("saved {}", path.display()));
+                            }
+                            Err(e) => {
+                                self.file_error =
+                                    Some(format!("could not save {}: {e}", path.display()));
+                            }
+                        }
+                    }
+                });
+                if let Some(e) = &self.file_error {
+                    ui.colored_label(egui::Color32::from_rgb(200, 40, 40), e);
+                } else if let Some(status) = &self.file_status {
+                    ui.label(status);
+                }
+            });
+    }
+
+    /// Loads a scene file and hands it to the solver; a file that fails to
+    /// load leaves the run as it is.
+    pub fn open(&mut self, path: std::path::PathBuf) {
+        match Scene::load(&path) {
+            Ok(scene) => {
+                self.file_error = None;
+                self.file_status = Some(format!("opened {}", path.display()));
+                self.path = path.display().to_string();
+                self.edited = scene.clone();
+                self.send(Command::SetScene(Box::new(scene)));
+            }
+            Err(e) => self.file_error = Some(format!("{e}")),
         }
     }
 
