@@ -177,6 +177,8 @@ impl Panels {
                     ui.separator();
                 }
                 self.statistics(ui);
+                ui.separator();
+                self.plots(ui);
             });
     }
 
@@ -425,6 +427,38 @@ impl Panels {
             });
         });
         changed
+    }
+
+    /// Finger depth and contact force over time, from the solver's history.
+    fn plots(&self, ui: &mut egui::Ui) {
+        let Some(f) = &self.frame else {
+            return;
+        };
+        let series = |pick: fn(&crate::live::FingerSample) -> f64| {
+            f.history
+                .iter()
+                .map(|samples| {
+                    samples
+                        .iter()
+                        .map(|s| [s.time, pick(s)])
+                        .collect::<Vec<[f64; 2]>>()
+                })
+                .collect::<Vec<_>>()
+        };
+        for (title, unit, lines) in [
+            ("depth", "mm", series(|s| s.depth * 1e3)),
+            ("normal force", "N", series(|s| s.normal_force)),
+        ] {
+            ui.label(format!("{title} ({unit})"));
+            egui_plot::Plot::new(title)
+                .height(140.0)
+                .x_axis_label("time (s)")
+                .show(ui, |plot| {
+                    for (k, points) in lines.into_iter().enumerate() {
+                        plot.line(egui_plot::Line::new(format!("finger {}", k + 1), points));
+                    }
+                });
+        }
     }
 
     fn statistics(&self, ui: &mut egui::Ui) {
