@@ -110,3 +110,65 @@ fn a_malformed_file_is_an_error_and_the_run_goes_on() {
     assert!(frame.error.is_none(), "{:?}", frame.error);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Adding a finger from the panel reaches the solver without a restart;
+/// removing it again too.
+#[test]
+fn fingers_are_added_and_removed_live() {
+    let panels = Panels::start(Scene::thesis()).expect("solver thread");
+    panels
+        .live
+        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
+        .expect("first frame");
+    // Tall enough that the whole parameter panel is on screen.
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1280.0, 1600.0))
+        .build_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
+    harness.run();
+    harness.get_by_label("Play").click();
+    harness.run();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.state.time > 0.01)
+        .expect("running");
+
+    harness.get_by_label("Add finger").click();
+    harness.run();
+    let frame = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.scene.fingers.len() == 2)
+        .expect("the solver got the new finger");
+    assert!(frame.error.is_none(), "{:?}", frame.error);
+    assert_eq!(frame.state.fingers.len(), 2);
+    assert!(frame.state.time > 0.01, "no restart");
+    let new = &frame.scene.fingers[1];
+    let top = frame
+        .state
+        .positions
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::MIN, f64::max);
+    assert!(
+        new.position.z > top,
+        "the new finger starts above the object"
+    );
+
+    harness.run();
+    let removes = harness.get_all_by_label("remove").count();
+    assert_eq!(removes, 2);
+    harness
+        .get_all_by_label("remove")
+        .last()
+        .expect("a remove button")
+        .click();
+    harness.run();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| {
+            f.scene.fingers.len() == 1 && f.state.fingers.len() == 1
+        })
+        .expect("the solver dropped it");
+}

@@ -356,9 +356,15 @@ impl Panels {
         egui::CollapsingHeader::new("Fingers")
             .default_open(true)
             .show(ui, |ui| {
+                let mut remove = None;
                 for (k, f) in s.fingers.iter_mut().enumerate() {
                     ui.push_id(k, |ui| {
-                        ui.label(format!("finger {}", k + 1));
+                        ui.horizontal(|ui| {
+                            ui.label(format!("finger {}", k + 1));
+                            if ui.small_button("remove").clicked() {
+                                remove = Some(k);
+                            }
+                        });
                         ui.horizontal(|ui| {
                             changed |= ui
                                 .radio_value(&mut f.control, Control::Force, "force")
@@ -401,6 +407,14 @@ impl Panels {
                         );
                     });
                     ui.separator();
+                }
+                if let Some(k) = remove {
+                    s.fingers.remove(k);
+                    changed = true;
+                }
+                if ui.button("Add finger").clicked() {
+                    s.fingers.push(new_finger(s, self.frame.as_deref()));
+                    changed = true;
                 }
             });
         egui::CollapsingHeader::new("Display").show(ui, |ui| {
@@ -502,6 +516,32 @@ impl Panels {
             }
         });
     }
+}
+
+/// A new force-controlled 5 mm sphere finger just above the object's top,
+/// a quarter of the object's width off its centre (away from a finger
+/// already at the centre), carrying 1 N.
+fn new_finger(scene: &Scene, frame: Option<&Frame>) -> crate::scene::Finger {
+    let mut finger = Scene::thesis().fingers[0].clone();
+    let radius = 0.005;
+    finger.shape = FingerShape::Sphere { radius };
+    finger.mass = 0.0;
+    finger.force = glam::DVec3::new(0.0, 0.0, -1.0);
+    finger.contact_stiffness_scale = 1.0;
+    let positions = frame
+        .filter(|f| !f.state.positions.is_empty())
+        .map(|f| f.state.positions.clone())
+        .or_else(|| crate::model::Model::mesh_of(scene).ok().map(|m| m.nodes));
+    let (lo, hi) = positions
+        .map(|p| crate::mesh::bounds_of(&p))
+        .unwrap_or((glam::DVec3::splat(-0.01), glam::DVec3::splat(0.01)));
+    let centre = 0.5 * (lo + hi);
+    finger.position = glam::DVec3::new(
+        centre.x + 0.25 * (hi.x - lo.x),
+        centre.y,
+        hi.z + radius + 0.0005,
+    );
+    finger
 }
 
 fn log_slider(
