@@ -41,7 +41,8 @@ pub const CHANNEL_CAPACITY: usize = 64;
 /// How often a running simulation publishes a frame (wall time).
 pub const PUBLISH_INTERVAL: Duration = Duration::from_millis(15);
 
-/// Samples of finger history kept for plots; older ones are thinned out.
+/// Samples of finger history kept for plots; past this, every other one
+/// is dropped.
 pub const HISTORY_LENGTH: usize = 2000;
 
 /// What the solver thread is told to do.
@@ -209,7 +210,7 @@ struct Solver {
     speed: Option<f64>,
     error: Option<String>,
     published: Arc<Mutex<Option<Arc<Frame>>>>,
-    history: Vec<Vec<FingerSample>>,
+    history: History,
     commands: u64,
     /// Pacing: wall time and simulated time when the run (re)started.
     anchor: (Instant, f64),
@@ -228,7 +229,7 @@ impl Solver {
             speed: Some(1.0),
             error: None,
             published,
-            history: Vec::new(),
+            history: History::default(),
             commands: 0,
             anchor: (Instant::now(), 0.0),
             last_publish: (Instant::now(), 0, 0.0),
@@ -332,7 +333,7 @@ impl Solver {
         };
         match sim.step() {
             Ok(()) => {
-                record_history(&mut self.history, sim);
+                self.history.record(sim);
                 true
             }
             Err(e) => {
@@ -377,7 +378,7 @@ impl Solver {
             error: self.error.clone(),
             steps_per_second: self.rates.0,
             realtime_factor: self.rates.1,
-            history: Arc::new(self.history.clone()),
+            history: Arc::new(self.history.samples.clone()),
             commands: self.commands,
         };
         *lock(&self.published) = Some(Arc::new(frame));
@@ -390,7 +391,7 @@ impl Solver {
         match build(&self.scene) {
             Ok((mesh, sim)) => {
                 self.mesh = Some(mesh);
-                self.history = vec![Vec::new(); sim.model.fingers.len()];
+                self.history = History::default();
                 self.sim = Some(sim);
                 self.error = None;
             }
@@ -410,7 +411,7 @@ impl Solver {
         };
         match Model::from_mesh(&self.scene, mesh) {
             Ok(model) => {
-                self.history = vec![Vec::new(); model.fingers.len()];
+                self.history = History::default();
                 self.sim = Some(Simulation::from_model(model));
                 self.error = None;
             }
@@ -460,7 +461,9 @@ impl Solver {
         if let Some(sim) = self.sim.as_mut() {
             carry_state(&self.scene, &checked, &model, &mut sim.state);
             sim.model = Arc::new(model);
-            self.history.resize(sim.model.fingers.len(), Vec::new());
+            self.history
+                .samples
+                .resize(sim.model.fingers.len(), Vec::new());
         }
         self.scene = Arc::new(checked);
         self.error = None;
@@ -531,22 +534,44 @@ fn carry_state(old: &Scene, new: &Scene, model: &Model, state: &mut State) {
         .retain(|(finger, _), _| *finger < count);
 }
 
-fn record_history(history: &mut Vec<Vec<FingerSample>>, sim: &Simulation) {
-    history.resize(sim.state.fingers.len(), Vec::new());
-    for (k, samples) in history.iter_mut().enumerate() {
-        let fs = &sim.state.fingers[k];
-        samples.push(FingerSample {
-            time: sim.state.time,
-            depth: sim.indentation(k),
-            normal_force: fs.normal_force,
-            tangential_force: fs.tangential_force.length(),
-        });
-        if samples.len() > HISTORY_LENGTH {
-            // Keep every other sample of the older half: long runs thin out.
-            let half = samples.len() / 2;
-            let mut kept: Vec<FingerSample> = samples[..half].iter().step_by(2).copied().collect();
-            kept.extend_from_slice(&samples[half..]);
-            *samples = kept;
+/// Finger history for plots: one sample every `stride` steps; when a
+/// series passes [`HISTORY_LENGTH`], every other sample goes (counted back
+/// from the newest) and the stride doubles, so the spacing stays even.
+#[derive(Debug, Default)]
+struct History {
+    samples: Vec<Vec<FingerSample>>,
+    stride: u64,
+    last: u64,
+}
+
+impl History {
+    fn record(&mut self, sim: &Simulation) {
+        let stride = self.stride.max(1);
+        let step = sim.state.step;
+        if self.last != 0 && step < self.last + stride {
+            return;
+        }
+        self.last = step;
+        self.samples.resize(sim.state.fingers.len(), Vec::new());
+        let mut thinned = false;
+        for (k, samples) in self.samples.iter_mut().enumerate() {
+            let fs = &sim.state.fingers[k];
+            samples.push(FingerSample {
+                time: sim.state.time,
+                depth: sim.indentation(k),
+                normal_force: fs.normal_force,
+                tangential_force: fs.tangential_force.length(),
+            });
+            if samples.len() > HISTORY_LENGTH {
+                let mut kept: Vec<FingerSample> =
+                    samples.iter().rev().step_by(2).copied().collect();
+                kept.reverse();
+                *samples = kept;
+                thinned = true;
+            }
+        }
+        if thinned {
+            self.stride = 2 * stride;
         }
     }
 }

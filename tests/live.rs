@@ -173,3 +173,31 @@ fn a_failing_step_pauses_with_the_error_and_reset_recovers() {
     let frame = send(&live, Command::Step(3));
     assert_eq!((frame.state.step, frame.error.clone()), (3, None));
 }
+
+/// The plots' history stays bounded and evenly spaced over a long run.
+#[test]
+fn history_is_bounded_and_even() {
+    let live = started(Scene::thesis());
+    let mut frame = send(&live, Command::Step(500));
+    for _ in 0..4 {
+        frame = send(&live, Command::Step(500));
+    }
+    assert_eq!(frame.state.step, 2500);
+    let samples = &frame.history[0];
+    assert!(
+        samples.len() <= softgrip::live::HISTORY_LENGTH,
+        "{}",
+        samples.len()
+    );
+    assert!(samples.len() >= softgrip::live::HISTORY_LENGTH / 2);
+    let gaps: Vec<f64> = samples.windows(2).map(|w| w[1].time - w[0].time).collect();
+    let (lo, hi) = gaps
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(lo, hi), g| (lo.min(*g), hi.max(*g)));
+    assert!(hi < 1.5 * lo, "uneven spacing: {lo} .. {hi}");
+    assert!(
+        samples[0].time < 0.01,
+        "the start is kept: {}",
+        samples[0].time
+    );
+}
