@@ -321,6 +321,14 @@ impl Panels {
                             .text("density (kg/m3)"),
                     )
                     .changed();
+                // Re-meshing is costly: sent when the slider is let go.
+                let edge = ui.add(
+                    egui::Slider::new(&mut s.object.edge_length, 0.001..=0.02)
+                        .logarithmic(true)
+                        .text("edge length (m), re-meshes"),
+                );
+                changed |= edge.drag_stopped() || (edge.changed() && !edge.dragged());
+                changed |= log_slider(ui, &mut s.simulation.dt, 1e-5..=1e-2, "dt (s)");
             });
         egui::CollapsingHeader::new("Model")
             .default_open(true)
@@ -398,6 +406,30 @@ impl Panels {
                                     .text("restitution"),
                             )
                             .changed();
+                        changed |= ui
+                            .add(egui::Slider::new(&mut f.mass, 0.0..=5.0).text("mass (kg)"))
+                            .changed();
+                        changed |= ui
+                            .add(egui::Slider::new(&mut f.poisson_ratio, 0.0..=0.499).text("nu"))
+                            .changed();
+                        changed |= log_slider(
+                            ui,
+                            &mut f.stick_velocity,
+                            1e-5..=1e-1,
+                            "stick velocity (m/s)",
+                        );
+                        changed |= log_slider(
+                            ui,
+                            &mut f.stick_stiffness,
+                            1.0..=1e5,
+                            "stick stiffness (N/m)",
+                        );
+                        changed |= log_slider(
+                            ui,
+                            &mut f.stick_damping,
+                            0.01..=1e3,
+                            "stick damping (N s/m)",
+                        );
                         changed |= log_slider(ui, &mut f.young_modulus, 1e4..=1e11, "E (Pa)");
                         changed |= log_slider(
                             ui,
@@ -589,6 +621,7 @@ impl Viewer {
         let Some(f) = self.panels.frame.clone() else {
             return;
         };
+        let meshing = f.run == RunState::Meshing;
         let Some(model) = &f.model else {
             ui.painter().text(
                 rect.center(),
@@ -662,6 +695,15 @@ impl Viewer {
             egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
             egui::Color32::WHITE,
         );
+        if meshing {
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "re-meshing...",
+                egui::FontId::proportional(20.0),
+                egui::Color32::DARK_GRAY,
+            );
+        }
     }
 }
 
