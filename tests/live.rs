@@ -201,3 +201,28 @@ fn history_is_bounded_and_even() {
         samples[0].time
     );
 }
+
+/// A new edge length re-meshes and starts the scene afresh on the new mesh.
+#[test]
+fn a_new_edge_length_re_meshes_and_restarts() {
+    let live = started(Scene::thesis());
+    let before = send(&live, Command::Step(5));
+    let particles = before.state.positions.len();
+    let mut coarser = Scene::thesis();
+    coarser.object.edge_length = 0.005;
+    send(&live, Command::SetScene(Box::new(coarser)));
+    // A frame says "meshing" first; then the new model.
+    let frame = live
+        .wait_for(PATIENCE, |f| f.run != RunState::Meshing)
+        .expect("meshed");
+    assert!(frame.error.is_none(), "{:?}", frame.error);
+    assert_eq!(frame.scene.object.edge_length, 0.005);
+    assert_eq!(frame.state.step, 0, "a new mesh starts afresh");
+    let model = frame.model.as_ref().expect("model");
+    assert_eq!(frame.state.positions.len(), model.particle_count());
+    assert!(
+        model.particle_count() < particles,
+        "coarser: fewer particles"
+    );
+    assert_eq!(send(&live, Command::Step(2)).state.step, 2);
+}
