@@ -13,18 +13,28 @@ use softgrip::viewer::Panels;
 
 const PATIENCE: Duration = Duration::from_secs(10);
 
-#[test]
-fn play_and_the_alpha_slider_reach_the_solver() {
+/// The panels on the thesis scene in a harness tall enough to show them
+/// whole, once the solver has published its first frame; Play pressed.
+fn playing() -> Harness<'static, Panels> {
     let panels = Panels::start(Scene::thesis()).expect("solver thread");
     panels
         .live
         .wait_for(PATIENCE, |f| f.run == RunState::Paused)
         .expect("first frame");
-    let mut harness = Harness::new_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1280.0, 1800.0))
+        // Frames from the solver arrive between steps; let the UI settle.
+        .with_max_steps(32)
+        .build_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
     harness.run();
-
     harness.get_by_label("Play").click();
     harness.run();
+    harness
+}
+
+#[test]
+fn play_and_the_alpha_slider_reach_the_solver() {
+    let mut harness = playing();
     let running = harness
         .state()
         .live
@@ -61,15 +71,7 @@ fn a_malformed_file_is_an_error_and_the_run_goes_on() {
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05]\n").expect("write");
 
-    let panels = Panels::start(Scene::thesis()).expect("solver thread");
-    panels
-        .live
-        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
-        .expect("first frame");
-    let mut harness = Harness::new_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
-    harness.run();
-    harness.get_by_label("Play").click();
-    harness.run();
+    let mut harness = playing();
 
     let open = |harness: &mut Harness<'_, Panels>, path: &std::path::Path| {
         let field = harness.get_by_role(egui::accesskit::Role::TextInput);
@@ -115,18 +117,7 @@ fn a_malformed_file_is_an_error_and_the_run_goes_on() {
 /// removing it again too.
 #[test]
 fn fingers_are_added_and_removed_live() {
-    let panels = Panels::start(Scene::thesis()).expect("solver thread");
-    panels
-        .live
-        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
-        .expect("first frame");
-    // Tall enough that the whole parameter panel is on screen.
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1600.0))
-        .build_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
-    harness.run();
-    harness.get_by_label("Play").click();
-    harness.run();
+    let mut harness = playing();
     harness
         .state()
         .live
