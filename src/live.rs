@@ -30,7 +30,7 @@ use std::time::{Duration, Instant};
 use crate::error::SimError;
 use crate::mesh::TetMesh;
 use crate::model::Model;
-use crate::scene::{Scene, Shape};
+use crate::scene::Scene;
 use crate::state::State;
 use crate::step::Simulation;
 
@@ -488,18 +488,13 @@ fn check(scene: &Scene) -> Result<Scene, String> {
         format!("edit rejected, the run goes on unchanged: {rest}")
     })?;
     checked.source.clone_from(&scene.source);
-    if let (Shape::Mesh { path: a }, Shape::Mesh { path: b }) =
-        (&mut checked.object.shape, &scene.object.shape)
-    {
-        a.clone_from(b);
-    }
     Ok(checked)
 }
 
 fn build(scene: &Scene) -> Result<(TetMesh, Simulation), SimError> {
     let mesh = Model::mesh_of(scene)?;
-    // `Simulation::new` also checks that no finger starts inside.
-    let sim = Simulation::new(scene)?;
+    // Meshed once; `on_mesh` also checks that no finger starts inside.
+    let sim = Simulation::on_mesh(scene, mesh.clone())?;
     Ok((mesh, sim))
 }
 

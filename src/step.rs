@@ -133,8 +133,12 @@ pub struct Simulation {
 impl Simulation {
     /// Meshes the scene, builds the model and checks the start state.
     pub fn new(scene: &Scene) -> Result<Simulation, SimError> {
-        let model = Model::from_scene(scene)?;
-        let sim = Simulation::from_model(model);
+        Simulation::on_mesh(scene, Model::mesh_of(scene)?)
+    }
+
+    /// As [`Simulation::new`], on a mesh already made for `scene`.
+    pub fn on_mesh(scene: &Scene, mesh: crate::mesh::TetMesh) -> Result<Simulation, SimError> {
+        let sim = Simulation::from_model(Model::from_mesh(scene, mesh)?);
         sim.check_fingers_outside(scene)?;
         Ok(sim)
     }
