@@ -66,7 +66,7 @@ fn kernels(c: &mut Criterion) {
         })
     });
     system.begin(model, model.dt);
-    softgrip::integrate::set_mask(model, &mut system);
+    softgrip::integrate::set_mask(model, state, &mut system);
     softgrip::forces::springs::accumulate(model, state, &mut force, &mut system);
     softgrip::forces::volume::accumulate(model, state, &mut force, &mut system);
     system.finish();

@@ -16,8 +16,8 @@ use crate::solver::system::SystemOperator;
 use crate::state::State;
 
 /// Sets the mask of fixed components: pinned particles, locked and
-/// velocity-driven finger axes.
-pub fn set_mask(model: &Model, system: &mut System) {
+/// velocity-driven finger axes, and the free axes of a held finger.
+pub fn set_mask(model: &Model, state: &State, system: &mut System) {
     let n = model.particle_count();
     for (m, &fixed) in system.mask.iter_mut().zip(&model.fixed) {
         if fixed {
@@ -25,12 +25,22 @@ pub fn set_mask(model: &Model, system: &mut System) {
         }
     }
     for (k, f) in model.fingers.iter().enumerate() {
-        system.mask[n + k] = DVec3::from_array(
-            f.drive
-                .map(|d| if d == AxisDrive::Force { 1.0 } else { 0.0 }),
-        );
+        let held = state.fingers.get(k).is_some_and(|fs| fs.held.is_some());
+        system.mask[n + k] = DVec3::from_array(f.drive.map(|d| {
+            if d == AxisDrive::Force && !held {
+                1.0
+            } else {
+                0.0
+            }
+        }));
     }
 }
+
+/// A held finger closes the gap to where it is held in this time (s) ...
+pub const HOLD_TIME: f64 = 0.03;
+/// ... at no more than this speed (m/s), so that a quick drag pushes into
+/// the object over many steps rather than in one.
+pub const HOLD_SPEED: f64 = 0.3;
 
 /// Solves eq. 43 for `dv` (warm-started from `dv`) and updates the state.
 /// `system` is assembled and [`System::finish`]ed; `parallel` shares its
@@ -73,8 +83,9 @@ pub fn implicit_euler_update(
         fs.velocity += dv[n + k];
         let step = dt * fs.velocity;
         fs.position += step;
+        let held = fs.held.is_some();
         let driven = DVec3::from_array(model.fingers[k].drive.map(|d| {
-            if matches!(d, AxisDrive::Velocity(_)) {
+            if matches!(d, AxisDrive::Velocity(_)) && !held {
                 1.0
             } else {
                 0.0
@@ -117,9 +128,24 @@ fn load_norm(model: &Model, state: &State) -> f64 {
     (object + fingers).sqrt()
 }
 
-/// Sets finger velocities on locked and velocity-driven axes before a step.
+/// Sets finger velocities on locked and velocity-driven axes before a step;
+/// a held finger moves towards where it is held along its free axes.
 pub fn drive_fingers(model: &Model, state: &mut State) {
     for (f, fs) in model.fingers.iter().zip(&mut state.fingers) {
+        if let Some(target) = fs.held {
+            let free = DVec3::from_array(
+                f.drive
+                    .map(|d| if d == AxisDrive::Locked { 0.0 } else { 1.0 }),
+            );
+            let v = (target - fs.position) * free / HOLD_TIME;
+            let speed = v.length();
+            fs.velocity = if speed > HOLD_SPEED {
+                v * (HOLD_SPEED / speed)
+            } else {
+                v
+            };
+            continue;
+        }
         let stopped = f.travel.is_some_and(|t| fs.travelled >= t);
         for axis in 0..3 {
             match f.drive[axis] {

@@ -31,8 +31,9 @@ use crate::error::SimError;
 use crate::mesh::TetMesh;
 use crate::model::Model;
 use crate::scene::Scene;
-use crate::state::State;
+use crate::state::{Pull, State};
 use crate::step::Simulation;
+use glam::DVec3;
 
 /// Commands the channel holds before [`LiveSimulation::send`] reports
 /// [`SendError::Busy`].
@@ -62,6 +63,15 @@ pub enum Command {
     /// switched to velocity control, a file opened): checked, then only
     /// what changed is rebuilt.
     SetScene(Box<Scene>),
+    /// Hold finger `finger` at a point (position-driven along its free
+    /// axes: the viewer drags it), or let it go (`None`) back to its
+    /// control mode. Not part of the scene; a reset lets go.
+    Hold {
+        finger: usize,
+        at: Option<DVec3>,
+    },
+    /// Pull a point of the object with the mouse spring, or stop (`None`).
+    Pull(Option<Pull>),
 }
 
 /// Why a command was not taken.
@@ -299,6 +309,28 @@ impl Solver {
                 self.reanchor();
             }
             Command::SetScene(scene) => self.set_scene(*scene),
+            Command::Hold { finger, at } => {
+                if let Some(fs) = self
+                    .sim
+                    .as_mut()
+                    .and_then(|s| s.state.fingers.get_mut(finger))
+                {
+                    fs.held = at.filter(|p| p.is_finite());
+                }
+            }
+            Command::Pull(pull) => {
+                if let Some(sim) = self.sim.as_mut() {
+                    // A facet of another mesh (sent before a re-mesh) or a
+                    // bad number is no pull.
+                    sim.state.pull = pull.filter(|p| {
+                        (p.facet as usize) < sim.model.facets.len()
+                            && p.target.is_finite()
+                            && p.stiffness.is_finite()
+                            && p.stiffness >= 0.0
+                            && p.weights.iter().all(|w| w.is_finite())
+                    });
+                }
+            }
         }
     }
 

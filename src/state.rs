@@ -24,6 +24,32 @@ pub struct FingerState {
     pub travelled: f64,
     /// The applied force (N): the scene's `force`, changed by quasi-static loading.
     pub applied_force: DVec3,
+    /// Held (the viewer drags it): position-driven towards this point along
+    /// its free axes, whatever its control mode, until let go (`None`).
+    pub held: Option<DVec3>,
+}
+
+/// A material point of the object pulled towards a target by a spring:
+/// the viewer's mouse spring (MuJoCo's perturbation). See `forces::pull`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pull {
+    /// The boundary facet the point lies on, and its barycentric weights.
+    pub facet: u32,
+    pub weights: [f64; 3],
+    /// Where the spring's other end is (m).
+    pub target: DVec3,
+    /// Spring stiffness (N/m); see [`Pull::default_stiffness`].
+    pub stiffness: f64,
+}
+
+impl Pull {
+    /// `2 E h`: about the stiffness of the object under a point load spread
+    /// over one facet of size `h` (a half-space pressed over a patch of
+    /// radius a is `2 E* a` stiff), so the grabbed point goes about half way
+    /// to the mouse.
+    pub fn default_stiffness(model: &Model) -> f64 {
+        2.0 * model.young_modulus * model.edge_length
+    }
 }
 
 /// One finger-facet contact of the last step (for output and the viewer).
@@ -88,6 +114,8 @@ pub struct State {
     pub contacts: Vec<Contact>,
     /// Keyed by (finger, facet); ordered, so runs are deterministic.
     pub contact_memory: BTreeMap<(u32, u32), ContactMemory>,
+    /// The mouse spring, if the object is being pulled.
+    pub pull: Option<Pull>,
     pub stats: StepStats,
 }
 
@@ -110,6 +138,7 @@ impl State {
                 .collect(),
             contacts: Vec::new(),
             contact_memory: BTreeMap::new(),
+            pull: None,
             stats: StepStats::default(),
         }
     }

@@ -252,10 +252,11 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     parallel.start_assembly(state);
     let mut system = parallel.system_mut();
     system.begin(model, model.dt);
-    integrate::set_mask(model, &mut system);
+    integrate::set_mask(model, state, &mut system);
 
     let times = &mut s.stage_seconds;
     forces::external::accumulate(model, state, &mut s.force, &mut system);
+    forces::pull::accumulate(model, state, &mut s.force, &mut system);
     contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
     let elements = parallel.main_elements();
     forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
@@ -296,13 +297,15 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
 
 fn watch_energy(model: &Model, state: &State, w: &mut EnergyWatch) -> Result<(), SimError> {
     let energy = state.stats.energy;
-    let driven = model.fingers.iter().zip(&state.fingers).any(|(f, fs)| {
-        let stopped = f.travel.is_some_and(|t| fs.travelled >= t);
-        !stopped
-            && f.drive
-                .iter()
-                .any(|d| matches!(d, crate::model::AxisDrive::Velocity(v) if *v != 0.0))
-    });
+    let dragged = state.pull.is_some() || state.fingers.iter().any(|f| f.held.is_some());
+    let driven = dragged
+        || model.fingers.iter().zip(&state.fingers).any(|(f, fs)| {
+            let stopped = f.travel.is_some_and(|t| fs.travelled >= t);
+            !stopped
+                && f.drive
+                    .iter()
+                    .any(|d| matches!(d, crate::model::AxisDrive::Velocity(v) if *v != 0.0))
+        });
     let loads_changed = w.loads.len() != state.fingers.len()
         || w.loads
             .iter()
@@ -363,6 +366,7 @@ pub fn update_diagnostics(model: &Model, state: &mut State) {
         + forces::springs::energy(model, state)
         + forces::external::energy(model, state)
         + contact::energy(model, state)
+        + forces::pull::energy(model, state)
         + bulk_energy;
     let st = &mut state.stats;
     st.kinetic_energy = kinetic;

@@ -226,3 +226,77 @@ fn a_new_edge_length_re_meshes_and_restarts() {
     );
     assert_eq!(send(&live, Command::Step(2)).state.step, 2);
 }
+
+#[test]
+fn hold_drags_a_finger_and_letting_go_returns_it_to_its_control() {
+    let live = started(Scene::thesis());
+    let start = live.latest().expect("frame").state.fingers[0].position;
+    let above = start + glam::DVec3::new(0.0, 0.0, 0.005);
+    send(
+        &live,
+        Command::Hold {
+            finger: 0,
+            at: Some(above),
+        },
+    );
+    let held = send(&live, Command::Step(300));
+    assert!(held.state.fingers[0].held.is_some());
+    let gap = (held.state.fingers[0].position - above).length();
+    assert!(gap < 1e-5, "held finger {gap:e} m from where it is held");
+    send(
+        &live,
+        Command::Hold {
+            finger: 0,
+            at: None,
+        },
+    );
+    // Force control again: its weight brings it down.
+    let fallen = send(&live, Command::Step(100));
+    assert!(fallen.state.fingers[0].held.is_none());
+    assert!(fallen.state.fingers[0].position.z < above.z - 1e-3);
+    // A finger that is not there is ignored.
+    let frame = send(
+        &live,
+        Command::Hold {
+            finger: 7,
+            at: Some(above),
+        },
+    );
+    assert!(frame.error.is_none());
+}
+
+#[test]
+fn pull_grabs_the_object_and_a_stale_facet_is_ignored() {
+    let live = started(Scene::thesis());
+    let frame = live.latest().expect("frame");
+    let model = frame.model.clone().expect("model");
+    let stiffness = softgrip::state::Pull::default_stiffness(&model);
+    let pull = |facet: u32| softgrip::state::Pull {
+        facet,
+        weights: [1.0 / 3.0; 3],
+        target: glam::DVec3::new(0.03, 0.0, 0.03),
+        stiffness,
+    };
+    let stale = send(&live, Command::Pull(Some(pull(u32::MAX))));
+    assert!(stale.state.pull.is_none(), "a facet of no mesh is no pull");
+    // A side facet on +x, pulled outwards.
+    let facet = model
+        .facets
+        .iter()
+        .position(|t| {
+            t.iter()
+                .all(|&i| model.rest_positions[i as usize].x > 0.0249)
+        })
+        .expect("a facet on the +x side") as u32;
+    send(&live, Command::Pull(Some(pull(facet))));
+    let pulled = send(&live, Command::Step(50));
+    let tri = model.facets[facet as usize];
+    let moved: f64 = tri
+        .iter()
+        .map(|&i| pulled.state.positions[i as usize].x - model.rest_positions[i as usize].x)
+        .sum::<f64>()
+        / 3.0;
+    assert!(moved > 1e-4, "the pulled facet moved out by {moved:e} m");
+    let released = send(&live, Command::Pull(None));
+    assert!(released.state.pull.is_none());
+}
