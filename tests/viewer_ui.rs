@@ -163,3 +163,109 @@ fn fingers_are_added_and_removed_live() {
         })
         .expect("the solver dropped it");
 }
+
+/// The whole app (panels and 3-D view) in a harness rendering with wgpu
+/// on the software adapter, playing the thesis scene.
+fn app() -> Harness<'static, softgrip::viewer::Viewer> {
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1280.0, 820.0))
+        .with_max_steps(8)
+        .wgpu()
+        .build_eframe(|cc| softgrip::viewer::Viewer::new(cc, Scene::thesis()).expect("viewer"));
+    harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| f.run == RunState::Running)
+        .expect("playing");
+    harness.run_steps(4);
+    harness
+}
+
+#[test]
+fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
+    let mut harness = app();
+    let frame = harness.state().panels.live.latest().expect("frame");
+    let centre = frame.state.fingers[0].position;
+    let at = harness
+        .state()
+        .screen_position(centre)
+        .expect("the finger is in view");
+    harness.hover_at(at);
+    harness.run_steps(1);
+    harness.drag_at(at);
+    harness.run_steps(1);
+    // Up the screen: the finger (free along z) is held higher.
+    for dy in [10.0, 20.0, 30.0, 40.0] {
+        harness.hover_at(at - egui::vec2(0.0, dy));
+        harness.run_steps(1);
+    }
+    let held = harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_some())
+        .expect("the solver holds the finger");
+    let target = held.state.fingers[0].held.unwrap();
+    assert!(
+        target.z > centre.z + 1e-3,
+        "held above: {target:?} from {centre:?}"
+    );
+    assert_eq!(
+        (target.x, target.y),
+        (centre.x, centre.y),
+        "x, y are locked"
+    );
+    harness.drop_at(at - egui::vec2(0.0, 40.0));
+    harness.run_steps(2);
+    harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_none())
+        .expect("let go");
+}
+
+#[test]
+fn dragging_the_object_pulls_it_with_the_mouse_spring() {
+    let mut harness = app();
+    // A point on the +x face, which the opening (iso) view shows.
+    let p = glam::DVec3::new(0.025, 0.0, 0.01);
+    let at = harness.state().screen_position(p).expect("in view");
+    harness.hover_at(at);
+    harness.run_steps(1);
+    harness.drag_at(at);
+    harness.run_steps(1);
+    for dx in [10.0, 20.0, 30.0] {
+        harness.hover_at(at + egui::vec2(dx, 0.0));
+        harness.run_steps(1);
+    }
+    let pulled = harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| f.state.pull.is_some())
+        .expect("the solver pulls the object");
+    let pull = pulled.state.pull.unwrap();
+    let model = pulled.model.clone().expect("model");
+    let tri = model.facets[pull.facet as usize];
+    let grabbed: glam::DVec3 = (0..3)
+        .map(|a| pull.weights[a] * model.rest_positions[tri[a] as usize])
+        .sum();
+    assert!(
+        (grabbed - p).length() < 2e-3,
+        "grabbed {grabbed:?} near {p:?}"
+    );
+    assert!(
+        pull.target.x > grabbed.x,
+        "pulled to the right (+x in iso view)"
+    );
+    harness.drop_at(at + egui::vec2(30.0, 0.0));
+    harness.run_steps(2);
+    harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| f.state.pull.is_none())
+        .expect("let go");
+}

@@ -42,6 +42,8 @@ pub struct Style {
     pub normal_force: [f32; 4],
     pub tangential_force: [f32; 4],
     pub finger_force: [f32; 4],
+    /// The mouse spring, and where a held finger is held.
+    pub drag: [f32; 4],
     /// Arrow length per newton (m/N).
     pub force_scale: f32,
     /// 1 = opaque fingers; below, they are drawn see-through.
@@ -62,6 +64,7 @@ impl Default for Style {
             normal_force: [0.85, 0.10, 0.10, 1.0],
             tangential_force: [0.95, 0.85, 0.10, 1.0],
             finger_force: [0.60, 0.10, 0.75, 1.0],
+            drag: [0.10, 0.60, 0.70, 1.0],
             force_scale: 0.002,
             finger_opacity: 1.0,
             fingers: true,
@@ -256,7 +259,7 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             FingerShape::Sphere { radius } => body.add_sphere(centre, radius as f32, finger_color),
             FingerShape::Plate { half_size } => {
                 let h = Vec3::new(half_size[0] as f32, half_size[1] as f32, 0.0);
-                let thickness = 0.02 * scale;
+                let thickness = plate_thickness(model) as f32;
                 body.add_box(centre - h, centre + h + Vec3::Z * thickness, finger_color);
             }
         }
@@ -269,6 +272,25 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
         }
     }
     let mesh = &mut drawing.opaque;
+    // Dragging: the mouse spring as a thin rod to its target, a held
+    // finger's hold point as a dot.
+    if let Some(pull) = &state.pull
+        && let Some(tri) = model.facets.get(pull.facet as usize)
+    {
+        let point: DVec3 = (0..3)
+            .map(|a| pull.weights[a] * state.positions[tri[a] as usize])
+            .sum();
+        let from = f32v(point);
+        let to = f32v(pull.target);
+        mesh.add_sphere(from, 0.006 * scale, style.drag);
+        mesh.add_sphere(to, 0.006 * scale, style.drag);
+        mesh.add_arrow(from, to - from, 0.002 * scale, style.drag);
+    }
+    for fs in &state.fingers {
+        if let Some(at) = fs.held {
+            mesh.add_sphere(f32v(at), 0.006 * scale, style.drag);
+        }
+    }
     for c in &state.contacts {
         let at = f32v(c.point);
         if style.contacts {
@@ -287,6 +309,11 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
         }
     }
     drawing
+}
+
+/// How thick a plate finger is drawn (m): 2 % of the object's extent.
+pub fn plate_thickness(model: &Model) -> f64 {
+    0.02 * f64::from(bounds_size(model).max(1e-3))
 }
 
 /// The object's extent (m), for marker sizes.

@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod geometry;
 pub mod gpu;
+pub mod pick;
 
 pub use camera::{Camera, View};
 pub use geometry::{Drawing, Mesh, Style, Vertex};

@@ -8,12 +8,13 @@ use std::sync::Arc;
 
 use anyhow::{Result, anyhow};
 use eframe::egui;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use crate::live::{Command, Frame, LiveSimulation, RunState};
 use crate::render::gpu::{Pipeline, Target};
-use crate::render::{self, Camera, Style, View};
+use crate::render::{self, Camera, Style, View, pick};
 use crate::scene::{Control, FingerShape, Scene};
+use crate::state::Pull;
 
 /// Opens the viewer on `scene`; returns when the window is closed.
 pub fn run(scene: Scene) -> Result<()> {
@@ -45,6 +46,32 @@ struct View3d {
     target: Target,
     texture: egui::TextureId,
     camera: Option<Camera>,
+    drag: Drag,
+}
+
+/// What a primary-button drag in the 3-D view does, decided where it
+/// starts: on a finger it moves the finger, on the object it pulls it with
+/// the mouse spring, elsewhere (or with Alt held) it orbits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Drag {
+    None,
+    Orbit,
+    Finger {
+        index: usize,
+        /// Where the finger was grabbed and its centre then.
+        grabbed: DVec3,
+        centre: DVec3,
+        /// The drag plane's normal: the camera's forward at the grab.
+        facing: DVec3,
+        last: Option<DVec3>,
+    },
+    Object {
+        facet: u32,
+        weights: [f64; 3],
+        grabbed: DVec3,
+        facing: DVec3,
+        last: Option<DVec3>,
+    },
 }
 
 /// The panels and the solver they drive, without the 3-D view: what the
@@ -75,13 +102,32 @@ pub struct Panels {
     last_frame: Option<std::time::Instant>,
 }
 
-struct Viewer {
-    panels: Panels,
+/// The whole app: the panels and the 3-D view. Public for the UI tests,
+/// which run it in egui_kittest on a software adapter.
+pub struct Viewer {
+    pub panels: Panels,
     view: View3d,
+    /// Where the 3-D view was last drawn (egui points) and its pixel size.
+    view_rect: Option<(egui::Rect, u32, u32)>,
 }
 
 impl Viewer {
-    fn new(cc: &eframe::CreationContext<'_>, scene: Scene) -> Result<Viewer> {
+    /// The window pixel (egui points) where `world` appears in the 3-D
+    /// view as last drawn; `None` before the first drawing or behind the
+    /// camera.
+    pub fn screen_position(&self, world: DVec3) -> Option<egui::Pos2> {
+        let (rect, w, h) = self.view_rect?;
+        let camera = self.view.camera.as_ref()?;
+        let (x, y) = camera.project(world.as_vec3(), w, h)?;
+        Some(egui::pos2(
+            rect.min.x + x * rect.width() / w as f32,
+            rect.min.y + y * rect.height() / h as f32,
+        ))
+    }
+
+    /// Builds the app on eframe's wgpu device and starts the solver,
+    /// playing.
+    pub fn new(cc: &eframe::CreationContext<'_>, scene: Scene) -> Result<Viewer> {
         let rs = cc
             .wgpu_render_state
             .as_ref()
@@ -103,7 +149,9 @@ impl Viewer {
                 target,
                 texture,
                 camera: None,
+                drag: Drag::None,
             },
+            view_rect: None,
         })
     }
 }
@@ -639,10 +687,112 @@ impl Viewer {
             .view
             .camera
             .get_or_insert_with(|| render::frame_camera(model, &f.state, View::Iso));
-        if response.dragged_by(egui::PointerButton::Primary) {
+        let Some(rs) = frame.wgpu_render_state() else {
+            return;
+        };
+        let ppp = ui.ctx().pixels_per_point();
+        let (w, h) = (
+            (rect.width() * ppp).round().max(16.0) as u32,
+            (rect.height() * ppp).round().max(16.0) as u32,
+        );
+        let ray_at = |camera: &Camera, pos: egui::Pos2| {
+            camera.ray((pos.x - rect.min.x) * ppp, (pos.y - rect.min.y) * ppp, w, h)
+        };
+        let alt = ui.input(|i| i.modifiers.alt);
+        if response.drag_started_by(egui::PointerButton::Primary)
+            && let Some(pos) = response.interact_pointer_pos()
+        {
+            let ray = ray_at(camera, pos);
+            let facing = camera.forward();
+            let thickness = render::geometry::plate_thickness(model);
+            self.view.drag = match (!alt)
+                .then(|| pick::pick(model, &f.state, &ray, thickness))
+                .flatten()
+            {
+                Some(pick::Picked::Finger { index, point }) => Drag::Finger {
+                    index,
+                    grabbed: point,
+                    centre: f.state.fingers[index].position,
+                    facing,
+                    last: None,
+                },
+                Some(pick::Picked::Object {
+                    facet,
+                    weights,
+                    point,
+                }) => Drag::Object {
+                    facet,
+                    weights,
+                    grabbed: point,
+                    facing,
+                    last: None,
+                },
+                None => Drag::Orbit,
+            };
+        }
+        let orbit = (response.dragged_by(egui::PointerButton::Primary)
+            && self.view.drag == Drag::Orbit)
+            || response.dragged_by(egui::PointerButton::Middle);
+        if orbit {
             let d = response.drag_delta();
             camera.yaw -= d.x * 0.008;
             camera.pitch = (camera.pitch + d.y * 0.008).clamp(-1.55, 1.55);
+        }
+        if response.dragged_by(egui::PointerButton::Primary)
+            && let Some(pos) = response.interact_pointer_pos()
+        {
+            let ray = ray_at(camera, pos);
+            match &mut self.view.drag {
+                Drag::Finger {
+                    index,
+                    grabbed,
+                    centre,
+                    facing,
+                    last,
+                } => {
+                    let target =
+                        pick::finger_target(model, *index, *centre, *grabbed, *facing, &ray);
+                    if target.is_some() && target != *last {
+                        *last = target;
+                        self.panels.send(Command::Hold {
+                            finger: *index,
+                            at: target,
+                        });
+                    }
+                }
+                Drag::Object {
+                    facet,
+                    weights,
+                    grabbed,
+                    facing,
+                    last,
+                } => {
+                    let target = pick::on_plane(&ray, *grabbed, *facing);
+                    if let Some(target) = target
+                        && Some(target) != *last
+                    {
+                        *last = Some(target);
+                        self.panels.send(Command::Pull(Some(Pull {
+                            facet: *facet,
+                            weights: *weights,
+                            target,
+                            stiffness: Pull::default_stiffness(model),
+                        })));
+                    }
+                }
+                Drag::None | Drag::Orbit => {}
+            }
+        }
+        if response.drag_stopped() || (!response.dragged() && self.view.drag != Drag::None) {
+            match self.view.drag {
+                Drag::Finger { index, .. } => self.panels.send(Command::Hold {
+                    finger: index,
+                    at: None,
+                }),
+                Drag::Object { .. } => self.panels.send(Command::Pull(None)),
+                Drag::None | Drag::Orbit => {}
+            }
+            self.view.drag = Drag::None;
         }
         if response.dragged_by(egui::PointerButton::Secondary) {
             let d = response.drag_delta();
@@ -657,14 +807,7 @@ impl Viewer {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             camera.distance *= (-scroll * 0.002).exp();
         }
-        let Some(rs) = frame.wgpu_render_state() else {
-            return;
-        };
-        let ppp = ui.ctx().pixels_per_point();
-        let (w, h) = (
-            (rect.width() * ppp).round().max(16.0) as u32,
-            (rect.height() * ppp).round().max(16.0) as u32,
-        );
+        self.view_rect = Some((rect, w, h));
         if (w, h) != (self.view.target.width, self.view.target.height) {
             self.view.target = Target::new(&rs.device, w, h);
             rs.renderer.write().update_egui_texture_from_wgpu_texture(
@@ -694,6 +837,18 @@ impl Viewer {
             rect,
             egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
             egui::Color32::WHITE,
+        );
+        let hint = if f.run == RunState::Paused && self.view.drag != Drag::None {
+            "paused: press Play to see the drag act"
+        } else {
+            "drag a finger to move it, the object to pull it, elsewhere (or Alt/middle-drag) to orbit; right-drag pans; scroll zooms"
+        };
+        ui.painter().text(
+            rect.left_bottom() + egui::vec2(8.0, -8.0),
+            egui::Align2::LEFT_BOTTOM,
+            hint,
+            egui::FontId::proportional(12.0),
+            egui::Color32::from_gray(90),
         );
         if meshing {
             ui.painter().text(
