@@ -1,5 +1,6 @@
 // Lit, vertex-coloured triangles: the object's surface (smooth normals),
-// fingers, contact markers and force arrows. Two-sided: a face seen from
+// fingers, contact markers and force arrows; and unlit lines (`fs_flat`,
+// the wireframe). Two-sided: a face seen from
 // behind is shaded with its normal flipped, so cut-aways and thin plates
 // read correctly.
 
@@ -47,4 +48,10 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let head = max(dot(n, to_eye), 0.0);
     let shade = 0.30 + 0.40 * key + 0.30 * head;
     return vec4<f32>(v.color.rgb * shade, v.color.a);
+}
+
+// Unlit: the vertex colour as it is (lines have no normal).
+@fragment
+fn fs_flat(v: VertexOut) -> @location(0) vec4<f32> {
+    return v.color;
 }

@@ -59,7 +59,20 @@ enum Command {
     /// Open the viewer on a scene (the built-in thesis scene when none is
     /// given); what `softgrip` alone does.
     #[cfg(feature = "gui")]
-    View { scene: Option<PathBuf> },
+    View {
+        scene: Option<PathBuf>,
+        /// Override the scene's tetrahedron edge length (m).
+        #[arg(long)]
+        edge_length: Option<f64>,
+        /// Benchmark: run this many seconds with the solver playing as fast
+        /// as it goes and the view redrawn continuously, print the UI frame
+        /// times and close (BENCHMARKS.md).
+        #[arg(long)]
+        measure: Option<f64>,
+        /// With --measure: keep the solver paused, for comparison.
+        #[arg(long)]
+        paused: bool,
+    },
     /// Render a scene at a simulated time to a PNG, headless (no window, no
     /// display: a software adapter where there is no GPU).
     #[cfg(feature = "gui")]
@@ -77,6 +90,21 @@ enum Command {
         size: (u32, u32),
         #[arg(long, value_enum, default_value_t = softgrip::render::View::Iso)]
         view: softgrip::render::View,
+        /// Colour the object by a field, with a colour bar at the right
+        /// (its range is printed).
+        #[arg(long, value_enum)]
+        color: Option<softgrip::fields::Field>,
+        /// Draw the springs as lines.
+        #[arg(long)]
+        wireframe: bool,
+        /// Leave the surface out (with --wireframe: every spring inside shows).
+        #[arg(long)]
+        no_surface: bool,
+        /// Cut the object open: AXIS:FRACTION, e.g. y:0.5 hides the
+        /// elements in the front half (y below the middle); a leading `-`
+        /// (-y:0.5) hides the other side.
+        #[arg(long, value_parser = parse_cut)]
+        cut: Option<softgrip::render::Cut>,
     },
     /// Measure wall seconds per simulated second of the thesis scene at several mesh sizes.
     Bench {
@@ -106,9 +134,25 @@ pub fn main() -> ExitCode {
             run(None, None, None, 50.0)
         }
         #[cfg(feature = "gui")]
-        Some(Command::View { scene }) => {
-            load_scene(scene.as_deref()).and_then(softgrip::viewer::run)
-        }
+        Some(Command::View {
+            scene,
+            edge_length,
+            measure,
+            paused,
+        }) => load_scene(scene.as_deref()).and_then(|mut scene| {
+            if let Some(edge) = edge_length {
+                anyhow::ensure!(
+                    edge.is_finite() && edge > 0.0,
+                    "--edge-length {edge}: must be a positive length in metres"
+                );
+                scene.object.edge_length = edge;
+            }
+            let options = softgrip::viewer::Options {
+                measure: measure.map(std::time::Duration::from_secs_f64),
+                play: !paused,
+            };
+            softgrip::viewer::run_with(scene, options)
+        }),
         Some(Command::Run {
             scene,
             out,
@@ -138,7 +182,20 @@ pub fn main() -> ExitCode {
             out,
             size,
             view,
-        }) => screenshot(scene.as_deref(), at, &out, size, view),
+            color,
+            wireframe,
+            no_surface,
+            cut,
+        }) => {
+            let style = softgrip::render::Style {
+                color_by: color,
+                wireframe,
+                surface: !no_surface,
+                cut,
+                ..Default::default()
+            };
+            screenshot(scene.as_deref(), at, &out, size, view, &style)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -171,6 +228,7 @@ fn screenshot(
     out: &Path,
     (width, height): (u32, u32),
     view: softgrip::render::View,
+    style: &softgrip::render::Style,
 ) -> Result<()> {
     anyhow::ensure!(
         at.is_finite() && at >= 0.0,
@@ -185,8 +243,7 @@ fn screenshot(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let style = softgrip::render::Style::default();
-    let image = softgrip::render::screenshot(&sim.model, &sim.state, view, width, height, &style)?;
+    let image = softgrip::render::screenshot(&sim.model, &sim.state, view, width, height, style)?;
     image
         .save(out)
         .with_context(|| format!("writing {}", out.display()))?;
@@ -195,7 +252,49 @@ fn screenshot(
         out.display(),
         sim.state.time
     );
+    if let Some(field) = style.color_by {
+        let values = field.particle_values(&sim.model, &sim.state);
+        let (lo, hi) = softgrip::fields::range(&values, field.signed());
+        let k = field.display_scale();
+        println!(
+            "colour bar: {} from {:.4} {unit} (bottom) to {:.4} {unit} (top)",
+            field.label(),
+            lo * k,
+            hi * k,
+            unit = field.unit()
+        );
+    }
     Ok(())
+}
+
+/// `[-]AXIS:FRACTION`, e.g. `y:0.5`.
+#[cfg(feature = "gui")]
+fn parse_cut(text: &str) -> Result<softgrip::render::Cut, String> {
+    let bad = || {
+        format!(
+            "cut {text:?}: expected AXIS:FRACTION with AXIS x, y or z (a leading - flips the side) and FRACTION from 0 to 1, e.g. y:0.5"
+        )
+    };
+    let (axis, fraction) = text.split_once(':').ok_or_else(bad)?;
+    let (flip, axis) = match axis.trim().strip_prefix('-') {
+        Some(a) => (true, a),
+        None => (false, axis.trim()),
+    };
+    let axis = match axis {
+        "x" => 0,
+        "y" => 1,
+        "z" => 2,
+        _ => return Err(bad()),
+    };
+    let fraction: f32 = fraction.trim().parse().map_err(|_| bad())?;
+    if !(0.0..=1.0).contains(&fraction) {
+        return Err(bad());
+    }
+    Ok(softgrip::render::Cut {
+        axis,
+        fraction,
+        flip,
+    })
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {

@@ -30,6 +30,7 @@ pub mod bench;
 pub mod constraints;
 pub mod contact;
 pub mod error;
+pub mod fields;
 pub mod forces;
 pub mod integrate;
 pub mod live;

@@ -247,3 +247,127 @@ fn screenshot_command_writes_a_png() {
     assert!(image.pixels().any(is_finger) && image.pixels().any(is_object));
     let _ = std::fs::remove_file(out);
 }
+
+/// Colour maps with their bar, and the cut-away: coloured by displacement
+/// and cut open at y = 0, the front view looks into the object, where the
+/// material under the finger has moved most; uncut, the same pixel is the
+/// front face, which has hardly moved.
+#[test]
+fn displacement_colours_and_the_cut_away_show_the_interior() {
+    use softgrip::fields::{Field, colormap};
+    let sim = simulate(&Scene::thesis());
+    let style = |cut| Style {
+        color_by: Some(Field::Displacement),
+        cut,
+        ..Style::default()
+    };
+    let half = Some(render::Cut {
+        axis: 1,
+        fraction: 0.5,
+        flip: false,
+    });
+    let shot = |style: &Style| {
+        render::screenshot(&sim.model, &sim.state, View::Front, WIDTH, HEIGHT, style)
+            .expect("render")
+    };
+    let cut = shot(&style(half));
+    matches_reference("thesis_displacement_cut_front", &cut).expect("reference");
+
+    let finger = sim.state.fingers[0].position;
+    let lowest = finger.z - sim.model.fingers[0].shape.reach();
+    let under = DVec3::new(0.0, 0.0, lowest - 0.002);
+    let base = DVec3::new(0.0, 0.0, 0.001);
+    // The sequential map's upper half is greener than blue, its start
+    // purple (shading scales the channels alike).
+    let high = |p: image::Rgba<u8>| p.0[1] > p.0[2];
+    let low = |p: image::Rgba<u8>| p.0[2] > p.0[1] && p.0[0] > p.0[1];
+    assert!(
+        high(pixel_at(&sim, &cut, View::Front, under)),
+        "inside, under the finger"
+    );
+    assert!(
+        low(pixel_at(&sim, &cut, View::Front, base)),
+        "at the fixed base"
+    );
+    let uncut = shot(&style(None));
+    assert!(
+        low(pixel_at(&sim, &uncut, View::Front, under)),
+        "the uncut front face barely moves"
+    );
+    // Plain orange is neither.
+    let plain = shot(&Style::default());
+    let p = pixel_at(&sim, &plain, View::Front, base);
+    assert!(!low(p) && is_object(&p));
+
+    // The bar at the right: the map's last colour at its top, first at
+    // its bottom, unshaded.
+    let byte = |c: f32| (c * 255.0).round() as u8;
+    let column = (0..WIDTH)
+        .rev()
+        .find(|&x| !is_background(cut.get_pixel(x, HEIGHT / 2)))
+        .expect("a bar at the right")
+        - 2;
+    let top = cut.get_pixel(column, HEIGHT / 5).0;
+    let bottom = cut.get_pixel(column, HEIGHT - HEIGHT / 5 - 1).0;
+    let [r, g, b] = colormap(1.0, false).map(byte);
+    assert!(
+        top[0].abs_diff(r) <= 2 && top[1].abs_diff(g) <= 2 && top[2].abs_diff(b) <= 2,
+        "top {top:?}"
+    );
+    let [r, g, b] = colormap(0.0, false).map(byte);
+    assert!(
+        bottom[0].abs_diff(r) <= 3 && bottom[1].abs_diff(g) <= 3 && bottom[2].abs_diff(b) <= 3,
+        "bottom {bottom:?}"
+    );
+}
+
+/// The wireframe: over the surface, dark lines cross the front face;
+/// without the surface, only lines: the springs of every layer, no orange.
+#[test]
+fn the_wireframe_draws_the_springs() {
+    let sim = simulate(&Scene::thesis());
+    let shot = |style: &Style| {
+        render::screenshot(&sim.model, &sim.state, View::Front, WIDTH, HEIGHT, style)
+            .expect("render")
+    };
+    let camera = render::frame_camera(&sim.model, &sim.state, View::Front);
+    let (x0, y0) = camera
+        .project(glam::Vec3::new(-0.02, -0.025, 0.016), WIDTH, HEIGHT)
+        .unwrap();
+    let (x1, y1) = camera
+        .project(glam::Vec3::new(0.02, -0.025, 0.004), WIDTH, HEIGHT)
+        .unwrap();
+    let face = |image: &RgbaImage, test: &dyn Fn(&image::Rgba<u8>) -> bool| {
+        let mut n = 0;
+        for y in y0 as u32..y1 as u32 {
+            for x in x0 as u32..x1 as u32 {
+                n += test(image.get_pixel(x, y)) as u32;
+            }
+        }
+        n as f64 / ((y1 - y0) * (x1 - x0)) as f64
+    };
+    let dark = |p: &image::Rgba<u8>| p.0[..3].iter().all(|c| *c < 70);
+    let plain = shot(&Style::default());
+    let wired = shot(&Style {
+        wireframe: true,
+        ..Style::default()
+    });
+    let bare = shot(&Style {
+        wireframe: true,
+        surface: false,
+        ..Style::default()
+    });
+    assert_eq!(face(&plain, &dark), 0.0, "no lines without the wireframe");
+    assert!(
+        face(&wired, &dark) > 0.05,
+        "lines over the face: {}",
+        face(&wired, &dark)
+    );
+    assert_eq!(face(&bare, &|p| is_object(p)), 0.0, "no surface");
+    let lines = face(&bare, &dark);
+    assert!(
+        lines > face(&wired, &dark),
+        "more springs than on the surface: {lines}"
+    );
+    assert_eq!(face(&plain, &|p| is_background(p)), 0.0);
+}

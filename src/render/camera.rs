@@ -29,8 +29,15 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// A camera on `view` that shows the box `[min, max]` whole.
+    /// A camera on `view` that shows the box `[min, max]` whole in an
+    /// image at least as wide as it is tall.
     pub fn framing(min: Vec3, max: Vec3, view: View) -> Camera {
+        Camera::framing_aspect(min, max, view, 1.0)
+    }
+
+    /// A camera on `view` that shows the box `[min, max]` whole in an
+    /// image of this width / height.
+    pub fn framing_aspect(min: Vec3, max: Vec3, view: View, aspect: f32) -> Camera {
         let (yaw, pitch) = match view {
             View::Front => (0.0, 0.0),
             View::Side => (std::f32::consts::FRAC_PI_2, 0.0),
@@ -39,9 +46,13 @@ impl Camera {
         };
         let fov_y = 40f32.to_radians();
         let radius = 0.5 * (max - min).length().max(1e-6);
+        // The narrower of the two fields of view must hold the sphere
+        // around the box.
+        let half = (0.5 * fov_y).tan();
+        let narrow = (half * aspect.clamp(0.05, 1.0)).atan();
         Camera {
             target: 0.5 * (min + max),
-            distance: 1.15 * radius / (0.5 * fov_y).sin(),
+            distance: 1.15 * radius / narrow.sin(),
             yaw,
             pitch,
             fov_y,

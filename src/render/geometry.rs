@@ -4,6 +4,8 @@
 
 use glam::{DVec3, Vec3};
 
+use crate::fields::Field;
+use crate::mesh::TET_FACES;
 use crate::model::Model;
 use crate::scene::FingerShape;
 use crate::state::State;
@@ -16,12 +18,44 @@ pub struct Vertex {
     pub color: [f32; 4],
 }
 
-/// What a frame draws: opaque triangles, then translucent ones (fingers
-/// drawn see-through, so the contacts under them show).
+/// What a frame draws: opaque triangles, then lines (the wireframe), then
+/// translucent triangles (fingers drawn see-through, so the contacts under
+/// them show); and the colour map's legend, if the object is coloured.
 #[derive(Debug, Clone, Default)]
 pub struct Drawing {
     pub opaque: Mesh,
+    /// Pairs of indices (a line list), drawn unlit.
+    pub lines: Mesh,
     pub translucent: Mesh,
+    pub legend: Option<Legend>,
+}
+
+/// What the colours of a coloured object mean: `field` from `min` (the
+/// map's first colour) to `max` (its last), SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Legend {
+    pub field: Field,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Legend {
+    /// The colour of `value`.
+    pub fn color(&self, value: f64) -> [f32; 4] {
+        let t = (value - self.min) / (self.max - self.min);
+        let [r, g, b] = crate::fields::colormap(t, self.field.signed());
+        [r, g, b, 1.0]
+    }
+}
+
+/// A cut-away: elements whose centroid lies below `fraction` of the
+/// object's rest extent along `axis` (0 = x, 1 = y, 2 = z) are hidden, so
+/// the interior shows; `flip` hides the other side instead.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cut {
+    pub axis: usize,
+    pub fraction: f32,
+    pub flip: bool,
 }
 
 /// An indexed triangle list.
@@ -51,6 +85,15 @@ pub struct Style {
     pub fingers: bool,
     pub contacts: bool,
     pub arrows: bool,
+    /// Colour the object by this field (with a legend) instead of `object`.
+    pub color_by: Option<Field>,
+    /// Draw the object's surface (off with `wireframe` shows every spring
+    /// inside).
+    pub surface: bool,
+    /// Draw every spring as a line.
+    pub wireframe: bool,
+    pub wire: [f32; 4],
+    pub cut: Option<Cut>,
 }
 
 impl Default for Style {
@@ -70,6 +113,11 @@ impl Default for Style {
             fingers: true,
             contacts: true,
             arrows: true,
+            color_by: None,
+            surface: true,
+            wireframe: false,
+            wire: [0.12, 0.12, 0.14, 1.0],
+            cut: None,
         }
     }
 }
@@ -238,7 +286,25 @@ impl Mesh {
 /// The scene drawn for `state` of `model`.
 pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
     let mut drawing = Drawing::default();
-    add_surface(&mut drawing.opaque, model, state, style);
+    let colors = object_colors(model, state, style, &mut drawing.legend);
+    let kept = style.cut.map(|cut| kept_elements(model, state, cut));
+    match &kept {
+        _ if !style.surface => {}
+        Some(kept) => add_cut_surface(&mut drawing.opaque, model, state, kept, &colors),
+        None => add_surface(&mut drawing.opaque, model, state, &colors),
+    }
+    if style.wireframe {
+        // Over the surface, dark; alone, in the field's colours if any.
+        let wire = (!style.surface && style.color_by.is_some()).then_some(colors.as_slice());
+        add_wireframe(
+            &mut drawing.lines,
+            model,
+            state,
+            kept.as_deref(),
+            style.wire,
+            wire,
+        );
+    }
     let mut finger_color = style.finger;
     finger_color[3] = style.finger_opacity.clamp(0.0, 1.0);
     let scale = bounds_size(model).max(1e-3);
@@ -327,10 +393,112 @@ fn bounds_size(model: &Model) -> f32 {
 /// the area-weighted mean.
 const CREASE_COS: f32 = 0.766; // cos 40 degrees
 
+/// Each particle's colour: by the style's field (and the legend it sets),
+/// else the object's colour with pinned particles grey.
+fn object_colors(
+    model: &Model,
+    state: &State,
+    style: &Style,
+    legend: &mut Option<Legend>,
+) -> Vec<[f32; 4]> {
+    if let Some(field) = style.color_by {
+        let values = field.particle_values(model, state);
+        let (min, max) = crate::fields::range(&values, field.signed());
+        let l = Legend { field, min, max };
+        *legend = Some(l);
+        return values.iter().map(|v| l.color(*v)).collect();
+    }
+    model
+        .fixed
+        .iter()
+        .map(|&fixed| if fixed { style.fixed } else { style.object })
+        .collect()
+}
+
+/// Which elements a cut-away keeps.
+fn kept_elements(model: &Model, state: &State, cut: Cut) -> Vec<bool> {
+    let axis = cut.axis.min(2);
+    let (lo, hi) = crate::mesh::bounds_of(&model.rest_positions);
+    let plane = lo[axis] + f64::from(cut.fraction.clamp(0.0, 1.0)) * (hi[axis] - lo[axis]);
+    model
+        .tets
+        .iter()
+        .map(|t| {
+            let c: f64 = t
+                .iter()
+                .map(|&i| state.positions[i as usize][axis])
+                .sum::<f64>()
+                / 4.0;
+            (c >= plane) != cut.flip
+        })
+        .collect()
+}
+
+/// The surface of the kept elements: every face of a kept element that no
+/// other kept element shares, flat-shaded.
+fn add_cut_surface(
+    mesh: &mut Mesh,
+    model: &Model,
+    state: &State,
+    kept: &[bool],
+    colors: &[[f32; 4]],
+) {
+    let mut count: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::new();
+    let sorted = |mut f: [u32; 3]| {
+        f.sort_unstable();
+        f
+    };
+    let faces = |t: &[u32; 4]| TET_FACES.map(|f| [t[f[0]], t[f[1]], t[f[2]]]);
+    for (t, _) in model.tets.iter().zip(kept).filter(|(_, k)| **k) {
+        for f in faces(t) {
+            *count.entry(sorted(f)).or_insert(0) += 1;
+        }
+    }
+    for (t, _) in model.tets.iter().zip(kept).filter(|(_, k)| **k) {
+        for f in faces(t) {
+            if count.get(&sorted(f)) != Some(&1) {
+                continue;
+            }
+            let p = f.map(|i| f32v(state.positions[i as usize]));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            for (k, &i) in f.iter().enumerate() {
+                let at = mesh.push(p[k], n, colors[i as usize]);
+                mesh.indices.push(at);
+            }
+        }
+    }
+}
+
+/// Every spring as a line (with a cut-away, those of kept elements).
+fn add_wireframe(
+    lines: &mut Mesh,
+    model: &Model,
+    state: &State,
+    kept: Option<&[bool]>,
+    color: [f32; 4],
+    colors: Option<&[[f32; 4]]>,
+) {
+    let mut shown = vec![kept.is_none(); model.springs.len()];
+    if let Some(kept) = kept {
+        for (springs, _) in model.tet_springs.iter().zip(kept).filter(|(_, k)| **k) {
+            for &s in springs {
+                shown[s as usize] = true;
+            }
+        }
+    }
+    for (s, _) in model.springs.iter().zip(&shown).filter(|(_, v)| **v) {
+        for i in [s.i, s.j] {
+            let c = colors.map_or(color, |c| c[i as usize]);
+            let at = lines.push(f32v(state.positions[i as usize]), Vec3::ZERO, c);
+            lines.indices.push(at);
+        }
+    }
+}
+
 /// The boundary facets, three vertices each, with normals smoothed over the
 /// facets around each corner that meet it at less than the crease angle.
 /// Pinned particles are grey.
-fn add_surface(mesh: &mut Mesh, model: &Model, state: &State, style: &Style) {
+fn add_surface(mesh: &mut Mesh, model: &Model, state: &State, colors: &[[f32; 4]]) {
     let n = model.particle_count();
     // Facet normals (length = twice the area) and the facets at each particle.
     let normals: Vec<Vec3> = model
@@ -369,12 +537,7 @@ fn add_surface(mesh: &mut Mesh, model: &Model, state: &State, style: &Style) {
                     sum += other;
                 }
             }
-            let color = if model.fixed[i] {
-                style.fixed
-            } else {
-                style.object
-            };
-            let at = mesh.push(f32v(state.positions[i]), sum.normalize_or_zero(), color);
+            let at = mesh.push(f32v(state.positions[i]), sum.normalize_or_zero(), colors[i]);
             mesh.indices.push(at);
         }
     }

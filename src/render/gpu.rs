@@ -40,6 +40,8 @@ pub struct Pipeline {
     pipeline: wgpu::RenderPipeline,
     /// Alpha-blended, depth-tested but not depth-writing: see-through fingers.
     blended: wgpu::RenderPipeline,
+    /// Unlit lines (the wireframe).
+    lines: wgpu::RenderPipeline,
     camera_buffer: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
@@ -133,7 +135,10 @@ impl Pipeline {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let make = |blend: Option<wgpu::BlendState>, depth_write: bool| {
+        let make = |blend: Option<wgpu::BlendState>,
+                    depth_write: bool,
+                    topology: wgpu::PrimitiveTopology,
+                    fragment: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("lit"),
             layout: Some(&pipeline_layout),
@@ -148,7 +153,7 @@ impl Pipeline {
                 })],
             },
             primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
+                topology,
                 cull_mode: None,
                 ..Default::default()
             },
@@ -162,7 +167,7 @@ impl Pipeline {
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &shader,
-                entry_point: Some("fs_main"),
+                entry_point: Some(fragment),
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: COLOR_FORMAT,
@@ -174,11 +179,19 @@ impl Pipeline {
             cache: None,
         })
         };
-        let pipeline = make(None, true);
-        let blended = make(Some(wgpu::BlendState::ALPHA_BLENDING), false);
+        let triangles = wgpu::PrimitiveTopology::TriangleList;
+        let pipeline = make(None, true, triangles, "fs_main");
+        let blended = make(
+            Some(wgpu::BlendState::ALPHA_BLENDING),
+            false,
+            triangles,
+            "fs_main",
+        );
+        let lines = make(None, true, wgpu::PrimitiveTopology::LineList, "fs_flat");
         Pipeline {
             pipeline,
             blended,
+            lines,
             camera_buffer,
             bind_group,
         }
@@ -222,6 +235,7 @@ impl Pipeline {
         };
         let layers = [
             (&self.pipeline, upload(&drawing.opaque)),
+            (&self.lines, upload(&drawing.lines)),
             (&self.blended, upload(&drawing.translucent)),
         ];
         let [r, g, b, a] = BACKGROUND;

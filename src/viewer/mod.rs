@@ -16,25 +16,66 @@ use crate::render::{self, Camera, Style, View, pick};
 use crate::scene::{Control, FingerShape, Scene};
 use crate::state::Pull;
 
-/// Opens the viewer on `scene`; returns when the window is closed.
+/// How the viewer runs.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// Benchmark: redraw continuously for this long with the solver as
+    /// fast as it goes, print the frame times, close.
+    pub measure: Option<std::time::Duration>,
+    /// Start playing (else paused).
+    pub play: bool,
+}
+
+/// Opens the viewer on `scene`, playing; returns when the window is closed.
 pub fn run(scene: Scene) -> Result<()> {
+    run_with(
+        scene,
+        Options {
+            measure: None,
+            play: true,
+        },
+    )
+}
+
+/// Opens the viewer on `scene` with `options`.
+pub fn run_with(scene: Scene, options: Options) -> Result<()> {
     if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
         return Err(anyhow!(
             "no display to open the viewer on (neither DISPLAY nor WAYLAND_DISPLAY is set). Headless, use `softgrip run` for the numbers or `softgrip screenshot --at 1 --out shot.png` for a picture"
         ));
     }
-    let options = eframe::NativeOptions {
+    let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1280.0, 820.0])
             .with_title("softgrip"),
         renderer: eframe::Renderer::Wgpu,
+        wgpu_options: egui_wgpu::WgpuConfiguration {
+            surface: egui_wgpu::SurfaceConfig {
+                present_mode: wgpu::PresentMode::AutoVsync,
+                desired_maximum_frame_latency: Some(1),
+            },
+            ..Default::default()
+        },
         ..Default::default()
     };
     eframe::run_native(
         "softgrip",
-        options,
+        native,
         Box::new(move |cc| {
-            let app = Viewer::new(cc, scene).map_err(|e| e.to_string())?;
+            let mut app = Viewer::new(cc, scene).map_err(|e| e.to_string())?;
+            if !options.play {
+                app.panels.send(Command::Pause);
+            }
+            if let Some(span) = options.measure {
+                app.panels.send(Command::SetSpeed(None));
+                app.measure = Some(Measure {
+                    span,
+                    start: None,
+                    frames: Vec::new(),
+                    work: Vec::new(),
+                    done: false,
+                });
+            }
             Ok(Box::new(app))
         }),
     )
@@ -47,6 +88,10 @@ struct View3d {
     texture: egui::TextureId,
     camera: Option<Camera>,
     drag: Drag,
+    /// What the texture shows (frame, camera, style, size), so an
+    /// unchanged view is not drawn again, and the legend drawn with it.
+    drawn: Option<(usize, Camera, Style, u32, u32)>,
+    legend: Option<render::Legend>,
 }
 
 /// What a primary-button drag in the 3-D view does, decided where it
@@ -99,7 +144,7 @@ pub struct Panels {
     pub file_status: Option<String>,
     /// UI frame time (s), smoothed, and when the last frame started.
     frame_time: f64,
-    last_frame: Option<std::time::Instant>,
+    pub last_frame: Option<std::time::Instant>,
 }
 
 /// The whole app: the panels and the 3-D view. Public for the UI tests,
@@ -109,6 +154,68 @@ pub struct Viewer {
     view: View3d,
     /// Where the 3-D view was last drawn (egui points) and its pixel size.
     view_rect: Option<(egui::Rect, u32, u32)>,
+    measure: Option<Measure>,
+}
+
+/// `softgrip view --measure`: frame intervals and the UI's own work per
+/// frame (panels, drawing built, GPU commands recorded), in seconds.
+struct Measure {
+    span: std::time::Duration,
+    start: Option<std::time::Instant>,
+    frames: Vec<f64>,
+    work: Vec<f64>,
+    done: bool,
+}
+
+impl Measure {
+    /// Prints the figures; true when the span is over.
+    fn record(&mut self, interval: Option<f64>, work: f64, frame: Option<&Frame>) -> bool {
+        if self.done {
+            return true;
+        }
+        let start = *self.start.get_or_insert_with(std::time::Instant::now);
+        // The first second is warm-up (shader compilation, first mesh).
+        if start.elapsed().as_secs_f64() < 1.0 {
+            return false;
+        }
+        if let Some(i) = interval {
+            self.frames.push(i);
+        }
+        self.work.push(work);
+        if start.elapsed() < self.span + std::time::Duration::from_secs(1) {
+            return false;
+        }
+        let stats = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            let mean = v.iter().sum::<f64>() / v.len().max(1) as f64;
+            let at = |q: f64| {
+                v.get(((v.len() as f64 - 1.0) * q).round() as usize)
+                    .copied()
+            };
+            (mean, at(0.5).unwrap_or(0.0), at(0.95).unwrap_or(0.0))
+        };
+        let (mean, median, p95) = stats(&mut self.frames);
+        let (wmean, wmedian, wp95) = stats(&mut self.work);
+        let tets = frame
+            .and_then(|f| f.model.as_ref())
+            .map_or(0, |m| m.tets.len());
+        println!(
+            "viewer: {} frames, {tets} tetrahedra; frame interval mean {:.1} ms, median {:.1} ms, 95 % {:.1} ms ({:.1} frames/s); UI work per frame mean {:.1} ms, median {:.1} ms, 95 % {:.1} ms; solver {:.0} steps/s ({:.2} x real time, {:?})",
+            self.frames.len(),
+            1e3 * mean,
+            1e3 * median,
+            1e3 * p95,
+            1.0 / mean.max(1e-9),
+            1e3 * wmean,
+            1e3 * wmedian,
+            1e3 * wp95,
+            frame.map_or(0.0, |f| f.steps_per_second),
+            frame.map_or(0.0, |f| f.realtime_factor),
+            frame.map(|f| f.run),
+        );
+        self.done = true;
+        true
+    }
 }
 
 impl Viewer {
@@ -150,8 +257,11 @@ impl Viewer {
                 texture,
                 camera: None,
                 drag: Drag::None,
+                drawn: None,
+                legend: None,
             },
             view_rect: None,
+            measure: None,
         })
     }
 }
@@ -507,6 +617,36 @@ impl Panels {
             ui.add(egui::Slider::new(&mut st.finger_opacity, 0.1..=1.0).text("finger opacity"));
             ui.checkbox(&mut st.contacts, "contact points");
             ui.checkbox(&mut st.arrows, "force arrows");
+            egui::ComboBox::from_label("colour by")
+                .selected_text(st.color_by.map_or("nothing", |f| f.label()))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut st.color_by, None, "nothing");
+                    for field in crate::fields::Field::ALL {
+                        ui.selectable_value(&mut st.color_by, Some(field), field.label());
+                    }
+                });
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut st.surface, "surface");
+                ui.checkbox(&mut st.wireframe, "springs (wireframe)");
+            });
+            let mut cut = st.cut.is_some();
+            let mut c = st.cut.unwrap_or(render::Cut {
+                axis: 1,
+                fraction: 0.5,
+                flip: false,
+            });
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut cut, "cut-away along");
+                for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+                    ui.radio_value(&mut c.axis, axis, *name);
+                }
+                ui.checkbox(&mut c.flip, "flip");
+            });
+            ui.add_enabled(
+                cut,
+                egui::Slider::new(&mut c.fraction, 0.0..=1.0).text("cut at (fraction)"),
+            );
+            st.cut = cut.then_some(c);
             ui.horizontal(|ui| {
                 for (name, view) in [
                     ("front", View::Front),
@@ -680,13 +820,14 @@ impl Viewer {
             );
             return;
         };
+        let aspect = rect.width() / rect.height().max(1.0);
         if let Some(view) = self.panels.view_request.take() {
-            self.view.camera = Some(render::frame_camera(model, &f.state, view));
+            self.view.camera = Some(render::frame_camera_aspect(model, &f.state, view, aspect));
         }
         let camera = self
             .view
             .camera
-            .get_or_insert_with(|| render::frame_camera(model, &f.state, View::Iso));
+            .get_or_insert_with(|| render::frame_camera_aspect(model, &f.state, View::Iso, aspect));
         let Some(rs) = frame.wgpu_render_state() else {
             return;
         };
@@ -817,31 +958,39 @@ impl Viewer {
                 self.view.texture,
             );
         }
-        let drawing = render::geometry::build(model, &f.state, &self.panels.style);
-        let mut encoder = rs
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("3-D view"),
-            });
-        self.view.pipeline.draw(
-            &rs.device,
-            &rs.queue,
-            &mut encoder,
-            &self.view.target,
-            &drawing,
-            camera,
-        );
-        rs.queue.submit([encoder.finish()]);
+        let key = (Arc::as_ptr(&f) as usize, *camera, self.panels.style, w, h);
+        if self.view.drawn != Some(key) {
+            let drawing = render::geometry::build(model, &f.state, &self.panels.style);
+            let mut encoder = rs
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("3-D view"),
+                });
+            self.view.pipeline.draw(
+                &rs.device,
+                &rs.queue,
+                &mut encoder,
+                &self.view.target,
+                &drawing,
+                camera,
+            );
+            rs.queue.submit([encoder.finish()]);
+            self.view.drawn = Some(key);
+            self.view.legend = drawing.legend;
+        }
         ui.painter().image(
             self.view.texture,
             rect,
             egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
             egui::Color32::WHITE,
         );
+        if let Some(legend) = &self.view.legend {
+            draw_legend(ui, rect, legend);
+        }
         let hint = if f.run == RunState::Paused && self.view.drag != Drag::None {
             "paused: press Play to see the drag act"
         } else {
-            "drag a finger to move it, the object to pull it, elsewhere (or Alt/middle-drag) to orbit; right-drag pans; scroll zooms"
+            "drag: a finger moves, the object is pulled, elsewhere orbits (also Alt/middle) | right-drag pans | scroll zooms"
         };
         ui.painter().text(
             rect.left_bottom() + egui::vec2(8.0, -8.0),
@@ -862,10 +1011,84 @@ impl Viewer {
     }
 }
 
+/// The colour map's bar at the right of the 3-D view, with its range and
+/// the field's name and unit.
+fn draw_legend(ui: &egui::Ui, view: egui::Rect, legend: &render::Legend) {
+    const STEPS: usize = 48;
+    let painter = ui.painter();
+    let height = (view.height() * 0.5).clamp(80.0, 320.0);
+    let bar = egui::Rect::from_min_size(
+        egui::pos2(view.right() - 90.0, view.top() + 40.0),
+        egui::vec2(16.0, height),
+    );
+    for k in 0..STEPS {
+        // Top is the maximum.
+        let t = 1.0 - (k as f64 + 0.5) / STEPS as f64;
+        let [r, g, b, _] = legend.color(legend.min + t * (legend.max - legend.min));
+        let y0 = bar.top() + bar.height() * k as f32 / STEPS as f32;
+        let y1 = bar.top() + bar.height() * (k + 1) as f32 / STEPS as f32;
+        painter.rect_filled(
+            egui::Rect::from_x_y_ranges(bar.x_range(), y0..=y1 + 0.5),
+            0.0,
+            egui::Rgba::from_rgb(r, g, b),
+        );
+    }
+    painter.rect_stroke(
+        bar,
+        0.0,
+        egui::Stroke::new(1.0, egui::Color32::from_gray(60)),
+        egui::StrokeKind::Outside,
+    );
+    let field = legend.field;
+    let k = field.display_scale();
+    let text = |y: f32, value: f64| {
+        painter.text(
+            egui::pos2(bar.right() + 4.0, y),
+            egui::Align2::LEFT_CENTER,
+            format!("{:.3}", value * k),
+            egui::FontId::monospace(11.0),
+            egui::Color32::from_gray(40),
+        );
+    };
+    text(bar.top(), legend.max);
+    text(bar.center().y, 0.5 * (legend.min + legend.max));
+    text(bar.bottom(), legend.min);
+    painter.text(
+        egui::pos2(bar.right() + 4.0, bar.top() - 18.0),
+        egui::Align2::RIGHT_BOTTOM,
+        format!("{} ({})", field.label(), field.unit()),
+        egui::FontId::proportional(12.0),
+        egui::Color32::from_gray(40),
+    );
+}
+
 impl eframe::App for Viewer {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let started = std::time::Instant::now();
+        let interval = self.panels.last_frame.map(|t| (started - t).as_secs_f64());
         self.panels.ui(ui);
         egui::CentralPanel::default().show(ui, |ui| self.view3d(ui, frame));
-        ui.ctx().request_repaint();
+        let work = started.elapsed().as_secs_f64();
+        if let Some(m) = &mut self.measure {
+            if m.record(interval, work, self.panels.frame.as_deref()) {
+                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+            ui.ctx().request_repaint();
+            return;
+        }
+        // Redraw when the solver may have published (it does every 15 ms
+        // while running) or a drag goes on; otherwise egui redraws on input.
+        let running = self
+            .panels
+            .frame
+            .as_ref()
+            .is_some_and(|f| f.run != RunState::Paused);
+        if running || self.view.drag != Drag::None {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(16));
+        } else {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(250));
+        }
     }
 }

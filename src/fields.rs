@@ -1,0 +1,235 @@
+//! Scalar fields of a state, per particle and per element: what the viewer
+//! colours the object by and what the exporters write. GUI-free.
+
+use glam::DVec3;
+
+use crate::model::Model;
+use crate::state::State;
+
+/// A field the object can be coloured by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Field {
+    /// Distance from the rest position (m).
+    Displacement,
+    /// Strain `(l - l0) / l0` of the spring at each particle with the
+    /// largest magnitude, signed (stretch > 0, compression < 0).
+    SpringStrain,
+    /// Element volume change `V / V0 - 1`, averaged (volume-weighted) over
+    /// the elements at each particle.
+    VolumeChange,
+    /// Contact normal force per unit area at each boundary particle (Pa):
+    /// each contact's force shared by its barycentric weights, divided by
+    /// the particle's share (a third) of the area of its boundary facets.
+    ContactPressure,
+}
+
+impl Field {
+    pub const ALL: [Field; 4] = [
+        Field::Displacement,
+        Field::SpringStrain,
+        Field::VolumeChange,
+        Field::ContactPressure,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Field::Displacement => "displacement",
+            Field::SpringStrain => "spring strain",
+            Field::VolumeChange => "element volume change",
+            Field::ContactPressure => "contact pressure",
+        }
+    }
+
+    /// The unit of [`Field::display_scale`]d values.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Field::Displacement => "mm",
+            Field::SpringStrain | Field::VolumeChange => "%",
+            Field::ContactPressure => "kPa",
+        }
+    }
+
+    /// Multiplies SI values into [`Field::unit`].
+    pub fn display_scale(self) -> f64 {
+        match self {
+            Field::Displacement => 1e3,
+            Field::SpringStrain | Field::VolumeChange => 1e2,
+            Field::ContactPressure => 1e-3,
+        }
+    }
+
+    /// Whether the field has a sign (a diverging colour map centred on 0).
+    pub fn signed(self) -> bool {
+        matches!(self, Field::SpringStrain | Field::VolumeChange)
+    }
+
+    /// The field at every particle (SI units).
+    pub fn particle_values(self, model: &Model, state: &State) -> Vec<f64> {
+        match self {
+            Field::Displacement => displacement(model, state),
+            Field::SpringStrain => particle_spring_strain(model, state),
+            Field::VolumeChange => particle_volume_change(model, state),
+            Field::ContactPressure => contact_pressure(model, state),
+        }
+    }
+}
+
+pub fn displacement(model: &Model, state: &State) -> Vec<f64> {
+    state
+        .positions
+        .iter()
+        .zip(&model.rest_positions)
+        .map(|(x, x0)| (*x - *x0).length())
+        .collect()
+}
+
+/// `(l - l0) / l0` of every spring.
+pub fn spring_strain(model: &Model, state: &State) -> Vec<f64> {
+    model
+        .springs
+        .iter()
+        .map(|s| {
+            let l = (state.positions[s.j as usize] - state.positions[s.i as usize]).length();
+            (l - s.rest_length) / s.rest_length
+        })
+        .collect()
+}
+
+/// Per particle, the strain of largest magnitude among its springs.
+pub fn particle_spring_strain(model: &Model, state: &State) -> Vec<f64> {
+    let mut out = vec![0.0f64; model.particle_count()];
+    for (s, e) in model.springs.iter().zip(spring_strain(model, state)) {
+        for i in [s.i as usize, s.j as usize] {
+            if e.abs() > out[i].abs() {
+                out[i] = e;
+            }
+        }
+    }
+    out
+}
+
+/// `V / V0 - 1` of every element.
+pub fn element_volume_change(model: &Model, state: &State) -> Vec<f64> {
+    model
+        .tets
+        .iter()
+        .zip(&model.rest_volume)
+        .map(|(t, v0)| {
+            let p = t.map(|i| state.positions[i as usize]);
+            crate::mesh::signed_volume(p[0], p[1], p[2], p[3]) / v0 - 1.0
+        })
+        .collect()
+}
+
+/// Per element, the strain of largest magnitude among its six springs.
+pub fn element_max_spring_strain(model: &Model, state: &State) -> Vec<f64> {
+    let strain = spring_strain(model, state);
+    model
+        .tet_springs
+        .iter()
+        .map(|springs| {
+            springs
+                .iter()
+                .map(|&s| strain[s as usize])
+                .fold(0.0f64, |a, e| if e.abs() > a.abs() { e } else { a })
+        })
+        .collect()
+}
+
+/// Per particle, the rest-volume-weighted mean of its elements' volume change.
+pub fn particle_volume_change(model: &Model, state: &State) -> Vec<f64> {
+    let n = model.particle_count();
+    let mut sum = vec![0.0f64; n];
+    let mut weight = vec![0.0f64; n];
+    for ((t, v0), dv) in model
+        .tets
+        .iter()
+        .zip(&model.rest_volume)
+        .zip(element_volume_change(model, state))
+    {
+        for &i in t {
+            sum[i as usize] += v0 * dv;
+            weight[i as usize] += v0;
+        }
+    }
+    sum.iter()
+        .zip(&weight)
+        .map(|(s, w)| if *w > 0.0 { s / w } else { 0.0 })
+        .collect()
+}
+
+/// Each boundary particle's share of the boundary area (m^2): a third of
+/// its facets' areas, in the current state.
+pub fn boundary_area(model: &Model, state: &State) -> Vec<f64> {
+    let mut area = vec![0.0f64; model.particle_count()];
+    for tri in &model.facets {
+        let p = tri.map(|i| state.positions[i as usize]);
+        let a = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+        for &i in tri {
+            area[i as usize] += a / 3.0;
+        }
+    }
+    area
+}
+
+/// Contact normal pressure at each particle (Pa); see
+/// [`Field::ContactPressure`]. Pressure times [`boundary_area`] summed over
+/// the particles is the total normal contact force.
+pub fn contact_pressure(model: &Model, state: &State) -> Vec<f64> {
+    let mut force = vec![0.0f64; model.particle_count()];
+    for c in &state.contacts {
+        let Some(tri) = model.facets.get(c.facet as usize) else {
+            continue;
+        };
+        for a in 0..3 {
+            force[tri[a] as usize] += c.weights[a] * c.normal_force;
+        }
+    }
+    let area = boundary_area(model, state);
+    force
+        .iter()
+        .zip(&area)
+        .map(|(f, a)| if *a > 0.0 { f / a } else { 0.0 })
+        .collect()
+}
+
+/// A colour (linear RGB, 0..1) for `t` in 0..1: a perceptually ordered
+/// sequential map (dark blue, teal, green, yellow: viridis's stops) for
+/// unsigned fields, a diverging blue-white-red map (Moreland's cool-warm)
+/// centred on t = 0.5 for signed ones.
+pub fn colormap(t: f64, signed: bool) -> [f32; 3] {
+    const VIRIDIS: [[f64; 3]; 5] = [
+        [0.267, 0.005, 0.329],
+        [0.230, 0.322, 0.546],
+        [0.128, 0.567, 0.551],
+        [0.369, 0.789, 0.383],
+        [0.993, 0.906, 0.144],
+    ];
+    const COOL_WARM: [[f64; 3]; 3] = [
+        [0.230, 0.299, 0.754],
+        [0.865, 0.865, 0.865],
+        [0.706, 0.016, 0.150],
+    ];
+    let stops: &[[f64; 3]] = if signed { &COOL_WARM } else { &VIRIDIS };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (stops.len() - 1) as f64;
+    let k = (x.floor() as usize).min(stops.len() - 2);
+    let f = x - k as f64;
+    let c = DVec3::from_array(stops[k]).lerp(DVec3::from_array(stops[k + 1]), f);
+    c.as_vec3().to_array()
+}
+
+/// The colour-map range for `values`: `[0, max]` for an unsigned field,
+/// `[-m, m]` with `m` the largest magnitude for a signed one; never empty.
+pub fn range(values: &[f64], signed: bool) -> (f64, f64) {
+    let largest = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let m = if largest > 0.0 { largest } else { 1e-12 };
+    if signed { (-m, m) } else { (0.0, m) }
+}
