@@ -389,7 +389,10 @@ impl Solver {
             .as_ref()
             .map_or((0, 0.0), |s| (s.state.step, s.state.time));
         let wall = (now - self.last_publish.0).as_secs_f64();
-        if self.run == RunState::Running && wall > 0.0 {
+        if step < self.last_publish.1 {
+            // A restart (reset, new mesh): no rate across it.
+            self.rates = (0.0, 0.0);
+        } else if self.run == RunState::Running && wall > 0.0 {
             self.rates = (
                 step.saturating_sub(self.last_publish.1) as f64 / wall,
                 (time - self.last_publish.2) / wall,

@@ -300,3 +300,20 @@ fn pull_grabs_the_object_and_a_stale_facet_is_ignored() {
     let released = send(&live, Command::Pull(None));
     assert!(released.state.pull.is_none());
 }
+
+#[test]
+fn rates_are_never_negative_across_a_reset() {
+    let live = started(Scene::thesis());
+    send(&live, Command::SetSpeed(None));
+    send(&live, Command::Play);
+    live.wait_for(PATIENCE, |f| f.state.time > 0.05)
+        .expect("running");
+    let reset = send(&live, Command::Reset);
+    assert!(reset.state.time < 0.05, "reset went back");
+    assert!(
+        reset.realtime_factor >= 0.0 && reset.steps_per_second >= 0.0,
+        "rates across the reset: {} x real time, {} steps/s",
+        reset.realtime_factor,
+        reset.steps_per_second
+    );
+}

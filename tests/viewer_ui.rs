@@ -167,8 +167,13 @@ fn fingers_are_added_and_removed_live() {
 /// The whole app (panels and 3-D view) in a harness rendering with wgpu
 /// on the software adapter, playing the thesis scene.
 fn app() -> Harness<'static, softgrip::viewer::Viewer> {
+    app_sized(820.0)
+}
+
+/// As [`app`], `height` points tall (tall enough, every panel shows).
+fn app_sized(height: f32) -> Harness<'static, softgrip::viewer::Viewer> {
     let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 820.0))
+        .with_size(egui::vec2(1280.0, height))
         .with_max_steps(8)
         .wgpu()
         .build_eframe(|cc| softgrip::viewer::Viewer::new(cc, Scene::thesis()).expect("viewer"));
@@ -268,4 +273,66 @@ fn dragging_the_object_pulls_it_with_the_mouse_spring() {
         .live
         .wait_for(PATIENCE, |f| f.state.pull.is_none())
         .expect("let go");
+}
+
+#[test]
+fn colouring_by_a_field_draws_its_legend() {
+    let mut harness = app_sized(2400.0);
+    assert_eq!(harness.state().legend(), None, "plain colours at first");
+    harness.get_by_label("Display").click();
+    harness.run_steps(2);
+    harness.get_by_label("colour by").click();
+    harness.run_steps(2);
+    harness.get_by_label("displacement").click();
+    harness.run_steps(4);
+    let legend = harness.state().legend().expect("a legend");
+    assert_eq!(legend.field, softgrip::fields::Field::Displacement);
+    assert!(legend.min == 0.0 && legend.max > 1e-4, "{legend:?}");
+    // The cut-away and wireframe switches reach the style.
+    harness.get_by_label("cut-away along").click();
+    harness.get_by_label("springs (wireframe)").click();
+    harness.run_steps(2);
+    let style = harness.state().panels.style;
+    assert!(style.cut.is_some() && style.wireframe);
+}
+
+/// "Save as" writes the scene as the panels show it, edits included, and
+/// the file opens again to the same scene.
+#[test]
+fn save_as_writes_the_edited_scene() {
+    let dir = std::env::temp_dir().join(format!("softgrip-save-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("saved.toml");
+    let mut harness = playing();
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "alpha")
+        .set_value_accesskit(1234.0);
+    harness.run();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.scene.model.alpha == 1234.0)
+        .expect("edit taken");
+    let field = harness.get_by_role(egui::accesskit::Role::TextInput);
+    field.focus();
+    harness.run();
+    harness
+        .get_by_role(egui::accesskit::Role::TextInput)
+        .type_text(&path.display().to_string());
+    harness.run();
+    harness.get_by_label("Save as").click();
+    harness.run();
+    assert_eq!(harness.state().file_error, None);
+    let saved = Scene::load(&path).expect("the saved file loads");
+    assert_eq!(saved.model.alpha, 1234.0);
+    let mut shown = harness.state().edited.clone();
+    shown.source = saved.source.clone();
+    assert_eq!(saved, shown, "the file holds the scene the panels show");
+    // A place that cannot be written is an error, not a crash.
+    harness.state_mut().path = dir.join("no/such/dir/x.toml").display().to_string();
+    harness.get_by_label("Save as").click();
+    harness.run();
+    let error = harness.state().file_error.clone().expect("an error");
+    assert!(error.contains("could not save"), "{error}");
+    let _ = std::fs::remove_dir_all(dir);
 }

@@ -348,13 +348,13 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             .sum();
         let from = f32v(point);
         let to = f32v(pull.target);
-        mesh.add_sphere(from, 0.006 * scale, style.drag);
-        mesh.add_sphere(to, 0.006 * scale, style.drag);
-        mesh.add_arrow(from, to - from, 0.002 * scale, style.drag);
+        mesh.add_sphere(from, 0.01 * scale, style.drag);
+        mesh.add_sphere(to, 0.01 * scale, style.drag);
+        mesh.add_arrow(from, to - from, 0.004 * scale, style.drag);
     }
     for fs in &state.fingers {
         if let Some(at) = fs.held {
-            mesh.add_sphere(f32v(at), 0.006 * scale, style.drag);
+            mesh.add_sphere(f32v(at), 0.01 * scale, style.drag);
         }
     }
     for c in &state.contacts {

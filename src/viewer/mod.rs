@@ -92,6 +92,8 @@ struct View3d {
     /// unchanged view is not drawn again, and the legend drawn with it.
     drawn: Option<(usize, Camera, Style, u32, u32)>,
     legend: Option<render::Legend>,
+    /// When the solver started re-meshing, for the overlay's clock.
+    meshing_since: Option<std::time::Instant>,
 }
 
 /// What a primary-button drag in the 3-D view does, decided where it
@@ -232,6 +234,11 @@ impl Viewer {
         ))
     }
 
+    /// The colour map's legend of the 3-D view as last drawn.
+    pub fn legend(&self) -> Option<render::Legend> {
+        self.view.legend
+    }
+
     /// Builds the app on eframe's wgpu device and starts the solver,
     /// playing.
     pub fn new(cc: &eframe::CreationContext<'_>, scene: Scene) -> Result<Viewer> {
@@ -259,6 +266,7 @@ impl Viewer {
                 drag: Drag::None,
                 drawn: None,
                 legend: None,
+                meshing_since: None,
             },
             view_rect: None,
             measure: None,
@@ -1000,13 +1008,27 @@ impl Viewer {
             egui::Color32::from_gray(90),
         );
         if meshing {
+            // The old model stays drawn under a spinner, with the new
+            // edge length and how long it has taken so far.
+            let since = *self
+                .view
+                .meshing_since
+                .get_or_insert_with(std::time::Instant::now);
+            let spinner = egui::Rect::from_center_size(rect.center(), egui::vec2(40.0, 40.0));
+            ui.put(spinner, egui::Spinner::new().size(40.0));
             ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "re-meshing...",
-                egui::FontId::proportional(20.0),
+                rect.center() + egui::vec2(0.0, 36.0),
+                egui::Align2::CENTER_TOP,
+                format!(
+                    "re-meshing at {:.2} mm edge length... {:.1} s",
+                    1e3 * f.scene.object.edge_length,
+                    since.elapsed().as_secs_f64()
+                ),
+                egui::FontId::proportional(18.0),
                 egui::Color32::DARK_GRAY,
             );
+        } else {
+            self.view.meshing_since = None;
         }
     }
 }
