@@ -468,19 +468,35 @@ impl Solver {
             && checked.object.shape == self.scene.object.shape
             && checked.object.edge_length == self.scene.object.edge_length;
         if !same_mesh {
-            let was_running = self.run == RunState::Running;
+            // Mesh the new scene while the old run waits untouched: on
+            // failure it goes on where it was, with the error.
+            let was = self.run;
             let previous = std::mem::replace(&mut self.scene, Arc::new(checked));
-            self.rebuild_all();
-            if self.sim.is_none() {
-                // Keep the message, go back to what ran before.
-                let message = self.error.take();
-                self.scene = previous;
-                self.rebuild_all();
-                self.error = message;
-            } else if was_running {
-                self.run = RunState::Running;
-                self.reanchor();
+            self.run = RunState::Meshing;
+            self.publish();
+            match build(&self.scene) {
+                Ok((mesh, sim)) => {
+                    self.mesh = Some(mesh);
+                    self.history = History::default();
+                    self.sim = Some(sim);
+                    self.error = None;
+                    self.run = if was == RunState::Running {
+                        RunState::Running
+                    } else {
+                        RunState::Paused
+                    };
+                }
+                Err(e) => {
+                    self.scene = previous;
+                    self.error = Some(format!("{e}"));
+                    self.run = if self.sim.is_some() {
+                        was
+                    } else {
+                        RunState::Paused
+                    };
+                }
             }
+            self.reanchor();
             return;
         }
         let Some(mesh) = self.mesh.clone() else {

@@ -139,8 +139,10 @@ fn a_scene_that_cannot_be_built_keeps_the_current_one() {
     assert!(frame.error.is_some());
     assert_eq!(frame.scene.object.edge_length, 0.004);
     assert!(frame.model.is_some());
+    assert_eq!(frame.state.step, 5, "the run goes on where it was");
     let frame = send(&live, Command::Step(1));
     assert_eq!(frame.error, None);
+    assert_eq!(frame.state.step, 6);
 }
 
 #[test]

@@ -336,3 +336,48 @@ fn save_as_writes_the_edited_scene() {
     assert!(error.contains("could not save"), "{error}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Acceptance 5 for meshes: a mesh file that cannot be read shows its
+/// error (naming the file) and the scene that ran runs on.
+#[test]
+fn a_mesh_that_cannot_be_read_is_an_error_and_the_run_goes_on() {
+    let dir = std::env::temp_dir().join(format!("softgrip-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let bad = dir.join("broken.msh");
+    std::fs::write(
+        &bad,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0\n",
+    )
+    .expect("write");
+    let mut harness = playing();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.state.time > 0.01)
+        .expect("running");
+    harness.state_mut().open(bad.clone());
+    harness.run();
+    let frame = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.error.is_some())
+        .expect("an error in the frame");
+    let error = frame.error.clone().unwrap();
+    assert!(error.contains("broken.msh"), "{error}");
+    assert_eq!(*frame.scene, Scene::thesis(), "the scene that ran is back");
+    assert!(
+        frame.state.time > 0.01,
+        "not restarted: t = {}",
+        frame.state.time
+    );
+    assert_eq!(frame.run, RunState::Running, "still running");
+    let later = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| {
+            f.state.time > frame.state.time + 0.01 || f.state.step > 0
+        })
+        .expect("runs on");
+    assert!(later.model.is_some());
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -121,6 +121,10 @@ enum Drag {
     },
 }
 
+/// Files the Open button takes as a mesh for the current scene (the
+/// scene spec's `shape = "mesh"` formats).
+pub const MESH_EXTENSIONS: &[&str] = &["msh", "node", "ele", "vtk", "vtu", "stl", "obj"];
+
 /// The panels and the solver they drive, without the 3-D view: what the
 /// UI tests exercise (`tests/viewer_ui.rs`).
 pub struct Panels {
@@ -363,7 +367,7 @@ impl Panels {
             .show(ui, |ui| {
                 ui.add(
                     egui::TextEdit::singleline(&mut self.path)
-                        .hint_text("path/to/scene.toml")
+                        .hint_text("path/to/scene.toml or a mesh")
                         .desired_width(f32::INFINITY),
                 )
                 .labelled_by(ui.label("scene file path").id);
@@ -377,6 +381,7 @@ impl Panels {
                         // remains.
                         match rfd::FileDialog::new()
                             .add_filter("softgrip scene", &["toml"])
+                            .add_filter("tetrahedral or surface mesh", MESH_EXTENSIONS)
                             .pick_file()
                         {
                             Some(path) => self.open(path),
@@ -418,9 +423,31 @@ impl Panels {
             });
     }
 
-    /// Loads a scene file and hands it to the solver; a file that fails to
-    /// load leaves the run as it is.
+    /// Loads a scene file, or a mesh file into the current scene, and
+    /// hands it to the solver; a file that fails to load leaves the run as
+    /// it is (a mesh is read on the solver thread: its error comes back
+    /// in the frame).
     pub fn open(&mut self, path: std::path::PathBuf) {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if extension
+            .as_deref()
+            .is_some_and(|e| MESH_EXTENSIONS.contains(&e))
+        {
+            let mut scene = self.edited.clone();
+            let absolute = std::path::absolute(&path).unwrap_or_else(|_| path.clone());
+            scene.object.shape = crate::scene::Shape::Mesh { path: absolute };
+            self.file_error = None;
+            self.file_status = Some(format!(
+                "opening mesh {} (errors show on the right)",
+                path.display()
+            ));
+            self.path = path.display().to_string();
+            self.send(Command::SetScene(Box::new(scene)));
+            return;
+        }
         match Scene::load(&path) {
             Ok(scene) => {
                 self.file_error = None;
