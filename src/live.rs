@@ -42,6 +42,10 @@ pub const CHANNEL_CAPACITY: usize = 64;
 /// How often a running simulation publishes a frame (wall time).
 pub const PUBLISH_INTERVAL: Duration = Duration::from_millis(15);
 
+/// How far (wall seconds) a paced run may fall behind before the lag is
+/// forgiven instead of made up.
+pub const MAX_LAG: f64 = 0.05;
+
 /// Samples of finger history kept for plots; past this, every other one
 /// is dropped.
 pub const HISTORY_LENGTH: usize = 2000;
@@ -343,7 +347,11 @@ impl Solver {
     fn advance(&mut self) {
         if let (Some(speed), Some(sim)) = (self.speed, &self.sim) {
             let allowed = self.anchor.1 + speed * self.anchor.0.elapsed().as_secs_f64();
-            if sim.state.time >= allowed {
+            if sim.state.time + MAX_LAG * speed < allowed {
+                // Behind (slow steps in a transient): forgive it rather
+                // than race to catch up, so "x1" never runs faster than 1.
+                self.anchor = (Instant::now(), sim.state.time);
+            } else if sim.state.time >= allowed {
                 let ahead = (sim.state.time - allowed) / speed;
                 thread::sleep(Duration::from_secs_f64(ahead.clamp(0.0005, 0.005)));
                 self.maybe_publish();

@@ -1025,7 +1025,7 @@ impl Viewer {
         let hint = if f.run == RunState::Paused && self.view.drag != Drag::None {
             "paused: press Play to see the drag act"
         } else {
-            "drag: a finger moves, the object is pulled, elsewhere orbits (also Alt/middle) | right-drag pans | scroll zooms"
+            "drag: finger moves, object is pulled, elsewhere orbits | right-drag: pan | scroll: zoom"
         };
         ui.painter().text(
             rect.left_bottom() + egui::vec2(8.0, -8.0),
