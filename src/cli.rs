@@ -56,6 +56,11 @@ enum Command {
     Check { scene: Option<PathBuf> },
     /// Print the built-in thesis scene as TOML (a starting point for your own).
     Scene,
+    /// Mesh files: figures, conversion, and the mesh a scene uses.
+    Mesh {
+        #[command(subcommand)]
+        action: MeshCommand,
+    },
     /// Open the viewer on a scene (the built-in thesis scene when none is
     /// given); what `softgrip` alone does.
     #[cfg(feature = "gui")]
@@ -121,6 +126,133 @@ enum Command {
     },
 }
 
+#[derive(Subcommand)]
+enum MeshCommand {
+    /// Nodes, tetrahedra, boundary facets, volume, bounds, edge lengths,
+    /// smallest dihedral angle, worst aspect ratio, parts; and what the
+    /// checks would change.
+    Info { file: PathBuf },
+    /// Convert between formats (.msh, .node/.ele, .vtk); the output's
+    /// extension picks the format unless --format says (msh22 for Gmsh 2.2).
+    Convert {
+        input: PathBuf,
+        output: PathBuf,
+        #[arg(long, value_enum)]
+        format: Option<softgrip::mesh::io::Format>,
+    },
+    /// Write the mesh a scene uses (built-in shapes meshed at their edge
+    /// length; mesh files checked, scaled and placed).
+    Make {
+        scene: PathBuf,
+        output: PathBuf,
+        #[arg(long, value_enum)]
+        format: Option<softgrip::mesh::io::Format>,
+    },
+}
+
+fn mesh_command(action: MeshCommand) -> Result<()> {
+    use softgrip::mesh::{checks, io};
+    let format_for = |path: &Path, format: Option<io::Format>| {
+        format.or_else(|| io::Format::of(path)).with_context(|| {
+            format!(
+                "{}: give a .msh, .node, .ele or .vtk name, or --format",
+                path.display()
+            )
+        })
+    };
+    match action {
+        MeshCommand::Info { file } => {
+            let imported = io::read(&file)?;
+            let raw = &imported.mesh;
+            println!("{}", file.display());
+            println!(
+                "  as written: {} nodes, {} tetrahedra",
+                raw.nodes.len(),
+                raw.tets.len()
+            );
+            for w in &imported.warnings {
+                println!("  note: {w}");
+            }
+            let mut mesh = imported.mesh.clone();
+            let report = checks::repair(&mut mesh)
+                .with_context(|| format!("{}: the mesh cannot be used", file.display()))?;
+            for w in &report.warnings {
+                println!("  check: {w}");
+            }
+            let stats = mesh.stats();
+            let (lo, hi) = mesh.bounds();
+            let (angle, aspect) = checks::shape_figures(&mesh);
+            println!("  nodes: {}", stats.nodes);
+            println!("  tetrahedra: {}", stats.tets);
+            println!("  boundary facets: {}", stats.boundary_facets);
+            println!("  volume: {:.6e} m^3", stats.volume);
+            println!(
+                "  bounds: ({:.4}, {:.4}, {:.4}) .. ({:.4}, {:.4}, {:.4}) m, size {:.4} x {:.4} x {:.4} m",
+                lo.x,
+                lo.y,
+                lo.z,
+                hi.x,
+                hi.y,
+                hi.z,
+                hi.x - lo.x,
+                hi.y - lo.y,
+                hi.z - lo.z
+            );
+            println!(
+                "  edges: {:.3} .. {:.3} mm",
+                1e3 * stats.min_edge,
+                1e3 * stats.max_edge
+            );
+            println!("  smallest dihedral angle: {angle:.2} degrees");
+            println!("  worst aspect ratio (longest edge / smallest height): {aspect:.2}");
+            println!("  connected parts: {}", report.parts);
+            Ok(())
+        }
+        MeshCommand::Convert {
+            input,
+            output,
+            format,
+        } => {
+            let format = format_for(&output, format)?;
+            let imported = io::read(&input)?;
+            for w in &imported.warnings {
+                eprintln!("warning: {}: {w}", input.display());
+            }
+            let mut mesh = imported.mesh;
+            let report = checks::repair(&mut mesh)
+                .with_context(|| format!("{}: the mesh cannot be used", input.display()))?;
+            for w in &report.warnings {
+                eprintln!("warning: {}: {w}", input.display());
+            }
+            let written = io::write(&mesh, &output, format)
+                .with_context(|| format!("writing {}", output.display()))?;
+            for p in written {
+                println!("wrote {}", p.display());
+            }
+            Ok(())
+        }
+        MeshCommand::Make {
+            scene,
+            output,
+            format,
+        } => {
+            let format = format_for(&output, format)?;
+            let scene = Scene::load(&scene)?;
+            let (mesh, warnings) = softgrip::Model::load_mesh(&scene)?;
+            for w in &warnings {
+                eprintln!("warning: {w}");
+            }
+            let written = io::write(&mesh, &output, format)
+                .with_context(|| format!("writing {}", output.display()))?;
+            println!("{}", mesh.stats());
+            for p in written {
+                println!("wrote {}", p.display());
+            }
+            Ok(())
+        }
+    }
+}
+
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -160,6 +292,7 @@ pub fn main() -> ExitCode {
             fps,
         }) => run(scene.as_deref(), out.as_deref(), duration, fps),
         Some(Command::Check { scene }) => check(scene.as_deref()),
+        Some(Command::Mesh { action }) => mesh_command(action),
         Some(Command::Ramp {
             scene,
             loads,
@@ -235,7 +368,7 @@ fn screenshot(
         "--at {at}: the simulated time must be 0 or more (s)"
     );
     let scene = load_scene(scene_path)?;
-    let mut sim = Simulation::new(&scene)?;
+    let mut sim = simulation(&scene)?;
     let steps = (at / sim.model.dt).round() as u64;
     let bar = progress_bar(steps);
     for _ in 0..steps {
@@ -297,6 +430,16 @@ fn parse_cut(text: &str) -> Result<softgrip::render::Cut, String> {
     })
 }
 
+/// The scene's simulation; what loading its mesh changed or noticed goes
+/// to stderr as warnings.
+fn simulation(scene: &Scene) -> Result<Simulation> {
+    let (mesh, warnings) = softgrip::Model::load_mesh(scene)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(Simulation::on_mesh(scene, mesh)?)
+}
+
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
     match path {
         Some(p) => Ok(Scene::load(p)?),
@@ -321,7 +464,7 @@ fn run(
     fps: f64,
 ) -> Result<()> {
     let scene = load_scene(scene_path)?;
-    let mut sim = Simulation::new(&scene)?;
+    let mut sim = simulation(&scene)?;
     let duration = duration.unwrap_or(scene.simulation.duration);
     let name = scene_path
         .map(|p| p.display().to_string())
@@ -433,7 +576,7 @@ fn run(
 
 fn ramp(scene_path: Option<&Path>, loads: &[f64], max_seconds: f64, rest_speed: f64) -> Result<()> {
     let scene = load_scene(scene_path)?;
-    let mut sim = Simulation::new(&scene)?;
+    let mut sim = simulation(&scene)?;
     let Some(k) = sim.load_finger() else {
         anyhow::bail!(
             "the scene has no force-controlled finger to load; add a [[finger]] with control = \"force\""
@@ -490,7 +633,7 @@ fn check(scene_path: Option<&Path>) -> Result<()> {
             println!("  {d}");
         }
     }
-    let sim = Simulation::new(&scene)?;
+    let sim = simulation(&scene)?;
     let m = &sim.model;
     let mesh = softgrip::mesh::TetMesh {
         nodes: m.rest_positions.clone(),

@@ -12,6 +12,9 @@ pub enum SimError {
     #[error("{file}: bad mesh: {source}")]
     Mesh { file: String, source: MeshError },
 
+    #[error("{0}")]
+    MeshFile(#[from] crate::mesh::io::ImportError),
+
     #[error("not supported yet: {what}")]
     NotSupported { what: String },
 

@@ -130,6 +130,9 @@ pub struct Frame {
     /// Counts the commands the solver has taken: a viewer that sent its
     /// n-th command can wait for a frame with `commands >= n`.
     pub commands: u64,
+    /// What loading the mesh in use changed or noticed (skipped cells,
+    /// reordered tetrahedra...).
+    pub mesh_warnings: Arc<Vec<String>>,
 }
 
 /// The viewer's side: send commands, read frames.
@@ -219,6 +222,7 @@ struct Solver {
     scene: Arc<Scene>,
     /// The mesh of `scene`, kept so that parameter edits need not re-mesh.
     mesh: Option<TetMesh>,
+    mesh_warnings: Arc<Vec<String>>,
     sim: Option<Simulation>,
     run: RunState,
     speed: Option<f64>,
@@ -238,6 +242,7 @@ impl Solver {
         Solver {
             scene: Arc::new(scene),
             mesh: None,
+            mesh_warnings: Arc::new(Vec::new()),
             sim: None,
             run: RunState::Meshing,
             speed: Some(1.0),
@@ -423,6 +428,7 @@ impl Solver {
             realtime_factor: self.rates.1,
             history: Arc::new(self.history.samples.clone()),
             commands: self.commands,
+            mesh_warnings: Arc::clone(&self.mesh_warnings),
         };
         *lock(&self.published) = Some(Arc::new(frame));
     }
@@ -432,8 +438,9 @@ impl Solver {
         self.run = RunState::Meshing;
         self.publish();
         match build(&self.scene) {
-            Ok((mesh, sim)) => {
+            Ok((mesh, warnings, sim)) => {
                 self.mesh = Some(mesh);
+                self.mesh_warnings = Arc::new(warnings);
                 self.history = History::default();
                 self.sim = Some(sim);
                 self.error = None;
@@ -483,8 +490,9 @@ impl Solver {
             self.run = RunState::Meshing;
             self.publish();
             match build(&self.scene) {
-                Ok((mesh, sim)) => {
+                Ok((mesh, warnings, sim)) => {
                     self.mesh = Some(mesh);
+                    self.mesh_warnings = Arc::new(warnings);
                     self.history = History::default();
                     self.sim = Some(sim);
                     self.error = None;
@@ -550,11 +558,11 @@ fn check(scene: &Scene) -> Result<Scene, String> {
     Ok(checked)
 }
 
-fn build(scene: &Scene) -> Result<(TetMesh, Simulation), SimError> {
-    let mesh = Model::mesh_of(scene)?;
+fn build(scene: &Scene) -> Result<(TetMesh, Vec<String>, Simulation), SimError> {
+    let (mesh, warnings) = Model::load_mesh(scene)?;
     // Meshed once; `on_mesh` also checks that no finger starts inside.
     let sim = Simulation::on_mesh(scene, mesh.clone())?;
-    Ok((mesh, sim))
+    Ok((mesh, warnings, sim))
 }
 
 /// Keeps the state across a model rebuilt on the same mesh: particles as

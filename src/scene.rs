@@ -83,6 +83,8 @@ struct RawObject {
     radius: Option<f64>,
     height: Option<f64>,
     path: Option<String>,
+    scale: Option<f64>,
+    position: Option<[f64; 3]>,
     edge_length: Option<f64>,
     density: Option<f64>,
     young_modulus: Option<f64>,
@@ -180,9 +182,22 @@ pub struct Simulation {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
-    Cuboid { size: DVec3 },
-    Cylinder { radius: f64, height: f64 },
-    Mesh { path: PathBuf },
+    Cuboid {
+        size: DVec3,
+    },
+    Cylinder {
+        radius: f64,
+        height: f64,
+    },
+    /// A mesh file, its coordinates times `scale` (0.001 for a file in
+    /// millimetres), placed with the centre of its bounding box's bottom
+    /// face at `position` (default the origin: centred at x = y = 0,
+    /// bottom at z = 0, as the built-in shapes).
+    Mesh {
+        path: PathBuf,
+        scale: f64,
+        position: DVec3,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -344,7 +359,7 @@ impl Scene {
         })?;
         let mut scene = Scene::from_toml_str(&text, &path.display().to_string())?;
         scene.source = Some(path.to_path_buf());
-        if let Shape::Mesh { path: mesh } = &mut scene.object.shape
+        if let Shape::Mesh { path: mesh, .. } = &mut scene.object.shape
             && mesh.is_relative()
             && let Some(dir) = path.parent()
         {
@@ -394,11 +409,16 @@ impl Scene {
                     "shape = \"cylinder\"\nradius = {radius:?}\nheight = {height:?}"
                 );
             }
-            Shape::Mesh { path } => {
+            Shape::Mesh {
+                path,
+                scale,
+                position,
+            } => {
                 let _ = writeln!(
                     s,
-                    "shape = \"mesh\"\npath = {:?}",
-                    path.display().to_string()
+                    "shape = \"mesh\"\npath = {:?}\nscale = {scale:?}\nposition = {}",
+                    path.display().to_string(),
+                    v3(*position)
                 );
             }
         }
@@ -751,9 +771,17 @@ impl<'a> Resolver<'a> {
                 )?;
                 Shape::Cylinder { radius, height }
             }
-            Some("mesh") => match o.path {
+            Some("mesh") => match o.path.clone() {
                 Some(p) if !p.trim().is_empty() => Shape::Mesh {
                     path: PathBuf::from(p),
+                    scale: self.number(
+                        at("object", "scale"),
+                        o.scale,
+                        1.0,
+                        |x| x > 0.0,
+                        "must be > 0 (0.001 for a file in millimetres)",
+                    )?,
+                    position: self.vec3(at("object", "position"), o.position, [0.0; 3])?,
                 },
                 _ => {
                     return Err(SceneError::Invalid {
@@ -778,6 +806,21 @@ impl<'a> Resolver<'a> {
                 });
             }
         };
+        if !matches!(shape, Shape::Mesh { .. }) {
+            for (key, given) in [
+                ("scale", o.scale.is_some()),
+                ("position", o.position.is_some()),
+            ] {
+                if given {
+                    return Err(SceneError::Invalid {
+                        file: self.file.to_string(),
+                        message: format!(
+                            "[object] {key} applies to shape = \"mesh\" only; remove it (built-in shapes are centred at x = y = 0 with their bottom at z = 0)"
+                        ),
+                    });
+                }
+            }
+        }
         let smallest = match &shape {
             Shape::Cuboid { size } => size.min_element(),
             Shape::Cylinder { radius, height } => height.min(2.0 * radius),

@@ -107,3 +107,62 @@ fn a_bad_scene_is_a_clear_error_and_a_failing_exit() {
     assert!(!err.contains("panicked"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+fn mesh_fixture(name: &str) -> String {
+    format!("{}/tests/data/meshes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn mesh_info_convert_and_make() {
+    let o = softgrip(&["mesh", "info", &mesh_fixture("cube_binary.msh")]);
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    for needle in [
+        "tetrahedra: 384",
+        "nodes: 143",
+        "boundary facets: 264",
+        "volume: 8.000000e-6 m^3",
+        "skipped cells that are not tetrahedra: 48 lines, 8 points, 264 triangles",
+        "smallest dihedral angle",
+        "worst aspect ratio",
+        "connected parts: 1",
+    ] {
+        assert!(out.contains(needle), "missing {needle:?} in\n{out}");
+    }
+
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let vtk = dir.join("cube.vtk");
+    let o = softgrip(&[
+        "mesh",
+        "convert",
+        &mesh_fixture("cube.msh"),
+        vtk.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let back = softgrip::mesh::io::read(&vtk).expect("converted file reads");
+    assert_eq!(back.mesh.tets.len(), 384);
+
+    let msh22 = dir.join("pinch.msh");
+    let o = softgrip(&[
+        "mesh",
+        "make",
+        &scene("pinch.toml"),
+        msh22.to_str().unwrap(),
+        "--format",
+        "msh22",
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let made = softgrip::mesh::io::read(&msh22).expect("made file reads");
+    assert_eq!(made.mesh.tets.len(), 4320);
+    assert!((made.mesh.volume() - 0.05 * 0.05 * 0.02).abs() < 1e-15);
+
+    // A bad file: an error naming it, no panic.
+    let bad = dir.join("bad.msh");
+    std::fs::write(&bad, "$MeshFormat\n9.9 0 8\n").unwrap();
+    let o = softgrip(&["mesh", "info", bad.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("bad.msh:2") && err.contains("9.9"), "{err}");
+    let _ = std::fs::remove_dir_all(dir);
+}

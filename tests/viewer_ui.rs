@@ -364,6 +364,11 @@ fn a_mesh_that_cannot_be_read_is_an_error_and_the_run_goes_on() {
         .expect("an error in the frame");
     let error = frame.error.clone().unwrap();
     assert!(error.contains("broken.msh"), "{error}");
+    // The reader's own diagnosis, with the line.
+    assert!(
+        error.contains("broken.msh:5") && error.contains("truncated"),
+        "{error}"
+    );
     assert_eq!(*frame.scene, Scene::thesis(), "the scene that ran is back");
     assert!(
         frame.state.time > 0.01,

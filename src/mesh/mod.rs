@@ -5,6 +5,8 @@
 //! checked for it ([`TetMesh::validate`]).
 
 mod builtin;
+pub mod checks;
+pub mod io;
 
 use std::collections::HashMap;
 
@@ -83,6 +85,20 @@ impl TetMesh {
 
     pub fn volume(&self) -> f64 {
         (0..self.tets.len()).map(|t| self.tet_volume(t)).sum()
+    }
+
+    /// Scales the nodes by `scale`, then moves them so that the centre of
+    /// the bottom face of their bounding box is at `position`.
+    pub fn place(&mut self, scale: f64, position: DVec3) {
+        for p in &mut self.nodes {
+            *p *= scale;
+        }
+        let (lo, hi) = self.bounds();
+        let bottom = DVec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+        let shift = position - bottom;
+        for p in &mut self.nodes {
+            *p += shift;
+        }
     }
 
     /// Axis-aligned bounds `(min, max)` of the nodes.

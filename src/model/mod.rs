@@ -94,18 +94,41 @@ impl Model {
 
     /// The mesh a scene's object is made of.
     pub fn mesh_of(scene: &Scene) -> Result<TetMesh, SimError> {
+        Model::load_mesh(scene).map(|(mesh, _)| mesh)
+    }
+
+    /// The mesh of `scene` and what loading it changed or noticed (a mesh
+    /// file's skipped cells, reordered tetrahedra, merged nodes...).
+    pub fn load_mesh(scene: &Scene) -> Result<(TetMesh, Vec<String>), SimError> {
         Ok(match &scene.object.shape {
-            Shape::Cuboid { size } => TetMesh::cuboid(*size, scene.object.edge_length),
-            Shape::Cylinder { radius, height } => {
-                TetMesh::cylinder(*radius, *height, scene.object.edge_length)
-            }
-            Shape::Mesh { path } => {
-                return Err(SimError::NotSupported {
-                    what: format!(
-                        "[object] shape = \"mesh\" ({}): mesh files are not supported yet; use \"cuboid\" or \"cylinder\"",
-                        path.display()
-                    ),
-                });
+            Shape::Cuboid { size } => (TetMesh::cuboid(*size, scene.object.edge_length), vec![]),
+            Shape::Cylinder { radius, height } => (
+                TetMesh::cylinder(*radius, *height, scene.object.edge_length),
+                vec![],
+            ),
+            Shape::Mesh {
+                path,
+                scale,
+                position,
+            } => {
+                let imported = crate::mesh::io::read(path)?;
+                let mut warnings = imported.warnings;
+                let mut mesh = imported.mesh;
+                let file = path.display().to_string();
+                let report =
+                    crate::mesh::checks::repair(&mut mesh).map_err(|source| SimError::Mesh {
+                        file: file.clone(),
+                        source,
+                    })?;
+                warnings.extend(report.warnings);
+                mesh.place(*scale, *position);
+                (
+                    mesh,
+                    warnings
+                        .into_iter()
+                        .map(|w| format!("{file}: {w}"))
+                        .collect(),
+                )
             }
         })
     }
@@ -235,6 +258,12 @@ impl Model {
         }
 
         let facets = mesh.boundary_facets();
+        // A mesh file's own edges, not the meshing target it ignores.
+        let edge_length = if matches!(obj.shape, Shape::Mesh { .. }) && !springs.is_empty() {
+            springs.iter().map(|s| s.rest_length).sum::<f64>() / springs.len() as f64
+        } else {
+            obj.edge_length
+        };
         let facet_springs = facets
             .iter()
             .map(|f| {
@@ -277,7 +306,8 @@ impl Model {
             constraint_iterations: scene.model.constraint_iterations,
             constraint_tolerance: scene.model.constraint_tolerance,
             extent,
-            edge_length: obj.edge_length,
+            // A mesh file's own edges, not the meshing target it ignores.
+            edge_length,
             young_modulus: obj.young_modulus,
             density: obj.density,
         })

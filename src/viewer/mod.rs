@@ -420,6 +420,11 @@ impl Panels {
                 } else if let Some(status) = &self.file_status {
                     ui.label(status);
                 }
+                if let Some(f) = &self.frame {
+                    for w in f.mesh_warnings.iter() {
+                        ui.colored_label(egui::Color32::from_rgb(190, 120, 20), w);
+                    }
+                }
             });
     }
 
@@ -438,7 +443,11 @@ impl Panels {
         {
             let mut scene = self.edited.clone();
             let absolute = std::path::absolute(&path).unwrap_or_else(|_| path.clone());
-            scene.object.shape = crate::scene::Shape::Mesh { path: absolute };
+            scene.object.shape = crate::scene::Shape::Mesh {
+                path: absolute,
+                scale: 1.0,
+                position: glam::DVec3::ZERO,
+            };
             self.file_error = None;
             self.file_status = Some(format!(
                 "opening mesh {} (errors show on the right)",

@@ -1,0 +1,242 @@
+//! The checks every loaded mesh goes through before a model is built on
+//! it: inside-out tetrahedra reordered (an error when flat), duplicate
+//! nodes merged, unused nodes dropped, disconnected parts counted. Each
+//! change is reported as a warning; what cannot be fixed is an error.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use super::{MeshError, TetMesh, bounds_of, signed_volume};
+
+/// What [`repair`] changed or noticed.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Report {
+    pub reordered: usize,
+    pub merged: usize,
+    pub unused: usize,
+    /// Connected parts (sharing nodes); 1 for a sound object.
+    pub parts: usize,
+    pub warnings: Vec<String>,
+}
+
+/// Two nodes closer than this fraction of the mesh's extent are one.
+pub const DUPLICATE_TOLERANCE: f64 = 1e-9;
+
+/// A tetrahedron with less volume than this fraction of the mean is flat.
+pub const DEGENERATE_FRACTION: f64 = 1e-12;
+
+/// Makes `mesh` fit for a model, or says why it cannot be.
+pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
+    if mesh.tets.is_empty() {
+        return Err(MeshError::Empty);
+    }
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        if !p.is_finite() {
+            return Err(MeshError::NonFinite {
+                node: i,
+                position: p.to_array(),
+            });
+        }
+    }
+    for (t, tet) in mesh.tets.iter().enumerate() {
+        for &n in tet {
+            if n as usize >= mesh.nodes.len() {
+                return Err(MeshError::IndexOutOfRange {
+                    tet: t,
+                    node: n,
+                    nodes: mesh.nodes.len(),
+                });
+            }
+        }
+    }
+    let mut report = Report::default();
+
+    // Duplicates: nodes on the same point (to a tolerance) become one.
+    let (lo, hi) = bounds_of(&mesh.nodes);
+    let cell = ((hi - lo).max_element() * DUPLICATE_TOLERANCE).max(f64::MIN_POSITIVE);
+    let mut first: HashMap<[i64; 3], u32> = HashMap::with_capacity(mesh.nodes.len());
+    let mut remap: Vec<u32> = (0..mesh.nodes.len() as u32).collect();
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        let key = ((*p - lo) / cell).round().as_i64vec3().to_array();
+        match first.get(&key) {
+            Some(&j) => {
+                remap[i] = j;
+                report.merged += 1;
+            }
+            None => {
+                first.insert(key, i as u32);
+            }
+        }
+    }
+    for tet in &mut mesh.tets {
+        for n in tet.iter_mut() {
+            *n = remap[*n as usize];
+        }
+    }
+
+    // Unused nodes go (and the merged ones with them).
+    let mut used = vec![false; mesh.nodes.len()];
+    for tet in &mesh.tets {
+        for &n in tet {
+            used[n as usize] = true;
+        }
+    }
+    let unused = used.iter().filter(|u| !**u).count();
+    report.unused = unused.saturating_sub(report.merged);
+    if unused > 0 {
+        let mut new_index = vec![u32::MAX; mesh.nodes.len()];
+        let mut nodes = Vec::with_capacity(mesh.nodes.len() - unused);
+        for (i, p) in mesh.nodes.iter().enumerate() {
+            if used[i] {
+                new_index[i] = nodes.len() as u32;
+                nodes.push(*p);
+            }
+        }
+        mesh.nodes = nodes;
+        for tet in &mut mesh.tets {
+            for n in tet.iter_mut() {
+                *n = new_index[*n as usize];
+            }
+        }
+    }
+
+    // Orientation: a negative volume is a node order; a flat one is an error.
+    let mean = mesh
+        .tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| mesh.nodes[i as usize]);
+            signed_volume(p[0], p[1], p[2], p[3]).abs()
+        })
+        .sum::<f64>()
+        / mesh.tets.len() as f64;
+    for (t, tet) in mesh.tets.iter_mut().enumerate() {
+        let p = tet.map(|i| mesh.nodes[i as usize]);
+        let v = signed_volume(p[0], p[1], p[2], p[3]);
+        let distinct = {
+            let mut s = *tet;
+            s.sort_unstable();
+            s.windows(2).all(|w| w[0] != w[1])
+        };
+        if !distinct || v.abs() <= DEGENERATE_FRACTION * mean {
+            let c = (p[0] + p[1] + p[2] + p[3]) / 4.0;
+            return Err(MeshError::Inverted {
+                tet: t,
+                volume: v,
+                x: c.x,
+                y: c.y,
+                z: c.z,
+            });
+        }
+        if v < 0.0 {
+            tet.swap(2, 3);
+            report.reordered += 1;
+        }
+    }
+
+    report.parts = parts(mesh);
+    if report.reordered > 0 {
+        report.warnings.push(format!(
+            "{} tetrahedra were inside out (negative volume): their nodes were reordered",
+            report.reordered
+        ));
+    }
+    if report.merged > 0 {
+        report.warnings.push(format!(
+            "{} duplicate nodes (on the same point as another) were merged",
+            report.merged
+        ));
+    }
+    if report.unused > 0 {
+        report.warnings.push(format!(
+            "{} nodes belong to no tetrahedron and were dropped",
+            report.unused
+        ));
+    }
+    if report.parts > 1 {
+        report.warnings.push(format!(
+            "the mesh has {} disconnected parts: each moves on its own (is that intended?)",
+            report.parts
+        ));
+    }
+    Ok(report)
+}
+
+/// Connected parts of the node graph of the tetrahedra (union-find).
+pub fn parts(mesh: &TetMesh) -> usize {
+    let mut parent: Vec<u32> = (0..mesh.nodes.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            let up = parent[parent[i as usize] as usize];
+            parent[i as usize] = up;
+            i = up;
+        }
+        i
+    }
+    for tet in &mesh.tets {
+        let a = root(&mut parent, tet[0]);
+        for &n in &tet[1..] {
+            let b = root(&mut parent, n);
+            if a != b {
+                parent[b as usize] = a;
+            }
+        }
+    }
+    let mut used = vec![false; mesh.nodes.len()];
+    for tet in &mesh.tets {
+        for &n in tet {
+            used[n as usize] = true;
+        }
+    }
+    (0..mesh.nodes.len() as u32)
+        .filter(|&i| used[i as usize] && root(&mut parent, i) == i)
+        .count()
+}
+
+/// The smallest dihedral angle (degrees) and the worst aspect ratio
+/// (longest edge over the smallest height) of the mesh.
+pub fn shape_figures(mesh: &TetMesh) -> (f64, f64) {
+    let mut min_angle = f64::INFINITY;
+    let mut worst_aspect: f64 = 0.0;
+    for t in &mesh.tets {
+        let p = t.map(|i| mesh.nodes[i as usize]);
+        let v = signed_volume(p[0], p[1], p[2], p[3]).abs();
+        // Face normals (outward-ish; angles from their dot products).
+        let faces: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+        let normals: Vec<(DVec3, f64)> = faces
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                let n = (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
+                // Point away from the opposite vertex.
+                let n = if n.dot(p[k] - p[f[0]]) > 0.0 { -n } else { n };
+                (n.normalize_or_zero(), 0.5 * n.length())
+            })
+            .collect();
+        for a in 0..4 {
+            for b in a + 1..4 {
+                let cos = -normals[a].0.dot(normals[b].0);
+                let angle = cos.clamp(-1.0, 1.0).acos().to_degrees();
+                min_angle = min_angle.min(angle);
+            }
+        }
+        let longest = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]
+            .iter()
+            .map(|[a, b]| p[*a].distance(p[*b]))
+            .fold(0.0f64, f64::max);
+        let largest_face = normals.iter().map(|n| n.1).fold(0.0f64, f64::max);
+        let height = if largest_face > 0.0 {
+            3.0 * v / largest_face
+        } else {
+            0.0
+        };
+        let aspect = if height > 0.0 {
+            longest / height
+        } else {
+            f64::INFINITY
+        };
+        worst_aspect = worst_aspect.max(aspect);
+    }
+    (min_angle, worst_aspect)
+}

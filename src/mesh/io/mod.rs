@@ -1,0 +1,256 @@
+//! Tetrahedral mesh files in and out: Gmsh `.msh` (2.2 and 4.1, ASCII and
+//! binary), TetGen `.node`/`.ele` (with an optional `.face`), VTK legacy
+//! `.vtk`. Readers never panic and never trust a count: a malformed file is
+//! an [`ImportError`] naming the file, the line (or byte) and what is wrong.
+//! Cells other than tetrahedra are skipped with a warning that counts them.
+
+mod cursor;
+mod gmsh;
+mod tetgen;
+mod vtk;
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use super::TetMesh;
+
+/// A mesh file that could not be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}{}: {message}", file, line.map(|l| format!(":{l}")).unwrap_or_default())]
+pub struct ImportError {
+    pub file: String,
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+impl ImportError {
+    pub fn at(file: &str, line: Option<usize>, message: impl Into<String>) -> ImportError {
+        ImportError {
+            file: file.to_string(),
+            line,
+            message: message.into(),
+        }
+    }
+}
+
+/// What a reader produced: the tetrahedra as written (not yet checked or
+/// repaired: see [`super::checks`]) and what it skipped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Imported {
+    pub mesh: TetMesh,
+    pub warnings: Vec<String>,
+}
+
+/// The mesh formats softgrip reads and writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// Gmsh 4.1 ASCII (`.msh`; reading also takes 2.2 and binary).
+    Msh,
+    /// Gmsh 2.2 ASCII (`.msh`).
+    Msh22,
+    /// TetGen `.node` + `.ele` (+ `.face`): give either file name.
+    Tetgen,
+    /// VTK legacy ASCII unstructured grid (`.vtk`).
+    Vtk,
+}
+
+impl Format {
+    /// The format a file name implies.
+    pub fn of(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "msh" => Format::Msh,
+            "node" | "ele" | "face" => Format::Tetgen,
+            "vtk" => Format::Vtk,
+            _ => return None,
+        })
+    }
+}
+
+/// Extensions [`read`] takes.
+pub const READ_EXTENSIONS: &[&str] = &["msh", "node", "ele", "vtk"];
+
+fn read_bytes(path: &Path) -> Result<Vec<u8>, ImportError> {
+    std::fs::read(path).map_err(|e| {
+        ImportError::at(
+            &path.display().to_string(),
+            None,
+            format!("cannot read the file: {e}"),
+        )
+    })
+}
+
+/// Reads a tetrahedral mesh file, the format told by its extension.
+pub fn read(path: &Path) -> Result<Imported, ImportError> {
+    let name = path.display().to_string();
+    let Some(format) = Format::of(path) else {
+        return Err(ImportError::at(
+            &name,
+            None,
+            format!(
+                "unknown mesh format (extension {:?}); softgrip reads .msh (Gmsh 2.2 or 4.1, ASCII or binary), .node/.ele (TetGen) and .vtk (VTK legacy)",
+                path.extension().and_then(|e| e.to_str()).unwrap_or("")
+            ),
+        ));
+    };
+    match format {
+        Format::Msh | Format::Msh22 => gmsh::read(&read_bytes(path)?, &name),
+        Format::Vtk => vtk::read(&read_bytes(path)?, &name),
+        Format::Tetgen => {
+            let node = path.with_extension("node");
+            let ele = path.with_extension("ele");
+            let face = path.with_extension("face");
+            let face_bytes = if face.exists() {
+                Some(read_bytes(&face)?)
+            } else {
+                None
+            };
+            tetgen::read(
+                (&read_bytes(&node)?, &node.display().to_string()),
+                (&read_bytes(&ele)?, &ele.display().to_string()),
+                face_bytes
+                    .as_deref()
+                    .map(|b| (b, face.display().to_string())),
+            )
+        }
+    }
+}
+
+/// Reads mesh text or bytes in a given format (TetGen: the `.node` and
+/// `.ele` contents joined by [`tetgen::read`]; here only single-file
+/// formats). For fuzzing and tests.
+pub fn read_bytes_as(bytes: &[u8], format: Format, name: &str) -> Result<Imported, ImportError> {
+    match format {
+        Format::Msh | Format::Msh22 => gmsh::read(bytes, name),
+        Format::Vtk => vtk::read(bytes, name),
+        Format::Tetgen => {
+            // One buffer holding both files, separated by a line "---ele---".
+            let text = String::from_utf8_lossy(bytes);
+            let (node, ele) = text.split_once("---ele---").ok_or_else(|| {
+                ImportError::at(
+                    name,
+                    None,
+                    "expected .node and .ele text separated by ---ele---",
+                )
+            })?;
+            tetgen::read(
+                (node.as_bytes(), &format!("{name}.node")),
+                (ele.as_bytes(), &format!("{name}.ele")),
+                None,
+            )
+        }
+    }
+}
+
+/// Writes `mesh` in `format` (TetGen: `path` with `.node`, `.ele` and
+/// `.face`). Returns the files written.
+pub fn write(mesh: &TetMesh, path: &Path, format: Format) -> std::io::Result<Vec<PathBuf>> {
+    match format {
+        Format::Msh => {
+            std::fs::write(path, gmsh::write_41(mesh))?;
+            Ok(vec![path.to_path_buf()])
+        }
+        Format::Msh22 => {
+            std::fs::write(path, gmsh::write_22(mesh))?;
+            Ok(vec![path.to_path_buf()])
+        }
+        Format::Vtk => {
+            std::fs::write(path, vtk::write(mesh))?;
+            Ok(vec![path.to_path_buf()])
+        }
+        Format::Tetgen => {
+            let (node, ele, face) = tetgen::write(mesh);
+            let paths = [
+                path.with_extension("node"),
+                path.with_extension("ele"),
+                path.with_extension("face"),
+            ];
+            std::fs::write(&paths[0], node)?;
+            std::fs::write(&paths[1], ele)?;
+            std::fs::write(&paths[2], face)?;
+            Ok(paths.to_vec())
+        }
+    }
+}
+
+/// Collects nodes by their file tags and tetrahedra by node tags, and
+/// counts the cells it skips.
+#[derive(Debug, Default)]
+struct Builder {
+    nodes: Vec<DVec3>,
+    index: HashMap<i64, u32>,
+    tets: Vec<[i64; 4]>,
+    skipped: BTreeMap<String, usize>,
+    notes: Vec<String>,
+}
+
+impl Builder {
+    fn node(&mut self, tag: i64, p: DVec3) -> Result<(), String> {
+        if self.index.insert(tag, self.nodes.len() as u32).is_some() {
+            return Err(format!("node {tag} is defined twice"));
+        }
+        self.nodes.push(p);
+        Ok(())
+    }
+
+    fn skip(&mut self, kind: &str) {
+        *self.skipped.entry(kind.to_string()).or_insert(0) += 1;
+    }
+
+    /// The mesh, each tetrahedron's tags resolved; the first unknown tag is
+    /// an error (the caller names the file).
+    fn finish(self) -> Result<Imported, String> {
+        let mut tets = Vec::with_capacity(self.tets.len());
+        for (k, t) in self.tets.iter().enumerate() {
+            let mut tet = [0u32; 4];
+            for (slot, tag) in tet.iter_mut().zip(t) {
+                *slot = *self.index.get(tag).ok_or_else(|| {
+                    format!(
+                        "tetrahedron {} refers to node {tag}, which the file does not define",
+                        k + 1
+                    )
+                })?;
+            }
+            tets.push(tet);
+        }
+        if tets.is_empty() {
+            let other = if self.skipped.is_empty() {
+                String::from("no cells at all")
+            } else {
+                self.skipped
+                    .iter()
+                    .map(|(k, n)| format!("{n} {k}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return Err(format!(
+                "the file has no tetrahedra ({other}); softgrip needs a volume mesh (a closed surface is tetrahedralized only from .stl or .obj)"
+            ));
+        }
+        let mut warnings = self.notes;
+        if !self.skipped.is_empty() {
+            let list = self
+                .skipped
+                .iter()
+                .map(|(k, n)| format!("{n} {k}"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            warnings.push(format!("skipped cells that are not tetrahedra: {list}"));
+        }
+        Ok(Imported {
+            mesh: TetMesh {
+                nodes: self.nodes,
+                tets,
+            },
+            warnings,
+        })
+    }
+}
+
+/// Number formatting shared by the writers: shortest round-trip text.
+fn num(v: f64) -> String {
+    let s = format!("{v:?}");
+    s
+}
