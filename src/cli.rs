@@ -37,6 +37,10 @@ enum Command {
         /// Frames per simulated second written with --out.
         #[arg(long, default_value_t = 50.0)]
         fps: f64,
+        /// With --out: also write each frame's deformed surface
+        /// (surface_NNNNN.stl or .obj).
+        #[arg(long, value_enum)]
+        surface: Option<softgrip::output::surface::SurfaceFormat>,
     },
     /// Quasi-static load steps: set the first force-controlled finger's load to
     /// each value in turn (N, along the scene's force direction) and step to rest.
@@ -263,7 +267,7 @@ pub fn main() -> ExitCode {
             eprintln!(
                 "softgrip: built without the viewer (feature `gui`); running the built-in thesis scene headless (see `softgrip --help`)."
             );
-            run(None, None, None, 50.0)
+            run(None, None, None, 50.0, None)
         }
         #[cfg(feature = "gui")]
         Some(Command::View {
@@ -290,7 +294,8 @@ pub fn main() -> ExitCode {
             out,
             duration,
             fps,
-        }) => run(scene.as_deref(), out.as_deref(), duration, fps),
+            surface,
+        }) => run(scene.as_deref(), out.as_deref(), duration, fps, surface),
         Some(Command::Check { scene }) => check(scene.as_deref()),
         Some(Command::Mesh { action }) => mesh_command(action),
         Some(Command::Ramp {
@@ -462,6 +467,7 @@ fn run(
     out: Option<&Path>,
     duration: Option<f64>,
     fps: f64,
+    surface: Option<softgrip::output::surface::SurfaceFormat>,
 ) -> Result<()> {
     let scene = load_scene(scene_path)?;
     let mut sim = simulation(&scene)?;
@@ -483,6 +489,7 @@ fn run(
     let mut writer = match out {
         Some(dir) => {
             let mut w = TrajectoryWriter::new(dir)?;
+            w.surface = surface;
             w.frame(&sim.model, &sim.state)?;
             Some(w)
         }

@@ -97,3 +97,92 @@ fn a_failing_run_keeps_its_frames() {
     assert!(out.join("steps.csv").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The deformed surface files close the object's deformed volume (the
+/// divergence theorem over their triangles equals the tetrahedra's sum),
+/// and the `.vtu` carries the contact force, which sums to the contacts'.
+#[test]
+fn surface_exports_enclose_the_deformed_volume() {
+    use softgrip::output::surface::{to_obj, to_stl};
+    let mut sim = Simulation::new(&softgrip::Scene::thesis()).expect("sim");
+    sim.run_until(0.2).expect("run");
+    let (model, state) = (&sim.model, &sim.state);
+    let volume: f64 = model
+        .tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| state.positions[i as usize]);
+            softgrip::mesh::signed_volume(p[0], p[1], p[2], p[3])
+        })
+        .sum();
+    let enclosed = |tris: &[[glam::DVec3; 3]]| -> f64 {
+        tris.iter().map(|p| p[0].dot(p[1].cross(p[2])) / 6.0).sum()
+    };
+
+    let stl = to_stl(model, state);
+    let count = u32::from_le_bytes(stl[80..84].try_into().unwrap()) as usize;
+    assert_eq!(count, model.facets.len());
+    assert_eq!(stl.len(), 84 + 50 * count);
+    let f = |at: usize| f32::from_le_bytes(stl[at..at + 4].try_into().unwrap()) as f64;
+    let tris: Vec<[glam::DVec3; 3]> = (0..count)
+        .map(|k| {
+            let base = 84 + 50 * k + 12;
+            std::array::from_fn(|v| {
+                let b = base + 12 * v;
+                glam::DVec3::new(f(b), f(b + 4), f(b + 8))
+            })
+        })
+        .collect();
+    let v_stl = enclosed(&tris);
+    // Single precision: 1e-6 relative.
+    assert!(
+        (v_stl - volume).abs() < 1e-6 * volume,
+        "STL {v_stl:e} vs {volume:e}"
+    );
+
+    let obj = to_obj(model, state);
+    let vertices: Vec<glam::DVec3> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let c: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            glam::DVec3::new(c[0], c[1], c[2])
+        })
+        .collect();
+    let tris: Vec<[glam::DVec3; 3]> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("f "))
+        .map(|l| {
+            let i: Vec<usize> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [vertices[i[0] - 1], vertices[i[1] - 1], vertices[i[2] - 1]]
+        })
+        .collect();
+    assert_eq!(tris.len(), model.facets.len());
+    let v_obj = enclosed(&tris);
+    assert!(
+        (v_obj - volume).abs() < 1e-12 * volume,
+        "OBJ {v_obj:e} vs {volume:e}"
+    );
+
+    // The .vtu's contact force sums to what the contacts carry.
+    let per_particle = softgrip::output::vtu::contact_forces(model, state);
+    let total: glam::DVec3 = per_particle.iter().copied().sum();
+    let contacts: glam::DVec3 = state
+        .contacts
+        .iter()
+        .map(|c| c.normal * c.normal_force + c.tangential_force)
+        .sum();
+    assert!(contacts.length() > 1.0);
+    assert!((total - contacts).length() < 1e-12 * contacts.length());
+    let vtu = softgrip::output::vtu::to_vtu(model, state);
+    for name in [
+        "contact_force",
+        "max_spring_strain",
+        "displacement",
+        "velocity",
+        "fixed",
+        "volume_ratio",
+    ] {
+        assert!(vtu.contains(&format!("Name=\"{name}\"")), "{name}");
+    }
+}

@@ -1,6 +1,8 @@
 //! Writing results: ParaView files (`.vtu` per frame and a `.pvd` series),
-//! the fingers' track and the per-step solver record as CSV.
+//! the deformed surface (`.stl` or `.obj`, optional), the fingers' track and
+//! the per-step solver record as CSV.
 
+pub mod surface;
 pub mod vtu;
 
 use std::fmt::Write as _;
@@ -28,6 +30,8 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
 pub struct TrajectoryWriter {
     dir: PathBuf,
     frames: Vec<(f64, String)>,
+    /// Also write the deformed surface of every frame in this format.
+    pub surface: Option<surface::SurfaceFormat>,
     fingers_csv: String,
     steps_csv: String,
 }
@@ -41,6 +45,7 @@ impl TrajectoryWriter {
         Ok(TrajectoryWriter {
             dir: dir.to_path_buf(),
             frames: Vec::new(),
+            surface: None,
             fingers_csv: String::from("time,finger,x,y,z,fx,fy,fz\n"),
             steps_csv: format!("{STEPS_HEADER}\n"),
         })
@@ -71,6 +76,14 @@ impl TrajectoryWriter {
         let name = format!("frame_{:05}.vtu", self.frames.len());
         let path = self.dir.join(&name);
         std::fs::write(&path, vtu::to_vtu(model, state)).map_err(io_err(&path))?;
+        if let Some(format) = self.surface {
+            let path = self.dir.join(format!(
+                "surface_{:05}.{}",
+                self.frames.len(),
+                format.extension()
+            ));
+            std::fs::write(&path, format.write(model, state)).map_err(io_err(&path))?;
+        }
         self.frames.push((state.time, name));
         for (k, f) in state.fingers.iter().enumerate() {
             let p = f.position;

@@ -1,12 +1,29 @@
 //! VTK XML unstructured grid (`.vtu`, ASCII) of one state: the tetrahedra
-//! with point data (displacement, velocity, fixed) and cell data (volume
-//! ratio V / V0).
+//! with point data (displacement, velocity, contact force, fixed) and cell
+//! data (volume ratio V / V0, max spring strain).
 
 use std::fmt::Write as _;
 
 use crate::mesh::signed_volume;
 use crate::model::Model;
 use crate::state::State;
+
+/// The contact force on each particle (N): each contact's normal and
+/// tangential force shared by its barycentric weights, as the step applied
+/// them (thesis eq. 37-39).
+pub fn contact_forces(model: &Model, state: &State) -> Vec<glam::DVec3> {
+    let mut out = vec![glam::DVec3::ZERO; model.particle_count()];
+    for c in &state.contacts {
+        let Some(tri) = model.facets.get(c.facet as usize) else {
+            continue;
+        };
+        let total = c.normal * c.normal_force + c.tangential_force;
+        for a in 0..3 {
+            out[tri[a] as usize] += c.weights[a] * total;
+        }
+    }
+    out
+}
 
 pub fn to_vtu(model: &Model, state: &State) -> String {
     let n = model.particle_count();
@@ -52,6 +69,11 @@ pub fn to_vtu(model: &Model, state: &State) -> String {
         let _ = writeln!(s, "          {:e} {:e} {:e}", v.x, v.y, v.z);
     }
     s.push_str("        </DataArray>\n");
+    s.push_str("        <DataArray type=\"Float64\" Name=\"contact_force\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    for f in contact_forces(model, state) {
+        let _ = writeln!(s, "          {:e} {:e} {:e}", f.x, f.y, f.z);
+    }
+    s.push_str("        </DataArray>\n");
     s.push_str("        <DataArray type=\"UInt8\" Name=\"fixed\" format=\"ascii\">\n");
     for f in &model.fixed {
         let _ = writeln!(s, "          {}", *f as u8);
@@ -65,6 +87,10 @@ pub fn to_vtu(model: &Model, state: &State) -> String {
             "          {:e}",
             signed_volume(p[0], p[1], p[2], p[3]) / v0
         );
+    }
+    s.push_str("        </DataArray>\n        <DataArray type=\"Float64\" Name=\"max_spring_strain\" format=\"ascii\">\n");
+    for e in crate::fields::element_max_spring_strain(model, state) {
+        let _ = writeln!(s, "          {e:e}");
     }
     s.push_str("        </DataArray>\n      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
     s

@@ -692,6 +692,13 @@ impl Panels {
             );
             st.cut = cut.then_some(c);
             ui.horizontal(|ui| {
+                if ui
+                    .button("reset view")
+                    .on_hover_text("back to the opening view, framing the object")
+                    .clicked()
+                {
+                    self.view_request = Some(View::Iso);
+                }
                 for (name, view) in [
                     ("front", View::Front),
                     ("side", View::Side),
