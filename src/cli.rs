@@ -165,6 +165,25 @@ fn mesh_command(action: MeshCommand) -> Result<()> {
         })
     };
     match action {
+        MeshCommand::Info { file } if io::is_surface(&file) => {
+            let surface = softgrip::mesh::surface::read(
+                &std::fs::read(&file).with_context(|| format!("reading {}", file.display()))?,
+                &file.display().to_string(),
+                file.extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("obj")),
+            )?;
+            println!(
+                "{} (a surface: tetrahedralized when a scene uses it)",
+                file.display()
+            );
+            println!("  triangles: {}", surface.triangles.len());
+            println!("  vertices (welded): {}", surface.vertices.len());
+            println!("  enclosed volume: {:.6e} m^3", surface.volume());
+            println!("  mean edge: {:.3} mm", 1e3 * surface.mean_edge());
+            softgrip::mesh::surface::check(&surface, &file.display().to_string())?;
+            println!("  closed, consistently oriented, outward, not self-intersecting");
+            Ok(())
+        }
         MeshCommand::Info { file } => {
             let imported = io::read(&file)?;
             let raw = &imported.mesh;

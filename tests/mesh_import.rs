@@ -28,6 +28,19 @@ const VOLUME_FIXTURES: &[(&str, usize, usize, f64, &str)] = &[
     ("cube_binary.vtk", 143, 384, 8.0e-6, ""),
     ("cube_v42.vtk", 143, 384, 8.0e-6, ""),
     ("cube.node", 143, 384, 8.0e-6, ""),
+    ("cube.vtu", 143, 384, 8.0e-6, ""),
+    ("cube_binary.vtu", 143, 384, 8.0e-6, ""),
+    // Written by VTK 9.7.2 itself, two triangles among the tetrahedra.
+    ("cube_vtk_appended_raw.vtu", 143, 384, 8.0e-6, "2 triangles"),
+    (
+        "cube_vtk_appended_base64.vtu",
+        143,
+        384,
+        8.0e-6,
+        "2 triangles",
+    ),
+    ("cube_vtk_binary.vtu", 143, 384, 8.0e-6, "2 triangles"),
+    ("cube_vtk_ascii.vtu", 143, 384, 8.0e-6, "2 triangles"),
 ];
 
 #[test]
@@ -74,12 +87,20 @@ fn the_four_msh_variants_hold_the_same_mesh() {
         "cube_binary.vtk",
         "cube_v42.vtk",
         "cube.node",
+        "cube_binary.vtu",
+        "cube.vtu",
+        "cube_vtk_appended_raw.vtu",
+        "cube_vtk_appended_base64.vtu",
+        "cube_vtk_binary.vtu",
+        "cube_vtk_ascii.vtu",
     ] {
         let m = read(other);
         assert_eq!(m.tets, reference.tets, "{other}: connectivity");
         assert_eq!(m.nodes.len(), reference.nodes.len());
+        // meshio's ASCII .vtu keeps 12 significant digits.
+        let tolerance = if other == "cube.vtu" { 1e-13 } else { 1e-17 };
         for (a, b) in m.nodes.iter().zip(&reference.nodes) {
-            assert!((*a - *b).length() < 1e-17, "{other}: {a} vs {b}");
+            assert!((*a - *b).length() < tolerance, "{other}: {a} vs {b}");
         }
     }
 }
@@ -94,6 +115,7 @@ fn round_trips_through_every_writable_format() {
         (Format::Msh22, "m22.msh"),
         (Format::Vtk, "m.vtk"),
         (Format::Tetgen, "m.node"),
+        (Format::Vtu, "m.vtu"),
     ] {
         let path = dir.join(file);
         io::write(&mesh, &path, format).expect("write");
@@ -306,6 +328,19 @@ fn mutated_files_never_panic() {
             std::fs::read(fixture("cube_binary.vtk")).unwrap(),
         ),
         (Format::Vtk, std::fs::read(fixture("cube_v42.vtk")).unwrap()),
+        (Format::Vtu, std::fs::read(fixture("cube.vtu")).unwrap()),
+        (
+            Format::Vtu,
+            std::fs::read(fixture("cube_binary.vtu")).unwrap(),
+        ),
+        (
+            Format::Vtu,
+            std::fs::read(fixture("cube_vtk_appended_raw.vtu")).unwrap(),
+        ),
+        (
+            Format::Vtu,
+            std::fs::read(fixture("cube_vtk_appended_base64.vtu")).unwrap(),
+        ),
         (Format::Tetgen, tetgen),
     ];
     let mut outcomes = [0usize; 2];

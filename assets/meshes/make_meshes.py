@@ -21,6 +21,14 @@ What it makes
     default), and to TetGen's ``cube.node`` + ``cube.ele`` (meshio's "tetgen"
     writer).  ``cube.face`` (TetGen .face, boundary triangles with the Gmsh
     surface number as boundary marker) is written by this script itself.
+  - ``cube_vtk_appended_raw.vtu``, ``cube_vtk_appended_base64.vtu``,
+    ``cube_vtk_binary.vtu``, ``cube_vtk_ascii.vtu``: the same points and
+    tetrahedra, plus two of Gmsh's boundary triangles (the first and the last
+    cell), written by VTK's own ``vtkXMLUnstructuredGridWriter`` (Kitware's
+    ``vtk`` wheel) in its four data modes: appended raw (zlib, UInt64
+    headers), appended base64 (uncompressed, UInt32 headers), inline binary
+    (base64, zlib, UInt64 headers) and ascii.  Optional: without ``vtk`` the
+    script leaves these files as they are and says so.
   - ``sphere_surface.stl`` (binary) and ``sphere_surface_ascii.stl`` (ASCII),
     written by Gmsh from its 2-D mesh (h = 2 mm) of the sphere of radius 10 mm,
     closed and outward-oriented; ``sphere_surface.obj`` (meshio) from the same
@@ -42,6 +50,7 @@ All lengths are in metres.
 How to run
 ----------
     pip install gmsh==4.15.2 meshio==5.3.5 numpy
+    pip install vtk==9.7.2                      # optional: cube_vtk_*.vtu
     python3 assets/meshes/make_meshes.py        # from anywhere; paths are
                                                 # relative to this file
 
@@ -51,8 +60,9 @@ non-zero if a read-back check fails.
 Versions used
 -------------
 Python 3.11.7, gmsh 4.15.2 (PyPI wheel, bundles the Gmsh library),
-meshio 5.3.5, numpy 2.4.6.  Other versions may mesh differently; the script
-warns when the installed gmsh or meshio differs from these.
+meshio 5.3.5, numpy 2.4.6, vtk 9.7.2 (PyPI wheel).  Other versions may mesh
+differently; the script warns when the installed gmsh, meshio or vtk differs
+from these.
 
 Determinism
 -----------
@@ -60,7 +70,10 @@ Gmsh runs with one thread, Mesh.RandomSeed=1, Mesh.Algorithm=6 (2-D
 Frontal-Delaunay), Mesh.Algorithm3D=1 (Delaunay) and Mesh.Optimize=1, so two
 runs give byte-identical files.  meshio's OBJ writer puts the current date and
 time in its first comment line; this script removes the time stamp from that
-line so the OBJ file is reproducible too.
+line so the OBJ file is reproducible too.  VTK's XML writer embeds nothing
+variable; each VTK file is written from a freshly built grid, so no file
+depends on the ones written before it (VTK caches the points' norm range on
+the array during a write and would add it to later files).
 
 Licence: this script and the meshes it writes are part of softgrip
 (MIT OR Apache-2.0).  Gmsh (GPL) is only used as a tool; its output carries no
@@ -80,6 +93,16 @@ import gmsh
 import meshio
 import numpy as np
 
+try:  # optional: only needed to remake the cube_vtk_*.vtu fixtures
+    from vtkmodules.vtkCommonCore import vtkIdList, vtkPoints, vtkVersion
+    from vtkmodules.vtkCommonDataModel import VTK_TETRA, VTK_TRIANGLE, vtkUnstructuredGrid
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
+
+    VTK_VERSION = vtkVersion.GetVTKVersion()
+except ImportError as exc:
+    VTK_VERSION = None
+    VTK_IMPORT_ERROR = exc
+
 HERE = Path(__file__).resolve().parent  # assets/meshes
 REPO = HERE.parent.parent
 TESTDATA = REPO / "tests" / "data" / "meshes"
@@ -87,6 +110,7 @@ ASSETS = HERE
 
 GMSH_VERSION_USED = "4.15.2"
 MESHIO_VERSION_USED = "5.3.5"
+VTK_VERSION_USED = "9.7.2"
 
 # Gmsh element type numbers (see the MSH format documentation).
 GMSH_POINT, GMSH_LINE, GMSH_TRIANGLE, GMSH_TETRA = 15, 1, 2, 4
@@ -96,6 +120,20 @@ GMSH_TYPE_NAMES = {
     GMSH_TRIANGLE: "triangle",
     GMSH_TETRA: "tetra",
 }
+
+# The cube written by VTK's vtkXMLUnstructuredGridWriter: file name, data mode,
+# appended data base64-encoded?, compressor, header type (None: VTK's default,
+# not set), and the README's format column.
+VTK_VTU_SPECS = [
+    ("cube_vtk_appended_raw.vtu", "Appended", False, "ZLib", "UInt64",
+     "VTK XML UnstructuredGrid, appended raw + zlib, UInt64 headers"),
+    ("cube_vtk_appended_base64.vtu", "Appended", True, "None", "UInt32",
+     "VTK XML UnstructuredGrid, appended base64, uncompressed, UInt32 headers"),
+    ("cube_vtk_binary.vtu", "Binary", None, "ZLib", "UInt64",
+     "VTK XML UnstructuredGrid, inline base64 + zlib, UInt64 headers"),
+    ("cube_vtk_ascii.vtu", "Ascii", None, None, None,
+     "VTK XML UnstructuredGrid, ascii"),
+]
 
 CUBE_SIDE = 0.02
 CUBE_H = 0.006
@@ -394,6 +432,91 @@ def write_cube_conversions(cube: dict) -> None:
     write_tetgen_face(TESTDATA / "cube.face", cube)
 
 
+def vtk_cube_cells() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points, tetrahedra and the first two boundary triangles of
+    cube_binary.msh as meshio reads it (0-based, the file's order)."""
+    mesh = meshio_read(TESTDATA / "cube_binary.msh")
+    tets = meshio_tets(mesh)
+    tris = np.concatenate([b.data for b in mesh.cells if b.type == "triangle"])[:2]
+    return np.asarray(mesh.points, dtype=np.float64), tets, tris.astype(np.int64)
+
+
+def vtk_cube_grid(points: np.ndarray, tets: np.ndarray, tris: np.ndarray):
+    """A fresh vtkUnstructuredGrid: cell 0 is tris[0], cells 1..len(tets) the
+    tetrahedra in order, the last cell tris[1]."""
+    vpoints = vtkPoints()
+    vpoints.SetDataTypeToDouble()
+    for x, y, z in points.tolist():
+        vpoints.InsertNextPoint(x, y, z)
+    grid = vtkUnstructuredGrid()
+    grid.SetPoints(vpoints)
+    grid.Allocate(len(tets) + 2)
+    grid.InsertNextCell(VTK_TRIANGLE, 3, tris[0].tolist())
+    for tet in tets.tolist():
+        grid.InsertNextCell(VTK_TETRA, 4, tet)
+    grid.InsertNextCell(VTK_TRIANGLE, 3, tris[1].tolist())
+    return grid
+
+
+def write_vtk_conversions() -> None:
+    """The cube_vtk_*.vtu fixtures, written by VTK itself (if installed)."""
+    if VTK_VERSION is None:
+        print(f"note: VTK not importable ({VTK_IMPORT_ERROR}); "
+              "cube_vtk_*.vtu left as they are (pip install vtk to remake them)")
+        return
+    points, tets, tris = vtk_cube_cells()
+    for name, mode, encode, compressor, header, _ in VTK_VTU_SPECS:
+        writer = vtkXMLUnstructuredGridWriter()
+        # A fresh grid per file: a write caches the points' L2 norm range on
+        # the array, and later writes would add it as an <InformationKey>.
+        writer.SetInputData(vtk_cube_grid(points, tets, tris))
+        getattr(writer, f"SetDataModeTo{mode}")()
+        if encode is not None:
+            writer.SetEncodeAppendedData(1 if encode else 0)
+        if compressor is not None:
+            getattr(writer, f"SetCompressorTypeTo{compressor}")()
+        if header is not None:
+            getattr(writer, f"SetHeaderTypeTo{header}")()
+        with tempfile.TemporaryDirectory() as tmp:
+            tmp_path = Path(tmp) / name
+            writer.SetFileName(str(tmp_path))
+            ok = writer.Write() == 1 and tmp_path.exists()
+            check(ok, f"{name}: VTK write failed")
+            if ok:
+                (TESTDATA / name).write_bytes(tmp_path.read_bytes())
+
+
+def vtk_read_figures(path: Path, truth: dict) -> dict:
+    """Read a .vtu back with VTK's own reader and compare it with the truth
+    (points bit-identical, tetrahedra and triangles in the written order)."""
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    n = grid.GetNumberOfPoints()
+    points = np.array([grid.GetPoint(i) for i in range(n)], dtype=np.float64)
+    names = {VTK_TETRA: "tetra", VTK_TRIANGLE: "triangle"}
+    cells: dict[str, list[list[int]]] = {}
+    ids = vtkIdList()
+    for i in range(grid.GetNumberOfCells()):
+        grid.GetCellPoints(i, ids)
+        name = names.get(grid.GetCellType(i), f"vtk type {grid.GetCellType(i)}")
+        cells.setdefault(name, []).append([ids.GetId(k) for k in range(ids.GetNumberOfIds())])
+    counts = {k: len(v) for k, v in cells.items()}
+    tets = np.array(cells.get("tetra", []), dtype=np.int64).reshape(-1, 4)
+    tag = f"{path.name} (VTK reader)"
+    check(points.shape == truth["points"].shape and bool(np.all(points == truth["points"])),
+          f"{tag}: points")
+    for k, v in truth["cells"].items():
+        got = np.array(cells.get(k, []), dtype=np.int64)
+        check(got.shape == v.shape and bool(np.all(got == v)), f"{tag}: {k} cells")
+    check(set(counts) == set(truth["cells"]), f"{tag}: cell types {sorted(counts)}")
+    vol = tet_volume(points, tets) if len(tets) and len(points) else 0.0
+    truth_vol = tet_volume(truth["points"], truth["cells"]["tetra"])
+    check(close(vol, truth_vol, 1e-12), f"{tag}: volume {vol} != {truth_vol}")
+    return {"nodes": n, "counts": counts, "volume": vol}
+
+
 def cube_boundary_faces(cube: dict) -> tuple[np.ndarray, np.ndarray]:
     """Gmsh's boundary triangles, wound counter-clockwise seen from outside,
     with the Gmsh surface number as marker (0-based node numbers)."""
@@ -498,17 +621,25 @@ def main() -> int:
                 "the meshes may differ",
                 file=sys.stderr,
             )
+    if VTK_VERSION is not None and VTK_VERSION != VTK_VERSION_USED:
+        print(
+            f"warning: vtk {VTK_VERSION} installed, fixtures were made with "
+            f"{VTK_VERSION_USED}; the cube_vtk_*.vtu files may differ",
+            file=sys.stderr,
+        )
     TESTDATA.mkdir(parents=True, exist_ok=True)
 
     cube = make_cube()
     sphere = make_sphere_volume()
     surf = make_sphere_surface()
     write_cube_conversions(cube)
+    write_vtk_conversions()
     write_surface_derivatives(surf)
     objects = make_objects()
 
     gv, mv = gmsh.__version__, meshio.__version__
     np_v = np.__version__
+    vv = VTK_VERSION or VTK_VERSION_USED  # without vtk: the files as they are
 
     # ---- volume meshes ----------------------------------------------------
     vol_rows = []
@@ -528,6 +659,20 @@ def main() -> int:
         ("cube_binary.vtu", f"meshio {mv}", "VTK XML UnstructuredGrid, base64 + zlib", tet_only),
         ("cube.node + cube.ele", f"meshio {mv}", "TetGen .node/.ele, 0-based", tet_only),
     ]
+    # VTK's files: cell 0 is Gmsh's first boundary triangle, then the
+    # tetrahedra, then the second triangle.
+    vtk_truth = {
+        "points": cube["points"],
+        "cells": {"tetra": cube["cells"]["tetra"],
+                  "triangle": cube["cells"]["triangle"][[0, 1]]},
+    }
+    vtk_names = []
+    for name, _, _, _, _, fmt in VTK_VTU_SPECS:
+        if (TESTDATA / name).exists():
+            specs.append((name, f"VTK {vv}", fmt, vtk_truth))
+            vtk_names.append(name)
+        else:
+            check(False, f"{name}: missing (install vtk to make it)")
     for name, tool, fmt, truth in specs:
         path = TESTDATA / name.split(" ")[0]
         # meshio's ASCII VTU keeps 12 significant digits (%.11e); Gmsh's ASCII
@@ -537,6 +682,12 @@ def main() -> int:
                "sphere.msh": 1e-16}.get(name, 0.0)
         fig = volume_figures(path, truth, tol)
         vol_rows.append((name, tool, fmt, fig))
+
+    # VTK's own reader must see the same as meshio in VTK's files.
+    vtk_rows = []
+    if VTK_VERSION is not None:
+        for name in vtk_names:
+            vtk_rows.append((name, vtk_read_figures(TESTDATA / name, vtk_truth)))
 
     # TetGen .face
     faces, markers = read_tetgen_face(TESTDATA / "cube.face")
@@ -586,14 +737,19 @@ def main() -> int:
         size = (ASSETS / name).stat().st_size
         obj_rows.append((name, fig, size))
 
-    write_test_readme(gv, mv, np_v, vol_rows, face_fig, marker_counts, surf_rows, surf)
+    write_test_readme(gv, mv, np_v, vv, vtk_truth["cells"]["triangle"].tolist(), vol_rows,
+                      face_fig, marker_counts, surf_rows, surf)
     write_assets_readme(gv, mv, np_v, obj_rows)
 
     for name, tool, fmt, fig in vol_rows:
         c = fig["counts"]
-        print(f"{name:24s} nodes={fig['nodes']:5d} tets={c.get('tetra', 0):6d} "
+        print(f"{name:28s} nodes={fig['nodes']:5d} tets={c.get('tetra', 0):6d} "
               f"tris={c.get('triangle', 0):5d} lines={c.get('line', 0):4d} "
               f"verts={c.get('vertex', 0):2d} vol={fmt_vol(fig['volume'])} neg={fig['negative']}")
+    for name, fig in vtk_rows:
+        c = fig["counts"]
+        print(f"{name:28s} VTK reader: nodes={fig['nodes']} tets={c.get('tetra', 0)} "
+              f"tris={c.get('triangle', 0)} vol={fmt_vol(fig['volume'])}")
     print(f"{'cube.face':24s} faces={len(faces)} markers={dict(sorted(marker_counts.items()))} "
           f"vol={fmt_vol(face_fig['volume'])}")
     for name, tool, fmt, fig in surf_rows:
@@ -615,7 +771,8 @@ def bbox_str(bbox) -> str:
     return "[" + ", ".join(f"{a:.6g}..{b:.6g}" for a, b in zip(lo, hi)) + "]"
 
 
-def write_test_readme(gv, mv, np_v, vol_rows, face_fig, marker_counts, surf_rows, surf) -> None:
+def write_test_readme(gv, mv, np_v, vv, vtk_tris, vol_rows, face_fig, marker_counts, surf_rows,
+                      surf) -> None:
     L = []
     L.append("# Mesh importer fixtures")
     L.append("")
@@ -625,12 +782,15 @@ def write_test_readme(gv, mv, np_v, vol_rows, face_fig, marker_counts, surf_rows
     L.append("importers. All of them are made by one script,")
     L.append("")
     L.append("    pip install gmsh==4.15.2 meshio==5.3.5 numpy")
+    L.append("    pip install vtk==9.7.2    # optional, for the cube_vtk_*.vtu files")
     L.append("    python3 assets/meshes/make_meshes.py")
     L.append("")
     L.append(f"with gmsh {gv} (the PyPI wheel, which bundles the Gmsh library), meshio {mv},")
-    L.append(f"numpy {np_v}, Python 3.11. Two runs give byte-identical files. Lengths are in")
-    L.append("metres. The script reads every file back with meshio and checks the figures")
-    L.append("below against what Gmsh held in memory; it fails if they differ.")
+    L.append(f"numpy {np_v}, VTK {vv} (Kitware's `vtk` wheel), Python 3.11. Two runs give")
+    L.append("byte-identical files. Lengths are in metres. The script reads every file back")
+    L.append("with meshio (VTK's files also with VTK's own reader) and checks the figures")
+    L.append("below against what Gmsh held in memory; it fails if they differ. Without the")
+    L.append("`vtk` package it leaves the `cube_vtk_*.vtu` files as they are.")
     L.append("")
     L.append("Gmsh settings: `General.NumThreads=1`, `Mesh.RandomSeed=1`, `Mesh.Algorithm=6`,")
     L.append("`Mesh.Algorithm3D=1` (Delaunay), `Mesh.Optimize=1`, `Mesh.MeshSizeFromPoints=0`,")
@@ -642,6 +802,16 @@ def write_test_readme(gv, mv, np_v, vol_rows, face_fig, marker_counts, surf_rows
     L.append("MSH variants, and its tetrahedra alone (same nodes, same order, 0-based") 
     L.append("node *i* = Gmsh node tag *i*+1) are converted with meshio. `sphere.msh` is")
     L.append(f"a ball of radius {SPHERE_R} centred at the origin (h = {SPHERE_H}).")
+    L.append("")
+    L.append("The `cube_vtk_*.vtu` files are written by VTK's own")
+    L.append("`vtkXMLUnstructuredGridWriter` from `cube_binary.msh` as meshio reads it:")
+    L.append("the same 143 points (Float64, bit-identical) and 386 cells. Cell 0 is the")
+    L.append("first triangle of Gmsh's triangle block (0-based nodes "
+             + " ".join(map(str, vtk_tris[0])) + "), cells 1..384")
+    L.append("are the tetrahedra in Gmsh's order, cell 385 is Gmsh's second triangle")
+    L.append("(" + " ".join(map(str, vtk_tris[1])) + ").")
+    L.append("An importer keeps the 384 tetrahedra and skips the two triangles (VTK type")
+    L.append("5) with a warning. VTK's reader gives the same figures as meshio's.")
     L.append("")
     L.append("Volume = sum over tetrahedra of |det(b-a, c-a, d-a)| / 6, computed with numpy")
     L.append("from the file as read back (15 significant digits). \"neg\" = tetrahedra")
@@ -751,6 +921,42 @@ FORMAT_NOTES = """
   block header (UInt32: number of blocks, uncompressed block size 32768, size
   of the last block, compressed size of each block), then the zlib stream;
   one block per array here.
+- **VTU written by VTK 9.7.2** (`cube_vtk_*.vtu`): points Float64,
+  connectivity and offsets Int64, types UInt8 (5 = triangle, 10 =
+  tetrahedron); `offsets` holds the 386 end offsets (3, 7, 11, ..., 1539, 1542,
+  no leading 0). `<VTKFile>` has `version="1.0"` with `header_type="UInt64"`
+  and `version="0.1"` with `"UInt32"`, and a `compressor` attribute unless the
+  compressor is none: the ascii file still says `header_type="UInt32"
+  compressor="vtkZLibDataCompressor"` (VTK's defaults) though nothing in it is
+  encoded. Inline arrays (binary, ascii) carry `RangeMin`/`RangeMax` (for the
+  points: the range of the point norms, 0 to 0.034641016151377546), and the
+  Points `<DataArray>` holds, after its data, a child element
+  `<InformationKey name="L2_NORM_RANGE" location="vtkDataArray" length="2">`
+  with two `<Value index="i">` children whose text is a number: a reader must
+  not take those as array values. In appended mode VTK fills the attributes in
+  after writing the data, so they are padded with spaces after the closing
+  quote (`NumberOfPoints="143"` + 18 spaces, `offset="0"` + 19 spaces), the
+  points' range is filled in, the cell arrays get `RangeMin=""` and
+  `RangeMax=""` (empty), and Points has no `<InformationKey>`.
+  `cube_vtk_appended_raw.vtu` starts directly with `<VTKFile` (**no**
+  `<?xml version="1.0"?>` line; the file is not well-formed XML). Its
+  `<AppendedData encoding="raw">` is followed by a newline, 3 spaces, `_`, the
+  four arrays back to back as raw bytes (which include `<`, `_`, newlines and
+  NULs), a newline, `  </AppendedData>` and `</VTKFile>`; the `offset`
+  attributes (0, 1106, 3294, 3896) count bytes from the one after `_`; each
+  array is a UInt64 header (number of blocks 1, block size 32768, size of the
+  last block = the uncompressed size, compressed size of each block) followed
+  by the zlib stream. `cube_vtk_appended_base64.vtu` has `<AppendedData
+  encoding="base64">`, `_`, then one base64 string per array, each padded on
+  its own, back to back without whitespace; the offsets (0, 4584, 21040,
+  25164) count base64 characters; each string decodes to a UInt32 byte count
+  followed by the values (header and data encoded together, as the data is
+  not compressed). `cube_vtk_binary.vtu` has inline `format="binary"` arrays
+  like meshio's, but with UInt64 headers: the header is its own base64 string
+  (32 bytes, 44 characters ending in `=`), then the zlib stream's own.
+  `cube_vtk_ascii.vtu` writes 6 values a line (two points a line),
+  coordinates in shortest round-trip form (`0.004999999999999988`,
+  bit-identical to the MSH doubles).
 - **TetGen**: meshio's writer starts `cube.node` and `cube.ele` with a
   `# This file was created by meshio v5.3.5` comment, numbers from 0 (the first
   index says so), and writes no attributes and no boundary markers

@@ -7,6 +7,8 @@
 mod builtin;
 pub mod checks;
 pub mod io;
+pub mod surface;
+pub mod tetrahedralize;
 
 use std::collections::HashMap;
 

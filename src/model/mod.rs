@@ -111,10 +111,32 @@ impl Model {
                 scale,
                 position,
             } => {
-                let imported = crate::mesh::io::read(path)?;
-                let mut warnings = imported.warnings;
-                let mut mesh = imported.mesh;
                 let file = path.display().to_string();
+                let (mut mesh, mut warnings) = if crate::mesh::io::is_surface(path) {
+                    // Scaled first: the edge length is in metres.
+                    let mut surface = crate::mesh::io::read_surface(path)?;
+                    for v in &mut surface.vertices {
+                        *v *= *scale;
+                    }
+                    let mut mesh = crate::mesh::tetrahedralize::tetrahedralize(
+                        &surface,
+                        scene.object.edge_length,
+                    )
+                    .map_err(|m| crate::mesh::io::ImportError::at(&file, None, m))?;
+                    for p in &mut mesh.nodes {
+                        *p /= *scale;
+                    }
+                    let note = format!(
+                        "tetrahedralized by TetGen: {} triangles to {} tetrahedra (edge length {} m)",
+                        surface.triangles.len(),
+                        mesh.tets.len(),
+                        scene.object.edge_length
+                    );
+                    (mesh, vec![note])
+                } else {
+                    let imported = crate::mesh::io::read(path)?;
+                    (imported.mesh, imported.warnings)
+                };
                 let report =
                     crate::mesh::checks::repair(&mut mesh).map_err(|source| SimError::Mesh {
                         file: file.clone(),

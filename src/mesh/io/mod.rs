@@ -4,10 +4,11 @@
 //! an [`ImportError`] naming the file, the line (or byte) and what is wrong.
 //! Cells other than tetrahedra are skipped with a warning that counts them.
 
-mod cursor;
+pub(crate) mod cursor;
 mod gmsh;
 mod tetgen;
 mod vtk;
+mod vtu;
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -52,8 +53,12 @@ pub enum Format {
     Msh22,
     /// TetGen `.node` + `.ele` (+ `.face`): give either file name.
     Tetgen,
-    /// VTK legacy ASCII unstructured grid (`.vtk`).
+    /// VTK legacy ASCII unstructured grid (`.vtk`; reading also takes
+    /// binary and version 5.1).
     Vtk,
+    /// VTK XML unstructured grid (`.vtu`, ASCII; reading also takes
+    /// inline binary, appended and zlib-compressed data).
+    Vtu,
 }
 
 impl Format {
@@ -64,13 +69,36 @@ impl Format {
             "msh" => Format::Msh,
             "node" | "ele" | "face" => Format::Tetgen,
             "vtk" => Format::Vtk,
+            "vtu" => Format::Vtu,
             _ => return None,
         })
     }
 }
 
+/// Surface files: tetrahedralized (see [`read_surface`]).
+pub const SURFACE_EXTENSIONS: &[&str] = &["stl", "obj"];
+
+/// Reads and checks a closed surface (`.stl`, `.obj`).
+pub fn read_surface(path: &Path) -> Result<super::surface::Surface, ImportError> {
+    let name = path.display().to_string();
+    let obj = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    let surface = super::surface::read(&read_bytes(path)?, &name, obj)?;
+    super::surface::check(&surface, &name)?;
+    Ok(surface)
+}
+
+/// Whether `path` names a surface file.
+pub fn is_surface(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| SURFACE_EXTENSIONS.iter().any(|s| e.eq_ignore_ascii_case(s)))
+}
+
 /// Extensions [`read`] takes.
-pub const READ_EXTENSIONS: &[&str] = &["msh", "node", "ele", "vtk"];
+pub const READ_EXTENSIONS: &[&str] = &["msh", "node", "ele", "vtk", "vtu"];
 
 fn read_bytes(path: &Path) -> Result<Vec<u8>, ImportError> {
     std::fs::read(path).map_err(|e| {
@@ -90,7 +118,7 @@ pub fn read(path: &Path) -> Result<Imported, ImportError> {
             &name,
             None,
             format!(
-                "unknown mesh format (extension {:?}); softgrip reads .msh (Gmsh 2.2 or 4.1, ASCII or binary), .node/.ele (TetGen) and .vtk (VTK legacy)",
+                "unknown mesh format (extension {:?}); softgrip reads .msh (Gmsh 2.2 or 4.1, ASCII or binary), .node/.ele (TetGen), .vtk (VTK legacy) and .vtu (VTK XML)",
                 path.extension().and_then(|e| e.to_str()).unwrap_or("")
             ),
         ));
@@ -98,6 +126,7 @@ pub fn read(path: &Path) -> Result<Imported, ImportError> {
     match format {
         Format::Msh | Format::Msh22 => gmsh::read(&read_bytes(path)?, &name),
         Format::Vtk => vtk::read(&read_bytes(path)?, &name),
+        Format::Vtu => vtu::read(&read_bytes(path)?, &name),
         Format::Tetgen => {
             let node = path.with_extension("node");
             let ele = path.with_extension("ele");
@@ -125,6 +154,7 @@ pub fn read_bytes_as(bytes: &[u8], format: Format, name: &str) -> Result<Importe
     match format {
         Format::Msh | Format::Msh22 => gmsh::read(bytes, name),
         Format::Vtk => vtk::read(bytes, name),
+        Format::Vtu => vtu::read(bytes, name),
         Format::Tetgen => {
             // One buffer holding both files, separated by a line "---ele---".
             let text = String::from_utf8_lossy(bytes);
@@ -158,6 +188,10 @@ pub fn write(mesh: &TetMesh, path: &Path, format: Format) -> std::io::Result<Vec
         }
         Format::Vtk => {
             std::fs::write(path, vtk::write(mesh))?;
+            Ok(vec![path.to_path_buf()])
+        }
+        Format::Vtu => {
+            std::fs::write(path, vtu_text(mesh))?;
             Ok(vec![path.to_path_buf()])
         }
         Format::Tetgen => {
@@ -247,6 +281,32 @@ impl Builder {
             warnings,
         })
     }
+}
+
+/// A mesh alone as an ASCII `.vtu`.
+fn vtu_text(mesh: &TetMesh) -> String {
+    use std::fmt::Write as _;
+    let (n, t) = (mesh.nodes.len(), mesh.tets.len());
+    let mut s = format!(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{t}\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n"
+    );
+    for p in &mesh.nodes {
+        let _ = writeln!(s, "{} {} {}", num(p.x), num(p.y), num(p.z));
+    }
+    s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    for q in &mesh.tets {
+        let _ = writeln!(s, "{} {} {} {}", q[0], q[1], q[2], q[3]);
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    for k in 1..=t {
+        let _ = writeln!(s, "{}", 4 * k);
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for _ in 0..t {
+        s.push_str("10\n");
+    }
+    s.push_str("</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    s
 }
 
 /// Number formatting shared by the writers: shortest round-trip text.
