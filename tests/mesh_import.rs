@@ -384,6 +384,134 @@ fn mutated_files_never_panic() {
             }
         }
     }
+    // Surfaces too: the readers and the checks.
+    for (obj, name) in [
+        (false, "sphere_surface.stl"),
+        (false, "sphere_surface_ascii.stl"),
+        (true, "sphere_surface.obj"),
+    ] {
+        let bytes = std::fs::read(fixture(name)).unwrap();
+        for _ in 0..100 {
+            let mut b = bytes.clone();
+            let len = b.len();
+            let at = (next() as usize) % len;
+            match next() % 3 {
+                0 => b.truncate(at),
+                1 => b[at] ^= 1 << (next() % 8),
+                _ => {
+                    let end = (at + (next() as usize) % 64).min(b.len());
+                    b.drain(at..end);
+                }
+            }
+            if let Ok(s) = softgrip::mesh::surface::read(&b, "mutant", obj) {
+                let _ = softgrip::mesh::surface::check(&s, "mutant");
+            }
+        }
+    }
     // Both kinds happen: the mutations are neither all fatal nor all harmless.
     assert!(outcomes[0] > 100 && outcomes[1] > 10, "{outcomes:?}");
+}
+
+/// The corpus in tests/data/meshes/malformed (its README lists how each
+/// was made): every file gives its own specific error through the path a
+/// scene or `softgrip mesh info` uses, naming the file.
+#[test]
+fn the_malformed_corpus_gives_specific_errors() {
+    let expected: &[(&str, &str)] = &[
+        (
+            "bad_reference.obj",
+            "bad_reference.obj:4: face refers to vertex 4, but 3 vertices",
+        ),
+        (
+            "binary_garbage.msh",
+            "binary_garbage.msh:1: expected a section such as $Nodes",
+        ),
+        ("empty.msh", "no $MeshFormat section"),
+        ("empty.stl", "0 bytes: too short for a binary STL"),
+        (
+            "huge_count.msh",
+            "99999999999999 announced, but the file has only 9 bytes left",
+        ),
+        ("index_out_of_range.msh", "tetrahedron 1 refers to node 999"),
+        ("index_out_of_range.vtk", "tetrahedron 1 refers to node 7"),
+        ("inside_out.stl", "the surface is inside out"),
+        (
+            "missing_point.node",
+            "missing_point.ele: tetrahedron 1 refers to node 999",
+        ),
+        (
+            "nan_coordinate.msh",
+            "nan_coordinate.msh:38: an x coordinate is nan",
+        ),
+        (
+            "nan_vertex.obj",
+            "nan_vertex.obj:1: \"nan\" is not a finite coordinate",
+        ),
+        ("no_tetrahedra.vtk", "no tetrahedra (1 triangles)"),
+        ("open_surface.stl", "not closed: 5 open edges near"),
+        ("polydata.vtk", "polydata.vtk:4: DATASET POLYDATA"),
+        (
+            "truncated.msh",
+            "truncated.msh:151: elements: 704 announced",
+        ),
+        (
+            "truncated.stl",
+            "announces 806 triangles, 40384 bytes, but the file has 1000",
+        ),
+        (
+            "truncated.vtu",
+            "DataArray connectivity is not closed (truncated?)",
+        ),
+        (
+            "truncated_binary.msh",
+            "the file ends inside an element's node",
+        ),
+        ("version_4_0.msh", "Gmsh format 4.0 is not supported"),
+        (
+            "wrong_counts.vtu",
+            "384 offsets and 384 types for the 385 cells announced",
+        ),
+        (
+            "wrong_node_count.msh",
+            "found $EndNodes where a node number should be",
+        ),
+    ];
+    let dir = fixture("malformed");
+    let mut listed: Vec<String> = std::fs::read_dir(&dir)
+        .expect("corpus")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "README.md" && !n.ends_with(".ele"))
+        .collect();
+    listed.sort();
+    let mut names: Vec<String> = expected.iter().map(|(n, _)| n.to_string()).collect();
+    names.sort();
+    assert_eq!(listed, names, "every corpus file has its expected error");
+    assert!(expected.len() >= 15);
+    for (name, message) in expected {
+        let path = dir.join(name);
+        let error = if io::is_surface(&path) {
+            io::read_surface(&path)
+                .map(|_| ())
+                .expect_err(name)
+                .to_string()
+        } else {
+            io::read(&path)
+                .and_then(|i| {
+                    let mut m = i.mesh;
+                    repair(&mut m)
+                        .map(|_| ())
+                        .map_err(|e| io::ImportError::at(name, None, e.to_string()))
+                })
+                .expect_err(name)
+                .to_string()
+        };
+        assert!(
+            error.contains(message),
+            "{name}: {error:?} lacks {message:?}"
+        );
+        assert!(
+            error.contains(name.split('.').next().unwrap()),
+            "{name}: names the file: {error}"
+        );
+    }
 }
