@@ -27,6 +27,7 @@
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bench;
+pub mod compare;
 pub mod constraints;
 pub mod contact;
 pub mod error;
@@ -39,6 +40,7 @@ pub mod model;
 pub mod output;
 pub mod parallel;
 pub mod quasi_static;
+pub mod recording;
 #[cfg(feature = "gui")]
 pub mod render;
 pub mod scene;

@@ -519,7 +519,7 @@ impl Scene {
 }
 
 /// Turns a TOML/serde error into one line with the line number and a hint.
-fn describe_toml_error(text: &str, e: &toml::de::Error) -> String {
+pub(crate) fn describe_toml_error(text: &str, e: &toml::de::Error) -> String {
     let msg = e.message().trim().to_string();
     let location = e
         .span()
