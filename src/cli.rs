@@ -60,6 +60,15 @@ enum Command {
     Check { scene: Option<PathBuf> },
     /// Print the built-in thesis scene as TOML (a starting point for your own).
     Scene,
+    /// Simulate a lab recording and measure the error as the thesis does
+    /// (NRMSE, eq. 45-46): per marker, per axis, overall.
+    Compare {
+        /// The recording's .toml header.
+        recording: PathBuf,
+        /// Also write the figures as JSON (nrmse, rmse_m, nrmse_all, params).
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Mesh files: figures, conversion, and the mesh a scene uses.
     Mesh {
         #[command(subcommand)]
@@ -316,6 +325,7 @@ pub fn main() -> ExitCode {
             surface,
         }) => run(scene.as_deref(), out.as_deref(), duration, fps, surface),
         Some(Command::Check { scene }) => check(scene.as_deref()),
+        Some(Command::Compare { recording, json }) => compare(&recording, json.as_deref()),
         Some(Command::Mesh { action }) => mesh_command(action),
         Some(Command::Ramp {
             scene,
@@ -452,6 +462,106 @@ fn parse_cut(text: &str) -> Result<softgrip::render::Cut, String> {
         fraction,
         flip,
     })
+}
+
+fn compare(path: &Path, json: Option<&Path>) -> Result<()> {
+    use softgrip::recording::{MarkerRef, Recording};
+    let recording = Recording::load(path)?;
+    println!(
+        "{}: {} ({:?}), {} samples, {} object markers",
+        path.display(),
+        if recording.description.is_empty() {
+            "no description"
+        } else {
+            &recording.description
+        },
+        recording.mode,
+        recording.samples.len(),
+        recording.markers.len()
+    );
+    let bar = progress_bar(recording.samples.len() as u64);
+    bar.set_message("samples");
+    let run = softgrip::replay::replay(
+        &recording,
+        &recording.scene,
+        softgrip::replay::ReplayOptions::default(),
+        |n| bar.set_position(n as u64),
+    )?;
+    bar.finish_and_clear();
+    for (m, a) in recording.markers.iter().zip(&run.attachments) {
+        println!(
+            "  marker {}: reference {:.2} mm from the surface",
+            m.name,
+            1e3 * a.distance
+        );
+    }
+    let e = run.errors;
+    println!(
+        "NRMSE {:.4} (RMSE {:.3} mm over {} observations{}); with fingers NRMSE {:.4} (RMSE {:.3} mm)",
+        e.nrmse,
+        1e3 * e.rmse_m,
+        e.count,
+        if recording.markers.is_empty() {
+            ", finger markers: the recording has no object markers"
+        } else {
+            ", object markers"
+        },
+        e.nrmse_all,
+        1e3 * e.rmse_all_m
+    );
+    // Per marker and axis.
+    let mut names: Vec<MarkerRef> = run.residuals.iter().map(|r| r.marker).collect();
+    names.sort();
+    names.dedup();
+    println!("  marker      rmse x (mm)  rmse y (mm)  rmse z (mm)  rmse (mm)");
+    for m in names {
+        let rs: Vec<_> = run.residuals.iter().filter(|r| r.marker == m).collect();
+        let axis = |a: usize| {
+            let v: Vec<f64> = rs
+                .iter()
+                .filter_map(|r| r.recorded[a].map(|x| r.simulated[a] - x))
+                .collect();
+            if v.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.3}", 1e3 * (v.iter().map(|d| d * d).sum::<f64>() / v.len() as f64).sqrt())
+            }
+        };
+        let total = (rs.iter().map(|r| r.distance().powi(2)).sum::<f64>() / rs.len() as f64).sqrt();
+        println!(
+            "  {:<10}  {:>11}  {:>11}  {:>11}  {:>9.3}",
+            recording.marker_name(m),
+            axis(0),
+            axis(1),
+            axis(2),
+            1e3 * total
+        );
+    }
+    if let Some(v) = run.volume_errors.last() {
+        println!("volume error at the last sample: {v:.3e}");
+    }
+    if let Some(json) = json {
+        let o = &recording.scene.object;
+        let m = &recording.scene.model;
+        let value = serde_json::json!({
+            "recording": path.display().to_string(),
+            "nrmse": e.nrmse,
+            "rmse_m": e.rmse_m,
+            "nrmse_all": e.nrmse_all,
+            "rmse_all_m": e.rmse_all_m,
+            "observations": e.count,
+            "params": {
+                "young_modulus": o.young_modulus,
+                "alpha": m.alpha,
+                "tau_s": m.tau_s,
+                "tau_c": m.tau_c,
+            },
+        });
+        std::fs::write(json, serde_json::to_string_pretty(&value)?)
+            .with_context(|| format!("writing {}", json.display()))?;
+        println!("wrote {}", json.display());
+    }
+    Ok(())
 }
 
 /// The scene's simulation; what loading its mesh changed or noticed goes

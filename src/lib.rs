@@ -43,6 +43,7 @@ pub mod quasi_static;
 pub mod recording;
 #[cfg(feature = "gui")]
 pub mod render;
+pub mod replay;
 pub mod scene;
 pub mod solver;
 pub mod state;
