@@ -69,6 +69,14 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Young's modulus from a compression recording (thesis eq. 49-50): a
+    /// line through the initial linear part of the stress-strain curve.
+    Modulus {
+        recording: PathBuf,
+        /// Also write the figures as JSON (young_modulus in Pa, ...).
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Mesh files: figures, conversion, and the mesh a scene uses.
     Mesh {
         #[command(subcommand)]
@@ -326,6 +334,7 @@ pub fn main() -> ExitCode {
         }) => run(scene.as_deref(), out.as_deref(), duration, fps, surface),
         Some(Command::Check { scene }) => check(scene.as_deref()),
         Some(Command::Compare { recording, json }) => compare(&recording, json.as_deref()),
+        Some(Command::Modulus { recording, json }) => modulus(&recording, json.as_deref()),
         Some(Command::Mesh { action }) => mesh_command(action),
         Some(Command::Ramp {
             scene,
@@ -464,6 +473,48 @@ fn parse_cut(text: &str) -> Result<softgrip::render::Cut, String> {
     })
 }
 
+fn modulus(path: &Path, json: Option<&Path>) -> Result<()> {
+    let recording = softgrip::recording::Recording::load(path)?;
+    let fit = softgrip::modulus::from_recording(&recording)?;
+    println!(
+        "{}: {} levels; area {:.4e} m^2, initial length {:.4} m",
+        path.display(),
+        fit.curve.len() - 1,
+        fit.area,
+        fit.length
+    );
+    println!(
+        "Young's modulus E = {:.1} kPa: the slope of a line through strain {:.4} .. {:.4} ({} points with the unloaded state, R^2 = {:.5}, intercept {:.3} kPa)",
+        fit.young_modulus / 1e3,
+        fit.strain_range.0,
+        fit.strain_range.1,
+        fit.points,
+        fit.r_squared,
+        fit.intercept / 1e3
+    );
+    println!(
+        "over the candidate ranges (2 points up to these) E runs {:.1} .. {:.1} kPa; the scene says {:.1} kPa",
+        fit.e_range.0 / 1e3,
+        fit.e_range.1 / 1e3,
+        recording.scene.object.young_modulus / 1e3
+    );
+    if let Some(json) = json {
+        let value = serde_json::json!({
+            "recording": path.display().to_string(),
+            "young_modulus": fit.young_modulus,
+            "young_modulus_range": [fit.e_range.0, fit.e_range.1],
+            "r_squared": fit.r_squared,
+            "strain_range": [fit.strain_range.0, fit.strain_range.1],
+            "points": fit.points,
+            "intercept_pa": fit.intercept,
+        });
+        std::fs::write(json, serde_json::to_string_pretty(&value)?)
+            .with_context(|| format!("writing {}", json.display()))?;
+        println!("wrote {}", json.display());
+    }
+    Ok(())
+}
+
 fn compare(path: &Path, json: Option<&Path>) -> Result<()> {
     use softgrip::recording::{MarkerRef, Recording};
     let recording = Recording::load(path)?;
@@ -524,7 +575,10 @@ fn compare(path: &Path, json: Option<&Path>) -> Result<()> {
             if v.is_empty() {
                 "-".to_string()
             } else {
-                format!("{:.3}", 1e3 * (v.iter().map(|d| d * d).sum::<f64>() / v.len() as f64).sqrt())
+                format!(
+                    "{:.3}",
+                    1e3 * (v.iter().map(|d| d * d).sum::<f64>() / v.len() as f64).sqrt()
+                )
             }
         };
         let total = (rs.iter().map(|r| r.distance().powi(2)).sum::<f64>() / rs.len() as f64).sqrt();

@@ -37,6 +37,7 @@ pub mod integrate;
 pub mod live;
 pub mod mesh;
 pub mod model;
+pub mod modulus;
 pub mod output;
 pub mod parallel;
 pub mod quasi_static;

@@ -32,17 +32,9 @@ pub struct Replay {
 }
 
 /// Options of a replay.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct ReplayOptions {
     pub rest: RestTolerance,
-}
-
-impl Default for ReplayOptions {
-    fn default() -> Self {
-        ReplayOptions {
-            rest: RestTolerance::default(),
-        }
-    }
 }
 
 /// Simulates `recording` on `scene` (its own scene, or one with other

@@ -166,3 +166,57 @@ fn mesh_info_convert_and_make() {
     assert!(err.contains("bad.msh:2") && err.contains("9.9"), "{err}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+fn recording(rel: &str) -> String {
+    format!("{}/assets/recordings/{rel}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn modulus_and_compare_write_their_figures() {
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-rec-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("e.json");
+    let o = softgrip(&[
+        "modulus",
+        &recording("ecoflex_compression/EF30_0T_A1/recording.toml"),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    assert!(
+        stdout(&o).contains("Young's modulus E = "),
+        "{}",
+        stdout(&o)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let e = v["young_modulus"].as_f64().expect("young_modulus in Pa");
+    assert!((90e3..115e3).contains(&e), "{e}");
+
+    let json = dir.join("c.json");
+    let o = softgrip(&[
+        "compare",
+        &recording("beam_ds10/gravity_a/recording.toml"),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    assert!(out.contains("NRMSE") && out.contains("tip1"), "{out}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let nrmse = v["nrmse"].as_f64().expect("nrmse");
+    let rmse = v["rmse_m"].as_f64().expect("rmse_m");
+    // NRMSE is RMSE over the beam's 100 mm extent.
+    assert!((nrmse - rmse / 0.1).abs() < 1e-12);
+    assert_eq!(v["params"]["young_modulus"].as_f64(), Some(215856.0));
+
+    // A recording whose scene the core cannot build yet: a clear error.
+    let o = softgrip(&[
+        "compare",
+        &recording("ecoflex_compression/EF30_0T_A1/recording.toml"),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("table"));
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -15,12 +15,18 @@ use softgrip::replay::{ReplayOptions, replay};
 fn write(dir: &Path, scene: &str, mode: &str, markers: &[(&str, DVec3)], rows: &str) -> Recording {
     std::fs::create_dir_all(dir).unwrap();
     std::fs::write(dir.join("scene.toml"), scene).unwrap();
-    let mut header = format!("scene = \"scene.toml\"\nsamples = \"samples.csv\"\nmode = \"{mode}\"\n[markers]\n");
+    let mut header = format!(
+        "scene = \"scene.toml\"\nsamples = \"samples.csv\"\nmode = \"{mode}\"\n[markers]\n"
+    );
     for (name, p) in markers {
         let _ = writeln!(header, "{name} = [{:?}, {:?}, {:?}]", p.x, p.y, p.z);
     }
     std::fs::write(dir.join("recording.toml"), header).unwrap();
-    std::fs::write(dir.join("samples.csv"), format!("time,load,marker,x,y,z\n{rows}")).unwrap();
+    std::fs::write(
+        dir.join("samples.csv"),
+        format!("time,load,marker,x,y,z\n{rows}"),
+    )
+    .unwrap();
     Recording::load(&dir.join("recording.toml")).expect("recording")
 }
 
@@ -55,8 +61,13 @@ fn a_quasi_static_recording_of_softgrip_itself_replays_to_zero_and_an_offset_to_
     let dir = temp("qs");
     let placeholder = write(&dir, &light_guide_scene(), "quasi-static", &markers, &rows);
     assert_eq!(placeholder.samples.len(), 4);
-    let first = replay(&placeholder, &placeholder.scene, ReplayOptions::default(), |_| {})
-        .expect("replay");
+    let first = replay(
+        &placeholder,
+        &placeholder.scene,
+        ReplayOptions::default(),
+        |_| {},
+    )
+    .expect("replay");
     // The same run, written as the recording.
     let mut rows = String::new();
     for r in &first.residuals {
@@ -108,7 +119,11 @@ fn a_quasi_static_recording_of_softgrip_itself_replays_to_zero_and_an_offset_to_
         .expect("replay")
         .errors;
     let expected = (0.001f64.powi(2) + 0.002f64.powi(2)).sqrt();
-    assert!((e.rmse_m - expected).abs() < 1e-12, "{} vs {expected}", e.rmse_m);
+    assert!(
+        (e.rmse_m - expected).abs() < 1e-12,
+        "{} vs {expected}",
+        e.rmse_m
+    );
     assert!((e.nrmse - expected / 0.05).abs() < 1e-10);
     assert_eq!(e.count, 8);
     let _ = std::fs::remove_dir_all(dir);
@@ -136,7 +151,13 @@ fn a_time_series_samples_at_its_times_and_holds_each_load_until_the_next() {
     let mut sim = softgrip::Simulation::new(&rec.scene).unwrap();
     for (k, r) in run.residuals.iter().enumerate() {
         sim.run_until(k as f64 * 0.01).unwrap();
-        let p = marker_position(&sim.model, &sim.state, &run.attachments, MarkerRef::Object(0)).unwrap();
+        let p = marker_position(
+            &sim.model,
+            &sim.state,
+            &run.attachments,
+            MarkerRef::Object(0),
+        )
+        .unwrap();
         assert_eq!(p, r.simulated, "sample {k}");
     }
     // The tip falls under gravity after release.
