@@ -176,7 +176,7 @@ fn mesh_command(action: MeshCommand) -> Result<()> {
     let format_for = |path: &Path, format: Option<io::Format>| {
         format.or_else(|| io::Format::of(path)).with_context(|| {
             format!(
-                "{}: give a .msh, .node, .ele or .vtk name, or --format",
+                "{}: give a .msh, .node, .ele, .vtk or .vtu name, or --format",
                 path.display()
             )
         })
