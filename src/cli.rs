@@ -69,6 +69,23 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Sweep scene parameters over a grid against a recording (thesis Fig.
+    /// 19-23), in parallel, and report the NRMSE of each point and the best.
+    Sweep {
+        recording: PathBuf,
+        /// name=start:end:count (add :log for log spacing) or name=v1,v2,...;
+        /// once for a curve, twice for a grid. Names: young_modulus, alpha,
+        /// tau_s, tau_c, damping_ratio, friction, ... (an unknown name lists
+        /// them all).
+        #[arg(long = "param", required = true)]
+        params: Vec<String>,
+        /// Write every point as CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Simulations at once (0: one per core).
+        #[arg(long, default_value_t = 0)]
+        workers: usize,
+    },
     /// Young's modulus from a compression recording (thesis eq. 49-50): a
     /// line through the initial linear part of the stress-strain curve.
     Modulus {
@@ -335,6 +352,12 @@ pub fn main() -> ExitCode {
         Some(Command::Check { scene }) => check(scene.as_deref()),
         Some(Command::Compare { recording, json }) => compare(&recording, json.as_deref()),
         Some(Command::Modulus { recording, json }) => modulus(&recording, json.as_deref()),
+        Some(Command::Sweep {
+            recording,
+            params,
+            csv,
+            workers,
+        }) => sweep(&recording, &params, csv.as_deref(), workers),
         Some(Command::Mesh { action }) => mesh_command(action),
         Some(Command::Ramp {
             scene,
@@ -471,6 +494,68 @@ fn parse_cut(text: &str) -> Result<softgrip::render::Cut, String> {
         fraction,
         flip,
     })
+}
+
+fn sweep(path: &Path, params: &[String], csv: Option<&Path>, workers: usize) -> Result<()> {
+    use softgrip::sweep;
+    anyhow::ensure!(
+        params.len() <= 2,
+        "{} --param given: a sweep is a curve (one) or a grid (two)",
+        params.len()
+    );
+    let axes = params
+        .iter()
+        .map(|p| softgrip::params::parse_axis(p).map_err(anyhow::Error::msg))
+        .collect::<Result<Vec<_>>>()?;
+    let recording = softgrip::recording::Recording::load(path)?;
+    let total = sweep::grid(&axes).len();
+    println!(
+        "{}: {} points of {}",
+        path.display(),
+        total,
+        axes.iter()
+            .map(|a| format!("{} ({} values)", a.param.name, a.values.len()))
+            .collect::<Vec<_>>()
+            .join(" x ")
+    );
+    let bar = progress_bar(total as u64);
+    bar.set_message("grid points");
+    let points = sweep::sweep(&recording, &axes, workers, &|n| bar.set_position(n as u64));
+    bar.finish_and_clear();
+    let failed = points.iter().filter(|p| p.result.is_err()).count();
+    if failed > 0 {
+        println!("{failed} of {total} points did not run (see the CSV's error column), e.g.:");
+        if let Some(p) = points.iter().find(|p| p.result.is_err()) {
+            println!(
+                "  {:?}: {}",
+                p.values,
+                p.result.as_ref().err().map_or("", String::as_str)
+            );
+        }
+    }
+    match sweep::best(&points) {
+        Some(b) => {
+            let e = b.result.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
+            let at = axes
+                .iter()
+                .zip(&b.values)
+                .map(|(a, v)| format!("{} = {v:.6}", a.param.name))
+                .collect::<Vec<_>>()
+                .join(", ");
+            println!(
+                "best: {at}: NRMSE {:.5} (RMSE {:.3} mm)",
+                e.nrmse,
+                1e3 * e.rmse_m
+            );
+        }
+        None => anyhow::bail!("no point of the sweep ran"),
+    }
+    if let Some(csv) = csv {
+        std::fs::write(csv, sweep::to_csv(&axes, &points))
+            .with_context(|| format!("writing {}", csv.display()))?;
+        println!("wrote {}", csv.display());
+    }
+    Ok(())
 }
 
 fn modulus(path: &Path, json: Option<&Path>) -> Result<()> {

@@ -40,6 +40,7 @@ pub mod model;
 pub mod modulus;
 pub mod output;
 pub mod parallel;
+pub mod params;
 pub mod quasi_static;
 pub mod recording;
 #[cfg(feature = "gui")]
@@ -49,6 +50,7 @@ pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod step;
+pub mod sweep;
 #[cfg(feature = "gui")]
 pub mod viewer;
 

@@ -35,6 +35,9 @@ pub struct Replay {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ReplayOptions {
     pub rest: RestTolerance,
+    /// Threads for the simulation (see `Simulation::set_threads`; 0 =
+    /// as many as the machine has, up to 2). Sweeps run one per core.
+    pub threads: usize,
 }
 
 /// Simulates `recording` on `scene` (its own scene, or one with other
@@ -46,6 +49,7 @@ pub fn replay(
     mut progress: impl FnMut(usize),
 ) -> Result<Replay, SimError> {
     let mut sim = Simulation::new(scene)?;
+    sim.set_threads(options.threads);
     let references: Vec<_> = recording.markers.iter().map(|m| m.reference).collect();
     let attachments = attach(&sim.model, &references);
     let loaded = sim.load_finger();

@@ -220,3 +220,27 @@ fn modulus_and_compare_write_their_figures() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("table"));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn sweep_refuses_a_bad_grid_clearly() {
+    let rec = recording("beam_ds10/gravity_a/recording.toml");
+    let o = softgrip(&["sweep", &rec, "--param", "tau_q=0:1:3"]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("unknown parameter \"tau_q\"; known: young_modulus"),
+        "{err}"
+    );
+    let o = softgrip(&[
+        "sweep",
+        &rec,
+        "--param",
+        "tau_c=0:1:2",
+        "--param",
+        "alpha=1:2:2",
+        "--param",
+        "tau_s=0:1:2",
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("a curve (one) or a grid (two)"));
+}
