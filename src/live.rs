@@ -433,18 +433,21 @@ impl Solver {
         *lock(&self.published) = Some(Arc::new(frame));
     }
 
+    /// Takes a freshly built mesh and simulation as the run.
+    fn install(&mut self, (mesh, warnings, sim): (TetMesh, Vec<String>, Simulation)) {
+        self.mesh = Some(mesh);
+        self.mesh_warnings = Arc::new(warnings);
+        self.history = History::default();
+        self.sim = Some(sim);
+        self.error = None;
+    }
+
     /// Meshes the current scene and starts it afresh.
     fn rebuild_all(&mut self) {
         self.run = RunState::Meshing;
         self.publish();
         match build(&self.scene) {
-            Ok((mesh, warnings, sim)) => {
-                self.mesh = Some(mesh);
-                self.mesh_warnings = Arc::new(warnings);
-                self.history = History::default();
-                self.sim = Some(sim);
-                self.error = None;
-            }
+            Ok(built) => self.install(built),
             Err(e) => {
                 self.mesh = None;
                 self.sim = None;
@@ -490,12 +493,8 @@ impl Solver {
             self.run = RunState::Meshing;
             self.publish();
             match build(&self.scene) {
-                Ok((mesh, warnings, sim)) => {
-                    self.mesh = Some(mesh);
-                    self.mesh_warnings = Arc::new(warnings);
-                    self.history = History::default();
-                    self.sim = Some(sim);
-                    self.error = None;
+                Ok(built) => {
+                    self.install(built);
                     self.run = if was == RunState::Running {
                         RunState::Running
                     } else {

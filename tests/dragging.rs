@@ -131,33 +131,31 @@ kind = "none"
     Simulation::new(&Scene::from_toml_str(text, "free block").expect("scene")).expect("sim")
 }
 
-/// The top facet nearest the block's centre line, and its centroid.
-fn top_facet(sim: &Simulation) -> (u32, DVec3) {
-    let (mut best, mut best_d) = (0, f64::INFINITY);
-    for (j, tri) in sim.model.facets.iter().enumerate() {
-        let c = tri
+/// The facet of the face z = `top` nearest the centre line, and its centroid.
+fn top_facet(sim: &Simulation, top: f64) -> (u32, DVec3) {
+    let centroid = |j: usize| {
+        sim.model.facets[j]
             .iter()
             .map(|&i| sim.state.positions[i as usize])
             .sum::<DVec3>()
-            / 3.0;
-        let d = (c.z - 0.01).abs() * 1e3 + c.x.hypot(c.y);
-        if d < best_d {
-            best = j as u32;
-            best_d = d;
-        }
-    }
-    let c = sim.model.facets[best as usize]
-        .iter()
-        .map(|&i| sim.state.positions[i as usize])
-        .sum::<DVec3>()
-        / 3.0;
-    (best, c)
+            / 3.0
+    };
+    let best = (0..sim.model.facets.len())
+        .min_by(|&a, &b| {
+            let d = |j: usize| {
+                let c = centroid(j);
+                (c.z - top).abs() * 1e3 + c.x.hypot(c.y)
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .expect("facets");
+    (best as u32, centroid(best))
 }
 
 #[test]
 fn pull_changes_momentum_by_its_impulse_and_brings_the_point_to_the_target() {
     let mut sim = free_block();
-    let (facet, centroid) = top_facet(&sim);
+    let (facet, centroid) = top_facet(&sim, 0.01);
     let target = centroid + DVec3::new(0.004, 0.0, 0.01);
     sim.state.pull = Some(Pull {
         facet,
@@ -207,29 +205,7 @@ fn pull_stretches_a_fixed_block_until_the_spring_balances_it() {
     scene.fingers.clear();
     scene.simulation.gravity = DVec3::ZERO;
     let mut sim = Simulation::new(&scene).expect("sim");
-    let (facet, centroid) = {
-        let top = 0.02;
-        let (mut best, mut best_d) = (0, f64::INFINITY);
-        for (j, tri) in sim.model.facets.iter().enumerate() {
-            let c = tri
-                .iter()
-                .map(|&i| sim.state.positions[i as usize])
-                .sum::<DVec3>()
-                / 3.0;
-            let d = (c.z - top).abs() * 1e3 + c.x.hypot(c.y);
-            if d < best_d {
-                best = j as u32;
-                best_d = d;
-            }
-        }
-        let tri = sim.model.facets[best as usize];
-        let c = tri
-            .iter()
-            .map(|&i| sim.state.positions[i as usize])
-            .sum::<DVec3>()
-            / 3.0;
-        (best, c)
-    };
+    let (facet, centroid) = top_facet(&sim, 0.02);
     let target = centroid + DVec3::new(0.0, 0.0, 0.01);
     sim.state.pull = Some(Pull {
         facet,
