@@ -12,7 +12,7 @@ pub enum SimError {
     #[error("{file}: bad mesh: {source}")]
     Mesh { file: String, source: MeshError },
 
-    #[error("{0}")]
+    #[error(transparent)]
     MeshFile(#[from] crate::mesh::io::ImportError),
 
     #[error("not supported yet: {what}")]

@@ -140,6 +140,7 @@ pub fn from_recording(r: &Recording) -> Result<ModulusFit, ModulusError> {
         .map(|f| f.position.z)
         .ok_or_else(|| ModulusError::NoTravel(name.clone()))?;
     let mut curve = vec![(0.0, 0.0)];
+    let mut observed = false;
     for s in &r.samples {
         let z = s
             .observations
@@ -147,19 +148,14 @@ pub fn from_recording(r: &Recording) -> Result<ModulusFit, ModulusError> {
             .find(|o| o.marker == MarkerRef::Finger(0))
             .and_then(|o| o.position[2]);
         if let Some(z) = z {
+            observed = true;
             let strain = (z0 - z) / length;
             if strain > 0.0 {
                 curve.push((strain, s.load / area));
             }
         }
     }
-    if curve.len() == 1
-        && r.samples.iter().all(|s| {
-            s.observations
-                .iter()
-                .all(|o| o.marker != MarkerRef::Finger(0))
-        })
-    {
+    if !observed {
         return Err(ModulusError::NoTravel(name));
     }
     curve.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -244,3 +244,33 @@ fn sweep_refuses_a_bad_grid_clearly() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("a curve (one) or a grid (two)"));
 }
+
+/// A scene on an .stl surface: without TetGen, one clear error (said
+/// once, not repeated by the error chain); the tetrahedralization itself
+/// is tested with the feature (tests/surface_meshes.rs).
+#[cfg(not(feature = "tetgen"))]
+#[test]
+fn a_surface_scene_without_tetgen_says_what_to_do_once() {
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-stl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(mesh_fixture("sphere_surface.stl"), dir.join("ball.stl")).unwrap();
+    std::fs::write(
+        dir.join("scene.toml"),
+        "[object]\nshape = \"mesh\"\npath = \"ball.stl\"\n[support]\nkind = \"fixed-bottom\"\n",
+    )
+    .unwrap();
+    let o = softgrip(&[
+        "mesh",
+        "make",
+        dir.join("scene.toml").to_str().unwrap(),
+        dir.join("out.msh").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("built without TetGen").count(), 1, "{err}");
+    assert!(
+        err.contains("ball.stl") && err.contains("--features tetgen"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

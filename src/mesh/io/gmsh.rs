@@ -324,21 +324,35 @@ fn bin_size(c: &mut Cursor, what: &str) -> Result<usize, ImportError> {
         .ok_or_else(|| c.binary_error(format!("{what} is {v}: too large")))
 }
 
-fn nodes_41(c: &mut Cursor, b: &mut Builder, binary: bool) -> Result<(), ImportError> {
-    let (blocks, total) = if binary {
+/// The header of a 4.1 `$Nodes` or `$Elements` section: the number of
+/// entity blocks and of items (the tag range after them is skipped).
+fn section_header_41(
+    c: &mut Cursor,
+    binary: bool,
+    item: &str,
+) -> Result<(usize, usize), ImportError> {
+    let what = [
+        format!("the number of {item} blocks"),
+        format!("the number of {item}s"),
+        format!("the smallest {item} tag"),
+        format!("the largest {item} tag"),
+    ];
+    let mut v = [0usize; 4];
+    if binary {
         c.end_of_header_line();
-        let blocks = bin_size(c, "the number of node blocks")?;
-        let total = bin_size(c, "the number of nodes")?;
-        bin_size(c, "the smallest node tag")?;
-        bin_size(c, "the largest node tag")?;
-        (blocks, total)
-    } else {
-        let blocks = c.usize("the number of node blocks")?;
-        let total = c.usize("the number of nodes")?;
-        c.usize("the smallest node tag")?;
-        c.usize("the largest node tag")?;
-        (blocks, total)
-    };
+    }
+    for (slot, what) in v.iter_mut().zip(&what) {
+        *slot = if binary {
+            bin_size(c, what)?
+        } else {
+            c.usize(what)?
+        };
+    }
+    Ok((v[0], v[1]))
+}
+
+fn nodes_41(c: &mut Cursor, b: &mut Builder, binary: bool) -> Result<(), ImportError> {
+    let (blocks, total) = section_header_41(c, binary, "node")?;
     let blocks = c.check_count(blocks, 4, "node blocks")?;
     let total = c.check_count(total, 8, "nodes")?;
     let mut read = 0usize;
@@ -397,20 +411,7 @@ fn nodes_41(c: &mut Cursor, b: &mut Builder, binary: bool) -> Result<(), ImportE
 }
 
 fn elements_41(c: &mut Cursor, b: &mut Builder, binary: bool) -> Result<bool, ImportError> {
-    let (blocks, total) = if binary {
-        c.end_of_header_line();
-        let blocks = bin_size(c, "the number of element blocks")?;
-        let total = bin_size(c, "the number of elements")?;
-        bin_size(c, "the smallest element tag")?;
-        bin_size(c, "the largest element tag")?;
-        (blocks, total)
-    } else {
-        let blocks = c.usize("the number of element blocks")?;
-        let total = c.usize("the number of elements")?;
-        c.usize("the smallest element tag")?;
-        c.usize("the largest element tag")?;
-        (blocks, total)
-    };
+    let (blocks, total) = section_header_41(c, binary, "element")?;
     let blocks = c.check_count(blocks, 4, "element blocks")?;
     let total = c.check_count(total, 4, "elements")?;
     let mut read = 0usize;

@@ -311,6 +311,5 @@ fn vtu_text(mesh: &TetMesh) -> String {
 
 /// Number formatting shared by the writers: shortest round-trip text.
 fn num(v: f64) -> String {
-    let s = format!("{v:?}");
-    s
+    format!("{v:?}")
 }

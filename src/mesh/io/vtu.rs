@@ -9,7 +9,6 @@ use super::{Builder, ImportError, Imported};
 
 /// An XML start tag: its name and attributes.
 struct Tag<'a> {
-    name: &'a str,
     attributes: Vec<(&'a str, &'a str)>,
     /// Byte just after the tag's `>`.
     end: usize,
@@ -39,7 +38,6 @@ fn find_tag<'a>(text: &'a str, from: usize, name: &str) -> Option<Tag<'a>> {
             let inner = &text[open + 1 + name_end..close];
             let self_closing = inner.trim_end().ends_with('/');
             return Some(Tag {
-                name: &rest[..name_end],
                 attributes: attributes(inner.trim_end_matches('/')),
                 end: close + 1,
                 self_closing,
@@ -469,6 +467,5 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
         }
         start = end;
     }
-    let _ = root.name;
     b.finish().map_err(err)
 }
