@@ -124,13 +124,7 @@ fn rms(values: impl Iterator<Item = f64>) -> (f64, usize) {
 /// object markers and samples, fingers excluded unless there are no
 /// object markers; `extent` is the object's largest extent (m).
 pub fn errors(residuals: &[Residual], extent: f64) -> Errors {
-    let object = residuals
-        .iter()
-        .any(|r| matches!(r.marker, MarkerRef::Object(_)));
-    let (rmse, count) = rms(residuals
-        .iter()
-        .filter(|r| !object || matches!(r.marker, MarkerRef::Object(_)))
-        .map(Residual::distance));
+    let (rmse, count) = rms(scored(residuals).map(Residual::distance));
     let (rmse_all, _) = rms(residuals.iter().map(Residual::distance));
     Errors {
         rmse_m: rmse,
@@ -139,4 +133,31 @@ pub fn errors(residuals: &[Residual], extent: f64) -> Errors {
         nrmse_all: rmse_all / extent,
         count,
     }
+}
+
+/// The residuals NRMSE counts: the object markers', or the fingers' when
+/// there are no object markers.
+pub fn scored(residuals: &[Residual]) -> impl Iterator<Item = &Residual> {
+    let object = residuals
+        .iter()
+        .any(|r| matches!(r.marker, MarkerRef::Object(_)));
+    residuals
+        .iter()
+        .filter(move |r| !object || matches!(r.marker, MarkerRef::Object(_)))
+}
+
+/// The scored residuals as one vector of simulated-minus-recorded
+/// components over the observed axes (m), in residual order: what a
+/// least-squares view of NRMSE works with (NRMSE^2 = |r|^2 / (count
+/// extent^2)).
+pub fn components(residuals: &[Residual]) -> Vec<f64> {
+    let mut out = Vec::new();
+    for r in scored(residuals) {
+        for a in 0..3 {
+            if let Some(x) = r.recorded[a] {
+                out.push(r.simulated[a] - x);
+            }
+        }
+    }
+    out
 }

@@ -15,6 +15,26 @@ pub enum SimError {
     #[error(transparent)]
     MeshFile(#[from] crate::mesh::io::ImportError),
 
+    #[error(
+        "{file}: the recording's loads (up to {load} N) act on the first force-controlled finger along its scene `force` direction, and {why}; set that finger's `control = \"force\"` and a nonzero `force` giving the direction"
+    )]
+    NoLoadDirection {
+        file: String,
+        load: f64,
+        why: String,
+    },
+
+    #[error(
+        "{file}: marker {marker} at {reference:?} is {distance_mm:.1} mm from the object's surface (more than {limit_mm:.1} mm, a tenth of its largest extent). Reference positions are on the UNDEFORMED surface, in metres, in the scene's frame: check the units (millimetres written as metres?), the frame, and the scene's object size and position"
+    )]
+    MarkerOffSurface {
+        file: String,
+        marker: String,
+        reference: [f64; 3],
+        distance_mm: f64,
+        limit_mm: f64,
+    },
+
     #[error("not supported yet: {what}")]
     NotSupported { what: String },
 

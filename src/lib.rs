@@ -32,6 +32,7 @@ pub mod constraints;
 pub mod contact;
 pub mod error;
 pub mod fields;
+pub mod fit;
 pub mod forces;
 pub mod integrate;
 pub mod live;
@@ -41,16 +42,19 @@ pub mod modulus;
 pub mod output;
 pub mod parallel;
 pub mod params;
+pub mod plot;
 pub mod quasi_static;
 pub mod recording;
 #[cfg(feature = "gui")]
 pub mod render;
 pub mod replay;
+pub mod report;
 pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod step;
 pub mod sweep;
+pub mod synth;
 #[cfg(feature = "gui")]
 pub mod viewer;
 

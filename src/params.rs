@@ -10,7 +10,10 @@ use crate::scene::Scene;
 pub struct Param {
     pub name: &'static str,
     pub unit: &'static str,
-    /// Natural on a log scale (moduli, alpha).
+    /// Natural on a log scale (moduli, alpha, the spring limits: their
+    /// plausible values span decades, and a search needs as many trials
+    /// at 0.02 to 0.05, where a limit acts, as at 0.2 to 0.5, where it
+    /// often does not).
     pub log: bool,
     pub about: &'static str,
 }
@@ -43,13 +46,13 @@ pub const PARAMS: &[Param] = &[
     Param {
         name: "tau_s",
         unit: "",
-        log: false,
+        log: true,
         about: "[model] tau_s, the over-stretch limit",
     },
     Param {
         name: "tau_c",
         unit: "",
-        log: false,
+        log: true,
         about: "[model] tau_c, the over-compression limit",
     },
     Param {

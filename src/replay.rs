@@ -21,6 +21,12 @@ use crate::recording::{Mode, Recording, Start};
 use crate::scene::Scene;
 use crate::step::Simulation;
 
+/// A marker's reference farther than this fraction of the object's
+/// largest extent from its surface is an error: the recording and the
+/// scene do not describe the same object (units, frame or size). Marker
+/// centres a few millimetres off a 100 mm beam still attach.
+pub const OFF_SURFACE: f64 = 0.1;
+
 /// What simulating a recording gives.
 #[derive(Debug, Clone)]
 pub struct Replay {
@@ -29,6 +35,9 @@ pub struct Replay {
     pub errors: Errors,
     /// Volume error |V - V0| / V0 at each sample (thesis eq. 47-48).
     pub volume_errors: Vec<f64>,
+    /// The largest spring stretch and compression (strain, positive) at
+    /// any sample: a limit tau_s or tau_c above them never acted.
+    pub largest_strain: [f64; 2],
 }
 
 /// Options of a replay.
@@ -52,7 +61,47 @@ pub fn replay(
     sim.set_threads(options.threads);
     let references: Vec<_> = recording.markers.iter().map(|m| m.reference).collect();
     let attachments = attach(&sim.model, &references);
+    let limit = OFF_SURFACE * sim.model.extent;
+    if let Some((m, a)) = recording
+        .markers
+        .iter()
+        .zip(&attachments)
+        .find(|(_, a)| a.distance > limit)
+    {
+        return Err(SimError::MarkerOffSurface {
+            file: recording.source.display().to_string(),
+            marker: m.name.clone(),
+            reference: m.reference.to_array(),
+            distance_mm: 1e3 * a.distance,
+            limit_mm: 1e3 * limit,
+        });
+    }
     let loaded = sim.load_finger();
+    let load = recording
+        .samples
+        .iter()
+        .map(|s| s.load.abs())
+        .fold(0.0, f64::max);
+    if load > 0.0 {
+        let why = match loaded {
+            None => Some("the scene has no force-controlled finger".to_string()),
+            Some(k) if sim.model.fingers[k].load_direction == glam::DVec3::ZERO => Some(format!(
+                "finger #{} has force = [0, 0, 0], which gives no direction",
+                k + 1
+            )),
+            Some(_) => None,
+        };
+        if let Some(why) = why {
+            return Err(SimError::NoLoadDirection {
+                file: scene
+                    .source
+                    .as_ref()
+                    .map_or("the scene".into(), |p| p.display().to_string()),
+                load,
+                why,
+            });
+        }
+    }
     let set_load = |sim: &mut Simulation, load: f64| {
         if let Some(k) = loaded {
             sim.set_load(k, load);
@@ -60,6 +109,13 @@ pub fn replay(
     };
     let mut residuals = Vec::new();
     let mut volume_errors = Vec::with_capacity(recording.samples.len());
+    let mut largest_strain = [0.0f64; 2];
+    let mut strains = |sim: &Simulation| {
+        for e in crate::fields::spring_strain(&sim.model, &sim.state) {
+            largest_strain[0] = largest_strain[0].max(e);
+            largest_strain[1] = largest_strain[1].max(-e);
+        }
+    };
     let record = |sim: &Simulation, i: usize, residuals: &mut Vec<Residual>| {
         for o in &recording.samples[i].observations {
             if let Some(p) = marker_position(&sim.model, &sim.state, &attachments, o.marker) {
@@ -79,6 +135,7 @@ pub fn replay(
                 sim.settle(options.rest, |_| {})?;
                 record(&sim, i, &mut residuals);
                 volume_errors.push(sim.state.stats.volume_error);
+                strains(&sim);
                 progress(i + 1);
             }
         }
@@ -95,6 +152,7 @@ pub fn replay(
                 sim.run_until(t)?;
                 record(&sim, i, &mut residuals);
                 volume_errors.push(sim.state.stats.volume_error);
+                strains(&sim);
                 set_load(&mut sim, sample.load);
                 progress(i + 1);
             }
@@ -106,6 +164,7 @@ pub fn replay(
         residuals,
         errors,
         volume_errors,
+        largest_strain,
     })
 }
 

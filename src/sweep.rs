@@ -47,42 +47,65 @@ pub fn sweep(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Vec<SweepPoint> {
     let points = grid(axes);
+    let names: Vec<&str> = axes.iter().map(|a| a.param.name).collect();
+    let results = parallel_map(
+        &points,
+        workers,
+        |values| evaluate(recording, &names, values),
+        progress,
+    );
+    points
+        .into_iter()
+        .zip(results)
+        .map(|(values, result)| SweepPoint { values, result })
+        .collect()
+}
+
+/// The recording simulated with the parameters `names` set to `values`
+/// (one thread: callers run several at once).
+pub fn evaluate(recording: &Recording, names: &[&str], values: &[f64]) -> Result<Errors, String> {
+    let mut scene = recording.scene.clone();
+    for (name, v) in names.iter().zip(values) {
+        scene = params::set(&scene, name, *v)?;
+    }
+    let options = ReplayOptions {
+        threads: 1,
+        ..ReplayOptions::default()
+    };
+    replay(recording, &scene, options, |_| {})
+        .map(|r| r.errors)
+        .map_err(|e| e.to_string())
+}
+
+/// `f` of each item on `workers` threads (0: one per core), results in
+/// the items' order whatever the number of threads; `progress` gets the
+/// number done.
+pub fn parallel_map<T: Sync, R: Send>(
+    items: &[T],
+    workers: usize,
+    f: impl Fn(&T) -> R + Sync,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Vec<R> {
     let workers = if workers == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
         workers
     }
-    .clamp(1, points.len().max(1));
+    .clamp(1, items.len().max(1));
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<SweepPoint>>> = Mutex::new(vec![None; points.len()]);
-    let run_point = |values: &[f64]| -> Result<Errors, String> {
-        let mut scene = recording.scene.clone();
-        for (axis, v) in axes.iter().zip(values) {
-            scene = params::set(&scene, axis.param.name, *v)?;
-        }
-        let options = ReplayOptions {
-            threads: 1,
-            ..ReplayOptions::default()
-        };
-        replay(recording, &scene, options, |_| {})
-            .map(|r| r.errors)
-            .map_err(|e| e.to_string())
-    };
+    let results: Mutex<Vec<Option<R>>> = Mutex::new((0..items.len()).map(|_| None).collect());
     std::thread::scope(|s| {
         for _ in 0..workers {
             s.spawn(|| {
                 loop {
                     let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(values) = points.get(i) else {
+                    let Some(item) = items.get(i) else {
                         break;
                     };
-                    let result = run_point(values);
-                    if let Ok(mut r) = results.lock() {
-                        r[i] = Some(SweepPoint {
-                            values: values.clone(),
-                            result,
-                        });
+                    let r = f(item);
+                    if let Ok(mut all) = results.lock() {
+                        all[i] = Some(r);
                     }
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1);
                 }
@@ -93,13 +116,7 @@ pub fn sweep(
         .into_inner()
         .unwrap_or_else(|e| e.into_inner())
         .into_iter()
-        .zip(points)
-        .map(|(r, values)| {
-            r.unwrap_or(SweepPoint {
-                values,
-                result: Err("not run".into()),
-            })
-        })
+        .flatten()
         .collect()
 }
 

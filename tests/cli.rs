@@ -194,13 +194,25 @@ fn modulus_and_compare_write_their_figures() {
     assert!((90e3..115e3).contains(&e), "{e}");
 
     let json = dir.join("c.json");
+    let report = dir.join("report");
     let o = softgrip(&[
         "compare",
         &recording("beam_ds10/gravity_a/recording.toml"),
         "--json",
         json.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{o:?}");
+    // The report: Markdown with the figures and its plots beside it.
+    let md = std::fs::read_to_string(report.join("compare.md")).unwrap();
+    assert!(md.contains("| scene as given | 0.0"), "{md}");
+    assert!(md.contains("| tip1 |"), "{md}");
+    for png in ["paths.png", "motion.png", "residuals.png"] {
+        assert!(md.contains(&format!("]({png})")), "{md}");
+        let bytes = std::fs::read(report.join(png)).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG"), "{png}");
+    }
     let out = stdout(&o);
     assert!(out.contains("NRMSE") && out.contains("tip1"), "{out}");
     let v: serde_json::Value =
@@ -215,9 +227,86 @@ fn modulus_and_compare_write_their_figures() {
     let o = softgrip(&[
         "compare",
         &recording("ecoflex_compression/EF30_0T_A1/recording.toml"),
+        "--no-report",
     ]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("table"));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `fit` on a small recording softgrip made itself: the JSON carries the
+/// fitted parameters with their standard errors, the report its tables
+/// and plots; `sweep` writes its curve and CSV.
+#[test]
+fn fit_and_sweep_write_their_figures_and_reports() {
+    use softgrip::recording::{Mode, Start};
+    use softgrip::synth::{Synthesis, synthesize};
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-fit-{}", std::process::id()));
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/thesis_cuboid_light_guide.toml"
+    ))
+    .unwrap()
+    .replace("edge_length = 0.004", "edge_length = 0.008");
+    let scene = softgrip::Scene::from_toml_str(&text, "s").unwrap();
+    let spec = Synthesis {
+        mode: Mode::QuasiStatic,
+        start: Start::Rest,
+        samples: vec![(None, 2.0), (None, 5.0)],
+        markers: vec![
+            ("top".into(), glam::DVec3::new(0.01, 0.0, 0.02)),
+            ("side".into(), glam::DVec3::new(0.025, 0.0, 0.01)),
+        ],
+        finger: true,
+        axes: [true, false, true],
+        noise: 5e-5,
+        seed: 1,
+        description: "cli fit".into(),
+    };
+    synthesize(&scene, &spec, &dir.join("rec")).unwrap();
+    let rec = dir.join("rec/recording.toml");
+    let json = dir.join("fit.json");
+    let o = softgrip(&[
+        "fit",
+        rec.to_str().unwrap(),
+        "--params",
+        "young_modulus=2e4:2e5",
+        "--max-evaluations",
+        "40",
+        "--json",
+        json.to_str().unwrap(),
+        "--report",
+        dir.join("fit").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let e = v["params"]["young_modulus"].as_f64().expect("fitted E");
+    let se = v["standard_errors"]["young_modulus"]
+        .as_f64()
+        .expect("its error");
+    assert!((e - 57.6e3).abs() < 3.0 * se + 1e3, "{e} +/- {se}");
+    assert!(v["nrmse"].as_f64().unwrap() <= v["before"]["nrmse"].as_f64().unwrap());
+    let md = std::fs::read_to_string(dir.join("fit/fit.md")).unwrap();
+    assert!(md.contains("| young_modulus (Pa) |"), "{md}");
+    assert!(dir.join("fit/convergence.png").exists());
+    let o = softgrip(&[
+        "sweep",
+        rec.to_str().unwrap(),
+        "--param",
+        "young_modulus=4e4:8e4:3",
+        "--report",
+        dir.join("sweep").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    assert!(
+        stdout(&o).contains("best: young_modulus = 60000"),
+        "{}",
+        stdout(&o)
+    );
+    let csv = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4);
+    assert!(dir.join("sweep/sweep.png").exists());
     let _ = std::fs::remove_dir_all(dir);
 }
 

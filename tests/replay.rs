@@ -164,3 +164,68 @@ fn a_time_series_samples_at_its_times_and_holds_each_load_until_the_next() {
     assert!(run.residuals[20].simulated.z < run.residuals[0].simulated.z - 1e-3);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn a_marker_far_from_the_surface_is_an_error_naming_it() {
+    // 12 mm above the top face of a 50 mm block: more than a tenth of it.
+    let markers = [
+        ("top", DVec3::new(0.01, 0.0, 0.02)),
+        ("high", DVec3::new(0.0, 0.0, 0.032)),
+    ];
+    let rec = write(
+        &temp("far"),
+        &light_guide_scene(),
+        "quasi-static",
+        &markers,
+        ",1,top,0,0,0\n,1,high,0,0,0\n",
+    );
+    let e = replay(&rec, &rec.scene, ReplayOptions::default(), |_| {})
+        .expect_err("off the surface")
+        .to_string();
+    assert!(
+        e.contains("recording.toml: marker high at [0.0, 0.0, 0.032]"),
+        "{e}"
+    );
+    assert!(
+        e.contains("is 12.0 mm from the object's surface (more than 5.0 mm"),
+        "{e}"
+    );
+    assert!(e.contains("millimetres written as metres?"), "{e}");
+}
+
+#[test]
+fn loads_without_a_direction_are_an_error_not_ignored() {
+    // The large-finger scene's finger is force-controlled with force =
+    // [0, 0, 0] (its weight is its mass): a recording's loads could not act.
+    let scene = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/thesis_cuboid_large_finger.toml"
+    ))
+    .unwrap()
+    .replace("edge_length = 0.004", "edge_length = 0.008");
+    let markers = [("top", DVec3::new(0.01, 0.0, 0.02))];
+    let rec = write(
+        &temp("direction"),
+        &scene,
+        "quasi-static",
+        &markers,
+        ",4,top,0,0,0\n",
+    );
+    let e = replay(&rec, &rec.scene, ReplayOptions::default(), |_| {})
+        .expect_err("no direction")
+        .to_string();
+    assert!(
+        e.contains("scene.toml: the recording's loads (up to 4 N)"),
+        "{e}"
+    );
+    assert!(e.contains("finger #1 has force = [0, 0, 0]"), "{e}");
+    // Zero loads need no direction: the weight alone presses.
+    let rec = write(
+        &temp("direction0"),
+        &scene,
+        "quasi-static",
+        &markers,
+        ",0,top,0,0,0\n",
+    );
+    assert!(replay(&rec, &rec.scene, ReplayOptions::default(), |_| {}).is_ok());
+}

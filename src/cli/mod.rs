@@ -11,6 +11,8 @@ use softgrip::Simulation;
 use softgrip::output::TrajectoryWriter;
 use softgrip::scene::Scene;
 
+mod lab;
+
 #[derive(Parser)]
 #[command(
     name = "softgrip",
@@ -68,6 +70,8 @@ enum Command {
         /// Also write the figures as JSON (nrmse, rmse_m, nrmse_all, params).
         #[arg(long)]
         json: Option<PathBuf>,
+        #[command(flatten)]
+        report: lab::ReportArgs,
     },
     /// Sweep scene parameters over a grid against a recording (thesis Fig.
     /// 19-23), in parallel, and report the NRMSE of each point and the best.
@@ -79,12 +83,45 @@ enum Command {
         /// them all).
         #[arg(long = "param", required = true)]
         params: Vec<String>,
-        /// Write every point as CSV.
+        /// Write every point as CSV (the report has it too).
         #[arg(long)]
         csv: Option<PathBuf>,
         /// Simulations at once (0: one per core).
         #[arg(long, default_value_t = 0)]
         workers: usize,
+        /// Also write the figures as JSON (best point's nrmse, rmse_m, params).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        #[command(flatten)]
+        report: lab::ReportArgs,
+    },
+    /// Fit scene parameters to a recording: NRMSE minimised by a bounded
+    /// Nelder-Mead search after a space-filling design, with each
+    /// parameter's noise-implied uncertainty and +/-10 % sensitivity
+    /// (unidentifiable parameters are flagged).
+    Fit {
+        recording: PathBuf,
+        /// Parameters to fit: name or name=LOW:HIGH (add :log or :lin),
+        /// comma-separated or repeated, e.g. --params young_modulus,alpha
+        /// --params tau_c=0.05:0.3. Default bounds: 1/10 to 10 times the
+        /// scene's modulus, 1/100 to 100 times its alpha, 0.02 to 0.5 for
+        /// tau_s and tau_c.
+        #[arg(long, required = true, num_args = 1..)]
+        params: Vec<String>,
+        /// Simulations at most in the search.
+        #[arg(long, default_value_t = 400)]
+        max_evaluations: usize,
+        /// Simulations at once (0: one per core).
+        #[arg(long, default_value_t = 0)]
+        workers: usize,
+        /// Also write the figures as JSON (nrmse before and after, fitted params, ...).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write the fitted scene here (TOML).
+        #[arg(long)]
+        scene_out: Option<PathBuf>,
+        #[command(flatten)]
+        report: lab::ReportArgs,
     },
     /// Young's modulus from a compression recording (thesis eq. 49-50): a
     /// line through the initial linear part of the stress-strain curve.
@@ -350,14 +387,44 @@ pub fn main() -> ExitCode {
             surface,
         }) => run(scene.as_deref(), out.as_deref(), duration, fps, surface),
         Some(Command::Check { scene }) => check(scene.as_deref()),
-        Some(Command::Compare { recording, json }) => compare(&recording, json.as_deref()),
-        Some(Command::Modulus { recording, json }) => modulus(&recording, json.as_deref()),
+        Some(Command::Compare {
+            recording,
+            json,
+            report,
+        }) => lab::compare(&recording, json.as_deref(), &report),
+        Some(Command::Modulus { recording, json }) => lab::modulus(&recording, json.as_deref()),
         Some(Command::Sweep {
             recording,
             params,
             csv,
             workers,
-        }) => sweep(&recording, &params, csv.as_deref(), workers),
+            json,
+            report,
+        }) => lab::sweep(
+            &recording,
+            &params,
+            csv.as_deref(),
+            workers,
+            json.as_deref(),
+            &report,
+        ),
+        Some(Command::Fit {
+            recording,
+            params,
+            max_evaluations,
+            workers,
+            json,
+            scene_out,
+            report,
+        }) => lab::fit(
+            &recording,
+            &params,
+            max_evaluations,
+            workers,
+            json.as_deref(),
+            scene_out.as_deref(),
+            &report,
+        ),
         Some(Command::Mesh { action }) => mesh_command(action),
         Some(Command::Ramp {
             scene,
@@ -496,213 +563,6 @@ fn parse_cut(text: &str) -> Result<softgrip::render::Cut, String> {
     })
 }
 
-fn sweep(path: &Path, params: &[String], csv: Option<&Path>, workers: usize) -> Result<()> {
-    use softgrip::sweep;
-    anyhow::ensure!(
-        params.len() <= 2,
-        "{} --param given: a sweep is a curve (one) or a grid (two)",
-        params.len()
-    );
-    let axes = params
-        .iter()
-        .map(|p| softgrip::params::parse_axis(p).map_err(anyhow::Error::msg))
-        .collect::<Result<Vec<_>>>()?;
-    let recording = softgrip::recording::Recording::load(path)?;
-    let total = sweep::grid(&axes).len();
-    println!(
-        "{}: {} points of {}",
-        path.display(),
-        total,
-        axes.iter()
-            .map(|a| format!("{} ({} values)", a.param.name, a.values.len()))
-            .collect::<Vec<_>>()
-            .join(" x ")
-    );
-    let bar = progress_bar(total as u64);
-    bar.set_message("grid points");
-    let points = sweep::sweep(&recording, &axes, workers, &|n| bar.set_position(n as u64));
-    bar.finish_and_clear();
-    let failed = points.iter().filter(|p| p.result.is_err()).count();
-    if failed > 0 {
-        println!("{failed} of {total} points did not run (see the CSV's error column), e.g.:");
-        if let Some(p) = points.iter().find(|p| p.result.is_err()) {
-            println!(
-                "  {:?}: {}",
-                p.values,
-                p.result.as_ref().err().map_or("", String::as_str)
-            );
-        }
-    }
-    match sweep::best(&points) {
-        Some(b) => {
-            let e = b.result.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
-            let at = axes
-                .iter()
-                .zip(&b.values)
-                .map(|(a, v)| format!("{} = {v:.6}", a.param.name))
-                .collect::<Vec<_>>()
-                .join(", ");
-            println!(
-                "best: {at}: NRMSE {:.5} (RMSE {:.3} mm)",
-                e.nrmse,
-                1e3 * e.rmse_m
-            );
-        }
-        None => anyhow::bail!("no point of the sweep ran"),
-    }
-    if let Some(csv) = csv {
-        std::fs::write(csv, sweep::to_csv(&axes, &points))
-            .with_context(|| format!("writing {}", csv.display()))?;
-        println!("wrote {}", csv.display());
-    }
-    Ok(())
-}
-
-fn modulus(path: &Path, json: Option<&Path>) -> Result<()> {
-    let recording = softgrip::recording::Recording::load(path)?;
-    let fit = softgrip::modulus::from_recording(&recording)?;
-    println!(
-        "{}: {} levels; area {:.4e} m^2, initial length {:.4} m",
-        path.display(),
-        fit.curve.len() - 1,
-        fit.area,
-        fit.length
-    );
-    println!(
-        "Young's modulus E = {:.1} kPa: the slope of a line through strain {:.4} .. {:.4} ({} points with the unloaded state, R^2 = {:.5}, intercept {:.3} kPa)",
-        fit.young_modulus / 1e3,
-        fit.strain_range.0,
-        fit.strain_range.1,
-        fit.points,
-        fit.r_squared,
-        fit.intercept / 1e3
-    );
-    println!(
-        "over the candidate ranges (2 points up to these) E runs {:.1} .. {:.1} kPa; the scene says {:.1} kPa",
-        fit.e_range.0 / 1e3,
-        fit.e_range.1 / 1e3,
-        recording.scene.object.young_modulus / 1e3
-    );
-    if let Some(json) = json {
-        let value = serde_json::json!({
-            "recording": path.display().to_string(),
-            "young_modulus": fit.young_modulus,
-            "young_modulus_range": [fit.e_range.0, fit.e_range.1],
-            "r_squared": fit.r_squared,
-            "strain_range": [fit.strain_range.0, fit.strain_range.1],
-            "points": fit.points,
-            "intercept_pa": fit.intercept,
-        });
-        std::fs::write(json, serde_json::to_string_pretty(&value)?)
-            .with_context(|| format!("writing {}", json.display()))?;
-        println!("wrote {}", json.display());
-    }
-    Ok(())
-}
-
-fn compare(path: &Path, json: Option<&Path>) -> Result<()> {
-    use softgrip::recording::{MarkerRef, Recording};
-    let recording = Recording::load(path)?;
-    println!(
-        "{}: {} ({:?}), {} samples, {} object markers",
-        path.display(),
-        if recording.description.is_empty() {
-            "no description"
-        } else {
-            &recording.description
-        },
-        recording.mode,
-        recording.samples.len(),
-        recording.markers.len()
-    );
-    let bar = progress_bar(recording.samples.len() as u64);
-    bar.set_message("samples");
-    let run = softgrip::replay::replay(
-        &recording,
-        &recording.scene,
-        softgrip::replay::ReplayOptions::default(),
-        |n| bar.set_position(n as u64),
-    )?;
-    bar.finish_and_clear();
-    for (m, a) in recording.markers.iter().zip(&run.attachments) {
-        println!(
-            "  marker {}: reference {:.2} mm from the surface",
-            m.name,
-            1e3 * a.distance
-        );
-    }
-    let e = run.errors;
-    println!(
-        "NRMSE {:.4} (RMSE {:.3} mm over {} observations{}); with fingers NRMSE {:.4} (RMSE {:.3} mm)",
-        e.nrmse,
-        1e3 * e.rmse_m,
-        e.count,
-        if recording.markers.is_empty() {
-            ", finger markers: the recording has no object markers"
-        } else {
-            ", object markers"
-        },
-        e.nrmse_all,
-        1e3 * e.rmse_all_m
-    );
-    // Per marker and axis.
-    let mut names: Vec<MarkerRef> = run.residuals.iter().map(|r| r.marker).collect();
-    names.sort();
-    names.dedup();
-    println!("  marker      rmse x (mm)  rmse y (mm)  rmse z (mm)  rmse (mm)");
-    for m in names {
-        let rs: Vec<_> = run.residuals.iter().filter(|r| r.marker == m).collect();
-        let axis = |a: usize| {
-            let v: Vec<f64> = rs
-                .iter()
-                .filter_map(|r| r.recorded[a].map(|x| r.simulated[a] - x))
-                .collect();
-            if v.is_empty() {
-                "-".to_string()
-            } else {
-                format!(
-                    "{:.3}",
-                    1e3 * (v.iter().map(|d| d * d).sum::<f64>() / v.len() as f64).sqrt()
-                )
-            }
-        };
-        let total = (rs.iter().map(|r| r.distance().powi(2)).sum::<f64>() / rs.len() as f64).sqrt();
-        println!(
-            "  {:<10}  {:>11}  {:>11}  {:>11}  {:>9.3}",
-            recording.marker_name(m),
-            axis(0),
-            axis(1),
-            axis(2),
-            1e3 * total
-        );
-    }
-    if let Some(v) = run.volume_errors.last() {
-        println!("volume error at the last sample: {v:.3e}");
-    }
-    if let Some(json) = json {
-        let o = &recording.scene.object;
-        let m = &recording.scene.model;
-        let value = serde_json::json!({
-            "recording": path.display().to_string(),
-            "nrmse": e.nrmse,
-            "rmse_m": e.rmse_m,
-            "nrmse_all": e.nrmse_all,
-            "rmse_all_m": e.rmse_all_m,
-            "observations": e.count,
-            "params": {
-                "young_modulus": o.young_modulus,
-                "alpha": m.alpha,
-                "tau_s": m.tau_s,
-                "tau_c": m.tau_c,
-            },
-        });
-        std::fs::write(json, serde_json::to_string_pretty(&value)?)
-            .with_context(|| format!("writing {}", json.display()))?;
-        println!("wrote {}", json.display());
-    }
-    Ok(())
-}
-
 /// The scene's simulation; what loading its mesh changed or noticed goes
 /// to stderr as warnings.
 fn simulation(scene: &Scene) -> Result<Simulation> {
@@ -720,7 +580,7 @@ fn load_scene(path: Option<&Path>) -> Result<Scene> {
     }
 }
 
-fn progress_bar(len: u64) -> ProgressBar {
+pub(crate) fn progress_bar(len: u64) -> ProgressBar {
     let bar = ProgressBar::new(len);
     if let Ok(style) =
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {msg}  [{elapsed} < {eta}]")
