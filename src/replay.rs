@@ -38,6 +38,16 @@ pub struct Replay {
     /// The largest spring stretch and compression (strain, positive) at
     /// any sample: a limit tau_s or tau_c above them never acted.
     pub largest_strain: [f64; 2],
+    /// With [`ReplayOptions::keep_states`]: the particle and finger
+    /// positions at each sample (for showing a sample in the viewer).
+    pub states: Vec<SampleState>,
+}
+
+/// The object and the fingers where a sample was taken.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampleState {
+    pub positions: Vec<glam::DVec3>,
+    pub fingers: Vec<glam::DVec3>,
 }
 
 /// Options of a replay.
@@ -47,6 +57,8 @@ pub struct ReplayOptions {
     /// Threads for the simulation (see `Simulation::set_threads`; 0 =
     /// as many as the machine has, up to 2). Sweeps run one per core.
     pub threads: usize,
+    /// Keep each sample's positions in [`Replay::states`].
+    pub keep_states: bool,
 }
 
 /// Simulates `recording` on `scene` (its own scene, or one with other
@@ -110,10 +122,17 @@ pub fn replay(
     let mut residuals = Vec::new();
     let mut volume_errors = Vec::with_capacity(recording.samples.len());
     let mut largest_strain = [0.0f64; 2];
+    let mut states = Vec::new();
     let mut strains = |sim: &Simulation| {
         for e in crate::fields::spring_strain(&sim.model, &sim.state) {
             largest_strain[0] = largest_strain[0].max(e);
             largest_strain[1] = largest_strain[1].max(-e);
+        }
+        if options.keep_states {
+            states.push(SampleState {
+                positions: sim.state.positions.clone(),
+                fingers: sim.state.fingers.iter().map(|f| f.position).collect(),
+            });
         }
     };
     let record = |sim: &Simulation, i: usize, residuals: &mut Vec<Residual>| {
@@ -165,6 +184,7 @@ pub fn replay(
         errors,
         volume_errors,
         largest_strain,
+        states,
     })
 }
 

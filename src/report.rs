@@ -434,7 +434,7 @@ pub fn fit(dir: &Path, recording: &Recording, fit: &Fit) -> Result<Written, Repo
     let u = &fit.uncertainty;
     let _ = writeln!(
         md,
-        "## Parameters\n\nUncertainty: the noise the fitted residuals imply is s = {:.4} mm per observed coordinate ({} coordinates, {} parameters); the standard errors are s^2 (J^T J)^-1 of the residuals' Jacobian J at the fit, and the 95 % interval is +/- 1.96 standard errors. Sensitivity: the NRMSE with the parameter 10 % lower and higher; a change is significant when it raises the sum of squared residuals by more than 3.84 s^2 (chi-square, 1 degree of freedom, 95 %).\n",
+        "## Parameters\n\nUncertainty: the noise the fitted residuals imply is s = {:.4} mm per observed coordinate ({} coordinates, {} parameters); the standard errors are s^2 (J^T J)^-1 of the residuals' Jacobian J at the fit, and the 95 % interval is +/- 1.96 standard errors. These errors assume independent residuals, which holds for measurement noise; where the model misses systematically (residuals that follow each other from sample to sample, s well above the tracking noise), they are too small, and the spread of fits over repeated recordings is the better measure. Sensitivity: the NRMSE with the parameter 10 % lower and higher; a change is significant when it raises the sum of squared residuals by more than 3.84 s^2 (chi-square, 1 degree of freedom, 95 %).\n",
         1e3 * u.sigma_m,
         u.residuals,
         fit.params.len()
@@ -620,7 +620,15 @@ pub fn sweep(
         md += &errors_table(&[("best", e)]);
     }
     let nrmse = |p: &SweepPoint| p.result.as_ref().map_or(f64::NAN, |e| e.nrmse);
-    let log_axis = |a: &Axis| a.param.log && a.values.iter().all(|v| *v > 0.0);
+    // A log axis for log-spaced values (`:log`), a linear one otherwise.
+    let log_axis = |a: &Axis| {
+        a.values.len() > 2
+            && a.values.iter().all(|v| *v > 0.0)
+            && a.values.windows(3).all(|w| {
+                let (r0, r1) = (w[1] / w[0], w[2] / w[1]);
+                (r0 - r1).abs() < 1e-6 * r0 && (r0 - 1.0).abs() > 1e-9
+            })
+    };
     let best = crate::sweep::best(points).map(|b| b.values.clone());
     match axes {
         [a] => {

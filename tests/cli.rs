@@ -363,3 +363,64 @@ fn a_surface_scene_without_tetgen_says_what_to_do_once() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn synth_writes_a_recording_that_compares_to_its_noise() {
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-synth-{}", std::process::id()));
+    let scene = format!(
+        "{}/assets/scenes/thesis_cuboid_light_guide.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let o = softgrip(&[
+        "synth",
+        &scene,
+        "--loads",
+        "2",
+        "--axes",
+        "xq",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("--axes \"xq\": use the letters x, y and z")
+    );
+    let o = softgrip(&[
+        "synth",
+        &scene,
+        "--loads",
+        "2,4",
+        "--axes",
+        "xz",
+        "--noise",
+        "0",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    assert!(
+        stdout(&o).contains("(2 samples, 14 markers)"),
+        "{}",
+        stdout(&o)
+    );
+    let csv = std::fs::read_to_string(dir.join("samples.csv")).unwrap();
+    // x and z observed, y left empty.
+    assert!(
+        csv.lines().nth(1).unwrap().split(',').nth(4) == Some(""),
+        "{csv}"
+    );
+    // Without noise it is the scene's own simulation: NRMSE 0.
+    let json = dir.join("c.json");
+    let o = softgrip(&[
+        "compare",
+        dir.join("recording.toml").to_str().unwrap(),
+        "--no-report",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v["nrmse"].as_f64().unwrap() < 1e-12, "{v}");
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -228,3 +228,22 @@ fn a_synthetic_recording_is_fitted_back_within_the_noise_implied_uncertainty() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn the_noise_is_standard_normal_and_seeded() {
+    use softgrip::synth::Gaussian;
+    let mut g = Gaussian::new(42);
+    let x: Vec<f64> = (0..200_000).map(|_| g.sample()).collect();
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
+    let within_1sd = x.iter().filter(|v| v.abs() < 1.0).count() as f64 / n;
+    assert!(mean.abs() < 0.01, "{mean}");
+    assert!((var - 1.0).abs() < 0.01, "{var}");
+    // 68.27 % within one standard deviation.
+    assert!((within_1sd - 0.6827).abs() < 0.005, "{within_1sd}");
+    let mut again = Gaussian::new(42);
+    assert!(x.iter().take(100).all(|v| *v == again.sample()));
+    let mut other = Gaussian::new(43);
+    assert_ne!(x[0], other.sample());
+}

@@ -98,8 +98,7 @@ fn describe(path: &Path, recording: &Recording) {
 pub fn compare(path: &Path, json: Option<&Path>, report: &ReportArgs) -> Result<()> {
     let recording = Recording::load(path)?;
     describe(path, &recording);
-    let bar = progress_bar(recording.samples.len() as u64);
-    bar.set_message("samples");
+    let bar = progress_bar(recording.samples.len() as u64, "samples");
     let run = softgrip::replay::replay(
         &recording,
         &recording.scene,
@@ -209,8 +208,7 @@ pub fn sweep(
             .collect::<Vec<_>>()
             .join(" x ")
     );
-    let bar = progress_bar(total as u64);
-    bar.set_message("grid points");
+    let bar = progress_bar(total as u64, "grid points");
     let started = Instant::now();
     let points = sweep::sweep(&recording, &axes, workers, &|n| bar.set_position(n as u64));
     let seconds = started.elapsed().as_secs_f64();
@@ -429,5 +427,77 @@ pub fn modulus(path: &Path, json: Option<&Path>) -> Result<()> {
             .with_context(|| format!("writing {}", json.display()))?;
         println!("wrote {}", json.display());
     }
+    Ok(())
+}
+
+pub fn synth(
+    scene: &softgrip::Scene,
+    loads: &[f64],
+    markers: &[String],
+    axes: &str,
+    noise: f64,
+    seed: u64,
+    out: &Path,
+) -> Result<()> {
+    use softgrip::recording::{Mode, Start};
+    use softgrip::scene::Shape;
+    use softgrip::synth::{Synthesis, cuboid_markers, synthesize};
+    anyhow::ensure!(
+        noise.is_finite() && noise >= 0.0,
+        "--noise {noise}: must be a standard deviation in metres, 0 or more"
+    );
+    let mut observed = [false; 3];
+    for c in axes.chars() {
+        match c {
+            'x' => observed[0] = true,
+            'y' => observed[1] = true,
+            'z' => observed[2] = true,
+            _ => anyhow::bail!("--axes {axes:?}: use the letters x, y and z, e.g. xz"),
+        }
+    }
+    anyhow::ensure!(observed.iter().any(|a| *a), "--axes: at least one axis");
+    let markers = if markers.is_empty() {
+        match scene.object.shape {
+            Shape::Cuboid { size } => cuboid_markers(size, 3, 0.1 * size.x.min(size.y), 5),
+            _ => anyhow::bail!(
+                "the object is not a cuboid: give its markers with --marker NAME=X,Y,Z (m, on the undeformed surface)"
+            ),
+        }
+    } else {
+        markers
+            .iter()
+            .map(|m| {
+                let bad = || anyhow::anyhow!("--marker {m:?}: write NAME=X,Y,Z in metres");
+                let (name, xyz) = m.split_once('=').ok_or_else(bad)?;
+                let v: Vec<f64> = xyz
+                    .split(',')
+                    .map(|t| t.trim().parse::<f64>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| bad())?;
+                anyhow::ensure!(v.len() == 3 && v.iter().all(|x| x.is_finite()), bad());
+                Ok((name.trim().to_string(), glam::DVec3::new(v[0], v[1], v[2])))
+            })
+            .collect::<Result<Vec<_>>>()?
+    };
+    let spec = Synthesis {
+        mode: Mode::QuasiStatic,
+        start: Start::Rest,
+        samples: loads.iter().map(|l| (None, *l)).collect(),
+        markers,
+        finger: !scene.fingers.is_empty(),
+        axes: observed,
+        noise,
+        seed,
+        description: format!(
+            "made by softgrip synth: loads {loads:?} N, axes {axes}, noise {noise} m, seed {seed}"
+        ),
+    };
+    let rec = synthesize(scene, &spec, out)?;
+    println!(
+        "wrote {} ({} samples, {} markers)",
+        rec.source.display(),
+        rec.samples.len(),
+        rec.markers.len()
+    );
     Ok(())
 }

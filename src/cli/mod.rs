@@ -95,6 +95,31 @@ enum Command {
         #[command(flatten)]
         report: lab::ReportArgs,
     },
+    /// Make a recording from a scene (softgrip's own simulation, with
+    /// Gaussian noise): for testing fits and sweeps where the truth is known.
+    Synth {
+        /// Scene file (.toml); omit for the built-in thesis scene.
+        scene: Option<PathBuf>,
+        /// Loads in N, one quasi-static sample each (along the first
+        /// force-controlled finger's `force` direction).
+        #[arg(long, value_delimiter = ',', required = true)]
+        loads: Vec<f64>,
+        /// Object markers NAME=X,Y,Z on the undeformed surface (m);
+        /// default for a cuboid: 9 on the top face and 5 along the front.
+        #[arg(long = "marker")]
+        markers: Vec<String>,
+        /// Observed axes, e.g. xz for a side camera.
+        #[arg(long, default_value = "xyz")]
+        axes: String,
+        /// Standard deviation of the noise on each coordinate (m).
+        #[arg(long, default_value_t = 1e-4)]
+        noise: f64,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Directory for scene.toml, recording.toml and samples.csv.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Fit scene parameters to a recording: NRMSE minimised by a bounded
     /// Nelder-Mead search after a space-filling design, with each
     /// parameter's noise-implied uncertainty and +/-10 % sensitivity
@@ -152,6 +177,11 @@ enum Command {
         /// With --measure: keep the solver paused, for comparison.
         #[arg(long)]
         paused: bool,
+        /// Open this lab recording (its .toml header) at start: its scene
+        /// replaces the one given, and it is replayed for the Recording
+        /// panel.
+        #[arg(long)]
+        recording: Option<PathBuf>,
     },
     /// Render a scene at a simulated time to a PNG, headless (no window, no
     /// display: a software adapter where there is no GPU).
@@ -365,6 +395,7 @@ pub fn main() -> ExitCode {
             edge_length,
             measure,
             paused,
+            recording,
         }) => load_scene(scene.as_deref()).and_then(|mut scene| {
             if let Some(edge) = edge_length {
                 anyhow::ensure!(
@@ -376,6 +407,7 @@ pub fn main() -> ExitCode {
             let options = softgrip::viewer::Options {
                 measure: measure.map(std::time::Duration::from_secs_f64),
                 play: !paused,
+                recording,
             };
             softgrip::viewer::run_with(scene, options)
         }),
@@ -408,6 +440,16 @@ pub fn main() -> ExitCode {
             json.as_deref(),
             &report,
         ),
+        Some(Command::Synth {
+            scene,
+            loads,
+            markers,
+            axes,
+            noise,
+            seed,
+            out,
+        }) => load_scene(scene.as_deref())
+            .and_then(|scene| lab::synth(&scene, &loads, &markers, &axes, noise, seed, &out)),
         Some(Command::Fit {
             recording,
             params,
@@ -503,7 +545,7 @@ fn screenshot(
     let scene = load_scene(scene_path)?;
     let mut sim = simulation(&scene)?;
     let steps = (at / sim.model.dt).round() as u64;
-    let bar = progress_bar(steps);
+    let bar = progress_bar(steps, "steps");
     for _ in 0..steps {
         sim.step()?;
         bar.inc(1);
@@ -580,11 +622,12 @@ fn load_scene(path: Option<&Path>) -> Result<Scene> {
     }
 }
 
-pub(crate) fn progress_bar(len: u64) -> ProgressBar {
+/// A progress bar counting `unit`s (steps, samples, grid points).
+pub(crate) fn progress_bar(len: u64, unit: &str) -> ProgressBar {
     let bar = ProgressBar::new(len);
-    if let Ok(style) =
-        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {msg}  [{elapsed} < {eta}]")
-    {
+    if let Ok(style) = ProgressStyle::with_template(&format!(
+        "{{bar:40}} {{pos}}/{{len}} {unit}  {{msg}}  [{{elapsed}} < {{eta}}]"
+    )) {
         bar.set_style(style);
     }
     bar
@@ -623,7 +666,7 @@ fn run(
         }
         None => None,
     };
-    let bar = progress_bar(steps);
+    let bar = progress_bar(steps, "steps");
     let mut cg_total = 0u64;
     for i in 0..steps {
         if let Err(e) = sim.step() {
@@ -734,7 +777,7 @@ fn ramp(scene_path: Option<&Path>, loads: &[f64], max_seconds: f64, rest_speed: 
     println!("|---|---|---|---|---|---|---|");
     for &load in loads {
         sim.set_load(k, load);
-        let bar = progress_bar((max_seconds / sim.model.dt) as u64);
+        let bar = progress_bar((max_seconds / sim.model.dt) as u64, "steps");
         bar.set_message(format!("load {load} N"));
         let rest = sim.settle(tol, |s| bar.set_position(s));
         bar.finish_and_clear();

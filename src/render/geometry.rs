@@ -20,13 +20,18 @@ pub struct Vertex {
 
 /// What a frame draws: opaque triangles, then lines (the wireframe), then
 /// translucent triangles (fingers drawn see-through, so the contacts under
-/// them show); and the colour map's legend, if the object is coloured.
+/// them show), then the x-ray layer; and the colour map's legend, if the
+/// object is coloured.
 #[derive(Debug, Clone, Default)]
 pub struct Drawing {
     pub opaque: Mesh,
     /// Pairs of indices (a line list), drawn unlit.
     pub lines: Mesh,
     pub translucent: Mesh,
+    /// Triangles drawn only where something else is in front of them, by
+    /// their alpha: a recording's markers inside or behind the object
+    /// show faintly through it.
+    pub xray: Mesh,
     pub legend: Option<Legend>,
 }
 
@@ -383,7 +388,7 @@ pub fn plate_thickness(model: &Model) -> f64 {
 }
 
 /// The object's extent (m), for marker sizes.
-fn bounds_size(model: &Model) -> f32 {
+pub(crate) fn bounds_size(model: &Model) -> f32 {
     let (lo, hi) = crate::mesh::bounds_of(&model.rest_positions);
     (hi - lo).max_element() as f32
 }

@@ -42,6 +42,9 @@ pub struct Pipeline {
     blended: wgpu::RenderPipeline,
     /// Unlit lines (the wireframe).
     lines: wgpu::RenderPipeline,
+    /// Alpha-blended where the depth test fails: what is hidden shows
+    /// through (`Drawing::xray`).
+    xray: wgpu::RenderPipeline,
     camera_buffer: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
@@ -137,6 +140,7 @@ impl Pipeline {
         });
         let make = |blend: Option<wgpu::BlendState>,
                     depth_write: bool,
+                    depth_compare: wgpu::CompareFunction,
                     topology: wgpu::PrimitiveTopology,
                     fragment: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -160,7 +164,7 @@ impl Pipeline {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(depth_write),
-                depth_compare: Some(wgpu::CompareFunction::Less),
+                depth_compare: Some(depth_compare),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
@@ -180,18 +184,34 @@ impl Pipeline {
         })
         };
         let triangles = wgpu::PrimitiveTopology::TriangleList;
-        let pipeline = make(None, true, triangles, "fs_main");
+        let less = wgpu::CompareFunction::Less;
+        let pipeline = make(None, true, less, triangles, "fs_main");
         let blended = make(
             Some(wgpu::BlendState::ALPHA_BLENDING),
             false,
+            less,
             triangles,
             "fs_main",
         );
-        let lines = make(None, true, wgpu::PrimitiveTopology::LineList, "fs_flat");
+        let lines = make(
+            None,
+            true,
+            less,
+            wgpu::PrimitiveTopology::LineList,
+            "fs_flat",
+        );
+        let xray = make(
+            Some(wgpu::BlendState::ALPHA_BLENDING),
+            false,
+            wgpu::CompareFunction::Greater,
+            triangles,
+            "fs_main",
+        );
         Pipeline {
             pipeline,
             blended,
             lines,
+            xray,
             camera_buffer,
             bind_group,
         }
@@ -237,6 +257,7 @@ impl Pipeline {
             (&self.pipeline, upload(&drawing.opaque)),
             (&self.lines, upload(&drawing.lines)),
             (&self.blended, upload(&drawing.translucent)),
+            (&self.xray, upload(&drawing.xray)),
         ];
         let [r, g, b, a] = BACKGROUND;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod geometry;
 pub mod gpu;
+pub mod markers;
 pub mod pick;
 
 pub use camera::{Camera, View};

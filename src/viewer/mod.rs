@@ -3,7 +3,12 @@
 //! shown in the central panel, the parameter panels on the left, the
 //! statistics on the right. The simulation runs on `crate::live`'s solver
 //! thread: the UI sends edits without waiting and draws the latest frame.
+//! A lab recording (`recording`) is replayed and fitted on threads of its
+//! own, and shown in the 3-D view in place of the live frame.
 
+pub mod recording;
+
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::{Result, anyhow};
@@ -24,6 +29,8 @@ pub struct Options {
     pub measure: Option<std::time::Duration>,
     /// Start playing (else paused).
     pub play: bool,
+    /// A recording to open at start (`softgrip view --recording`).
+    pub recording: Option<PathBuf>,
 }
 
 /// Opens the viewer on `scene`, playing; returns when the window is closed.
@@ -33,6 +40,7 @@ pub fn run(scene: Scene) -> Result<()> {
         Options {
             measure: None,
             play: true,
+            recording: None,
         },
     )
 }
@@ -66,6 +74,9 @@ pub fn run_with(scene: Scene, options: Options) -> Result<()> {
             if !options.play {
                 app.panels.send(Command::Pause);
             }
+            if let Some(path) = &options.recording {
+                app.panels.open_recording(path.clone());
+            }
             if let Some(span) = options.measure {
                 app.panels.send(Command::SetSpeed(None));
                 app.measure = Some(Measure {
@@ -82,6 +93,17 @@ pub fn run_with(scene: Scene, options: Options) -> Result<()> {
     .map_err(|e| anyhow!("the viewer could not start: {e}"))
 }
 
+/// What a drawing of the 3-D view shows: the live frame (0 while a
+/// recording is shown), camera, style, size and the recording's sample.
+type DrawnKey = (
+    usize,
+    Camera,
+    Style,
+    u32,
+    u32,
+    Option<recording::OverlayKey>,
+);
+
 struct View3d {
     pipeline: Pipeline,
     target: Target,
@@ -90,7 +112,7 @@ struct View3d {
     drag: Drag,
     /// What the texture shows (frame, camera, style, size), so an
     /// unchanged view is not drawn again, and the legend drawn with it.
-    drawn: Option<(usize, Camera, Style, u32, u32)>,
+    drawn: Option<DrawnKey>,
     legend: Option<render::Legend>,
     /// When the solver started re-meshing, for the overlay's clock.
     meshing_since: Option<std::time::Instant>,
@@ -151,6 +173,8 @@ pub struct Panels {
     /// UI frame time (s), smoothed, and when the last frame started.
     frame_time: f64,
     pub last_frame: Option<std::time::Instant>,
+    /// The lab recording over the run, its replay and its fit.
+    pub recording: recording::RecordingPanel,
 }
 
 /// The whole app: the panels and the 3-D view. Public for the UI tests,
@@ -298,6 +322,7 @@ impl Panels {
             path: String::new(),
             file_error: None,
             file_status: None,
+            recording: recording::RecordingPanel::default(),
         })
     }
 
@@ -315,6 +340,7 @@ impl Panels {
         }
         self.last_frame = Some(now);
         self.frame = self.live.latest();
+        self.recording.poll();
         if let Some(f) = &self.frame
             && f.commands >= self.sent.get()
             && *f.scene != self.edited
@@ -332,6 +358,10 @@ impl Panels {
                     self.controls(ui);
                     ui.separator();
                     self.file(ui);
+                    ui.separator();
+                    if let Some(action) = self.recording.ui(ui) {
+                        self.recording_action(action);
+                    }
                     ui.separator();
                     if self.parameters(ui) {
                         self.send(Command::SetScene(Box::new(self.edited.clone())));
@@ -457,6 +487,11 @@ impl Panels {
             self.send(Command::SetScene(Box::new(scene)));
             return;
         }
+        if recording::is_recording_file(&path) {
+            self.path = path.display().to_string();
+            self.open_recording(path);
+            return;
+        }
         match Scene::load(&path) {
             Ok(scene) => {
                 self.file_error = None;
@@ -466,6 +501,48 @@ impl Panels {
                 self.send(Command::SetScene(Box::new(scene)));
             }
             Err(e) => self.file_error = Some(format!("{e}")),
+        }
+    }
+
+    /// Opens a lab recording: its scene replaces the run's (as opening
+    /// the scene file would) and its replay starts on a background
+    /// thread. A recording that does not load shows its error in the
+    /// Recording panel and leaves the run and any recording open as they
+    /// were.
+    pub fn open_recording(&mut self, path: PathBuf) {
+        match crate::recording::Recording::load(&path) {
+            Ok(recording) => {
+                self.file_error = None;
+                self.edited = recording.scene.clone();
+                self.send(Command::SetScene(Box::new(recording.scene.clone())));
+                self.recording.open(recording);
+            }
+            Err(e) => self.recording.failed(&path, e),
+        }
+    }
+
+    fn recording_action(&mut self, action: recording::Action) {
+        match action {
+            recording::Action::Open(path) => self.open_recording(path),
+            recording::Action::ReplayEdited => self.recording.replay_on(self.edited.clone()),
+            recording::Action::Apply(values) => {
+                // As the sliders do: the edited scene, checked by the
+                // scene file's rules, sent to the solver.
+                let mut scene = self.edited.clone();
+                for (name, v) in &values {
+                    match crate::params::set(&scene, name, *v) {
+                        Ok(s) => scene = s,
+                        Err(e) => {
+                            self.recording.error =
+                                Some(format!("cannot apply the fitted {name}: {e}"));
+                            return;
+                        }
+                    }
+                }
+                self.edited = scene.clone();
+                self.send(Command::SetScene(Box::new(scene)));
+                self.recording.replay_fitted(&values);
+            }
         }
     }
 
@@ -860,25 +937,31 @@ impl Viewer {
         let Some(f) = self.panels.frame.clone() else {
             return;
         };
-        let meshing = f.run == RunState::Meshing;
-        let Some(model) = &f.model else {
-            ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "building the model...",
-                Default::default(),
-                egui::Color32::GRAY,
-            );
-            return;
+        // A recording shown replaces the live frame (and is not dragged).
+        let overlay = self.panels.recording.overlay();
+        let meshing = f.run == RunState::Meshing && overlay.is_none();
+        let (model, state) = match (&overlay, &f.model) {
+            (Some(o), _) => (&o.model, &o.state),
+            (None, Some(m)) => (m, &f.state),
+            (None, None) => {
+                ui.painter().text(
+                    rect.center(),
+                    egui::Align2::CENTER_CENTER,
+                    "building the model...",
+                    Default::default(),
+                    egui::Color32::GRAY,
+                );
+                return;
+            }
         };
         let aspect = rect.width() / rect.height().max(1.0);
         if let Some(view) = self.panels.view_request.take() {
-            self.view.camera = Some(render::frame_camera_aspect(model, &f.state, view, aspect));
+            self.view.camera = Some(render::frame_camera_aspect(model, state, view, aspect));
         }
         let camera = self
             .view
             .camera
-            .get_or_insert_with(|| render::frame_camera_aspect(model, &f.state, View::Iso, aspect));
+            .get_or_insert_with(|| render::frame_camera_aspect(model, state, View::Iso, aspect));
         let Some(rs) = frame.wgpu_render_state() else {
             return;
         };
@@ -897,14 +980,14 @@ impl Viewer {
             let ray = ray_at(camera, pos);
             let facing = camera.forward();
             let thickness = render::geometry::plate_thickness(model);
-            self.view.drag = match (!alt)
-                .then(|| pick::pick(model, &f.state, &ray, thickness))
+            self.view.drag = match (!alt && overlay.is_none())
+                .then(|| pick::pick(model, state, &ray, thickness))
                 .flatten()
             {
                 Some(pick::Picked::Finger { index, point }) => Drag::Finger {
                     index,
                     grabbed: point,
-                    centre: f.state.fingers[index].position,
+                    centre: state.fingers[index].position,
                     facing,
                     last: None,
                 },
@@ -1009,9 +1092,24 @@ impl Viewer {
                 self.view.texture,
             );
         }
-        let key = (Arc::as_ptr(&f) as usize, *camera, self.panels.style, w, h);
+        let live = if overlay.is_some() {
+            0
+        } else {
+            Arc::as_ptr(&f) as usize
+        };
+        let key = (
+            live,
+            *camera,
+            self.panels.style,
+            w,
+            h,
+            overlay.as_ref().map(|o| o.key),
+        );
         if self.view.drawn != Some(key) {
-            let drawing = render::geometry::build(model, &f.state, &self.panels.style);
+            let mut drawing = render::geometry::build(model, state, &self.panels.style);
+            if let Some(o) = &overlay {
+                render::markers::add_markers(&mut drawing, model, &o.markers, o.exaggerate);
+            }
             let mut encoder = rs
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -1038,7 +1136,12 @@ impl Viewer {
         if let Some(legend) = &self.view.legend {
             draw_legend(ui, rect, legend);
         }
-        let hint = if f.run == RunState::Paused && self.view.drag != Drag::None {
+        if let Some(o) = &overlay {
+            draw_recording_caption(ui, rect, &o.caption);
+        }
+        let hint = if overlay.is_some() {
+            "showing the recording (untick \"show recording\" for the live run) | drag: orbit | right-drag: pan | scroll: zoom"
+        } else if f.run == RunState::Paused && self.view.drag != Drag::None {
             "paused: press Play to see the drag act"
         } else {
             "drag: finger moves, object is pulled, elsewhere orbits | right-drag: pan | scroll: zoom"
@@ -1073,6 +1176,37 @@ impl Viewer {
         } else {
             self.view.meshing_since = None;
         }
+    }
+}
+
+/// What the 3-D view shows while a recording is shown, and its colours'
+/// key, at the view's top left.
+fn draw_recording_caption(ui: &egui::Ui, view: egui::Rect, caption: &str) {
+    let painter = ui.painter();
+    let color = |c: [f32; 4]| egui::Rgba::from_rgb(c[0], c[1], c[2]);
+    let top = view.left_top() + egui::vec2(10.0, 10.0);
+    painter.text(
+        top,
+        egui::Align2::LEFT_TOP,
+        caption,
+        egui::FontId::proportional(14.0),
+        egui::Color32::from_gray(30),
+    );
+    let mut at = top + egui::vec2(6.0, 28.0);
+    for (c, text) in [
+        (render::markers::RECORDED, "recorded"),
+        (render::markers::SIMULATED, "simulated"),
+        (render::markers::RESIDUAL, "residual"),
+    ] {
+        painter.circle_filled(at, 5.0, color(c));
+        let label = painter.text(
+            at + egui::vec2(10.0, 0.0),
+            egui::Align2::LEFT_CENTER,
+            text,
+            egui::FontId::proportional(13.0),
+            egui::Color32::from_gray(40),
+        );
+        at.x = label.right() + 18.0;
     }
 }
 
@@ -1148,7 +1282,7 @@ impl eframe::App for Viewer {
             .frame
             .as_ref()
             .is_some_and(|f| f.run != RunState::Paused);
-        if running || self.view.drag != Drag::None {
+        if running || self.view.drag != Drag::None || self.panels.recording.busy() {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(16));
         } else {
