@@ -1,29 +1,39 @@
 //! Fitting scene parameters to a recording: NRMSE minimised by a bounded
-//! Nelder-Mead search, then what the data say about the answer.
+//! search, then what the data say about the answer.
 //!
 //! - Each parameter lives in its bounds, mapped to 0..1 (logarithmically
-//!   for moduli and alpha, whose plausible values span decades); trial
-//!   points outside are projected onto the bounds.
-//! - Nelder-Mead (with the dimension-adapted coefficients of Gao and Han,
-//!   2012) needs no derivatives: NRMSE has kinks where a spring limit
-//!   starts to act and a run can fail outright (a failed run counts as
-//!   infinitely bad). It restarts from its best point until a restart
-//!   gains nothing, which guards against a collapsed simplex.
+//!   for moduli, alpha and the spring limits, whose plausible values span
+//!   decades); trial points outside are projected onto the bounds.
+//! - First a space-filling (Halton) design, 8 points per parameter: NRMSE
+//!   is flat wherever a spring limit acts on no spring, and a local search
+//!   that starts on such a plateau never leaves it.
+//! - Then Nelder-Mead (with the dimension-adapted coefficients of Gao and
+//!   Han, 2012) from the best point: it needs no derivatives, and NRMSE has
+//!   kinks where a spring limit starts to act and a run can fail outright
+//!   (a failed run counts as infinitely bad). It restarts from its best
+//!   point until a restart gains nothing (a simplex collapsed onto a bound
+//!   gets its dimensions back) and stops when the simplex is small or the
+//!   best has not improved for a while ([`FitOptions::stall`]).
+//! - A spring limit left above every strain of the fitted run (acting
+//!   nowhere, with the modulus making up for it) is tried again just below
+//!   the largest strain, and kept if that fits better.
 //! - Uncertainty: at the fit, the Jacobian of the residual vector (central
 //!   differences, 1 % steps) gives the linearised covariance
 //!   `s^2 (J^T J)^-1` with `s^2 = SSR / (m - p)`, the noise variance the
-//!   residuals imply. The standard errors are what the noise allows; a
-//!   parameter the residuals do not depend on has none (infinite).
+//!   residuals imply. The standard errors are what the noise allows
+//!   (assuming independent residuals); a parameter the residuals do not
+//!   depend on has none (infinite).
 //! - Sensitivity: NRMSE at -10 % and +10 % of each fitted value. A change
 //!   is significant when it raises the sum of squared residuals by more
 //!   than 3.84 s^2 (the 95 % point of chi-square with one degree of
-//!   freedom); a parameter whose +/-10 % changes are both insignificant
-//!   is flagged unidentifiable, one with only one significant side is
-//!   bounded on one side only (e.g. a spring limit that no spring reaches).
+//!   freedom). Both significant: identified; otherwise weakly identified
+//!   if the standard error is under half the value, bounded on one side
+//!   only if one side is significant (e.g. a spring limit that no spring
+//!   reaches), else unidentifiable.
 //!
-//! Evaluations that can run at once (the first simplex, a shrink, the
-//! Jacobian and sensitivity points) run in parallel, one simulation per
-//! core; results do not depend on the number of workers.
+//! Evaluations that can run at once (the design, a shrink, the Jacobian
+//! and sensitivity points) run in parallel, one simulation per core;
+//! results do not depend on the number of workers.
 
 use std::collections::HashMap;
 

@@ -16,8 +16,13 @@
 //! - [`solver`]: the block-sparse system and preconditioned CG.
 //! - [`integrate`]: implicit Euler; [`constraints`]: spring limits.
 //! - [`step`]: one time step and [`step::Simulation`]; [`quasi_static`]: loads to rest.
-//! - [`output`]: ParaView and CSV output; [`bench`]: the `softgrip bench` runs.
+//! - [`output`]: ParaView and CSV output; [`mod@bench`]: the `softgrip bench` runs.
 //! - [`parallel`]: the helper thread that takes half of each step's work.
+//! - [`recording`], [`compare`], [`replay`], [`modulus`]: lab recordings,
+//!   markers and NRMSE, a recording simulated, E from a compression test.
+//! - [`params`], [`sweep`], [`fit`], [`synth`]: parameters by name, grids,
+//!   fitting with its evidence, recordings made by softgrip itself.
+//! - [`plot`], [`report`]: PNG plots and the Markdown reports around them.
 //! - [`live`]: a simulation on its own thread, driven by commands, publishing frames (the viewer's core).
 //! - `render`, `viewer` (feature `gui`): the 3-D renderer (also headless, for
 //!   `softgrip screenshot`) and the desktop viewer.

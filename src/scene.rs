@@ -1,8 +1,8 @@
 //! Scene files: the interchange contract of `shared/spec/scene-and-recording.md`.
 //!
-//! Parsing happens in two layers. [`RawScene`] mirrors the TOML exactly, every
+//! Parsing happens in two layers. `RawScene` mirrors the TOML exactly, every
 //! key optional and unknown keys rejected (`deny_unknown_fields`), so a typo is
-//! an error that names the key and the file. [`Scene::resolve`] then applies the
+//! an error that names the key and the file. The resolver then applies the
 //! documented defaults (the thesis values), records which ones it applied, and
 //! checks every value against its allowed range.
 //!

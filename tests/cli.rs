@@ -181,8 +181,20 @@ fn modulus_and_compare_write_their_figures() {
         &recording("ecoflex_compression/EF30_0T_A1/recording.toml"),
         "--json",
         json.to_str().unwrap(),
+        "--report",
+        dir.join("modulus").to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{o:?}");
+    let md = std::fs::read_to_string(dir.join("modulus/modulus.md")).unwrap();
+    assert!(
+        md.contains("| Young's modulus E (slope) | 100.3 kPa |"),
+        "{md}"
+    );
+    assert!(
+        std::fs::read(dir.join("modulus/stress_strain.png"))
+            .unwrap()
+            .starts_with(b"\x89PNG")
+    );
     assert!(
         stdout(&o).contains("Young's modulus E = "),
         "{}",
@@ -204,6 +216,10 @@ fn modulus_and_compare_write_their_figures() {
         report.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{o:?}");
+    // The full residual table: a row per marker per sample (3 x 159).
+    let table = std::fs::read_to_string(report.join("residuals.csv")).unwrap();
+    assert_eq!(table.lines().count(), 1 + 477);
+    assert!(table.starts_with("sample,time,load,marker,recorded_x"));
     // The report: Markdown with the figures and its plots beside it.
     let md = std::fs::read_to_string(report.join("compare.md")).unwrap();
     assert!(md.contains("| scene as given | 0.0"), "{md}");

@@ -388,7 +388,7 @@ pub fn fit(
     Ok(())
 }
 
-pub fn modulus(path: &Path, json: Option<&Path>) -> Result<()> {
+pub fn modulus(path: &Path, json: Option<&Path>, report: &ReportArgs) -> Result<()> {
     let recording = softgrip::recording::Recording::load(path)?;
     let fit = softgrip::modulus::from_recording(&recording)?;
     println!(
@@ -413,6 +413,9 @@ pub fn modulus(path: &Path, json: Option<&Path>) -> Result<()> {
         fit.e_range.1 / 1e3,
         recording.scene.object.young_modulus / 1e3
     );
+    if let Some(dir) = report.dir("modulus", path) {
+        wrote(&softgrip::report::modulus(&dir, &recording, &fit)?);
+    }
     if let Some(json) = json {
         let value = serde_json::json!({
             "recording": path.display().to_string(),

@@ -155,6 +155,8 @@ enum Command {
         /// Also write the figures as JSON (young_modulus in Pa, ...).
         #[arg(long)]
         json: Option<PathBuf>,
+        #[command(flatten)]
+        report: lab::ReportArgs,
     },
     /// Mesh files: figures, conversion, and the mesh a scene uses.
     Mesh {
@@ -424,7 +426,11 @@ pub fn main() -> ExitCode {
             json,
             report,
         }) => lab::compare(&recording, json.as_deref(), &report),
-        Some(Command::Modulus { recording, json }) => lab::modulus(&recording, json.as_deref()),
+        Some(Command::Modulus {
+            recording,
+            json,
+            report,
+        }) => lab::modulus(&recording, json.as_deref(), &report),
         Some(Command::Sweep {
             recording,
             params,

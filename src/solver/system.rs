@@ -24,7 +24,7 @@ pub struct System {
     pub particles: usize,
     /// Diagonal blocks, particles then fingers.
     pub diag: Vec<DMat3>,
-    /// Block (springs[s].i, springs[s].j); its transpose is block (j, i).
+    /// Block (`springs[s].i`, `springs[s].j`); its transpose is block (j, i).
     pub off: Vec<DMat3>,
     /// Block (particle, finger dof); its transpose is block (finger, particle).
     pub coupling: Vec<(u32, u32, DMat3)>,

@@ -148,7 +148,7 @@ pub fn read(path: &Path) -> Result<Imported, ImportError> {
 }
 
 /// Reads mesh text or bytes in a given format (TetGen: the `.node` and
-/// `.ele` contents joined by [`tetgen::read`]; here only single-file
+/// `.ele` contents joined by `tetgen::read`; here only single-file
 /// formats). For fuzzing and tests.
 pub fn read_bytes_as(bytes: &[u8], format: Format, name: &str) -> Result<Imported, ImportError> {
     match format {
