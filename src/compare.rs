@@ -161,3 +161,36 @@ pub fn components(residuals: &[Residual]) -> Vec<f64> {
     }
     out
 }
+
+/// One marker's root-mean-square residual per axis (`None` where the axis
+/// was never observed) and of the distance, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MarkerError {
+    pub marker: MarkerRef,
+    pub axes: [Option<f64>; 3],
+    pub distance: f64,
+}
+
+/// [`MarkerError`] of every marker in `residuals`, in marker order.
+pub fn per_marker(residuals: &[Residual]) -> Vec<MarkerError> {
+    let mut markers: Vec<MarkerRef> = residuals.iter().map(|r| r.marker).collect();
+    markers.sort();
+    markers.dedup();
+    markers
+        .into_iter()
+        .map(|m| {
+            let rs: Vec<&Residual> = residuals.iter().filter(|r| r.marker == m).collect();
+            let axes = std::array::from_fn(|a| {
+                let (s, n) = rms(rs
+                    .iter()
+                    .filter_map(|r| r.recorded[a].map(|x| r.simulated[a] - x)));
+                (n > 0).then_some(s)
+            });
+            MarkerError {
+                marker: m,
+                axes,
+                distance: rms(rs.iter().map(|r| r.distance())).0,
+            }
+        })
+        .collect()
+}

@@ -317,26 +317,10 @@ fn marker_table(recording: &Recording, replay: &Replay) -> String {
     let mut md = String::from(
         "| marker | reference from surface (mm) | RMS x (mm) | RMS y (mm) | RMS z (mm) | RMS distance (mm) |\n|---|---|---|---|---|---|\n",
     );
-    let mut markers: Vec<MarkerRef> = replay.residuals.iter().map(|r| r.marker).collect();
-    markers.sort();
-    markers.dedup();
-    for m in markers {
-        let rs: Vec<&Residual> = replay.residuals.iter().filter(|r| r.marker == m).collect();
-        let axis = |a: usize| {
-            let v: Vec<f64> = rs
-                .iter()
-                .filter_map(|r| r.recorded[a].map(|x| r.simulated[a] - x))
-                .collect();
-            if v.is_empty() {
-                "-".to_string()
-            } else {
-                format!(
-                    "{:.3}",
-                    1e3 * (v.iter().map(|d| d * d).sum::<f64>() / v.len() as f64).sqrt()
-                )
-            }
-        };
-        let total = (rs.iter().map(|r| r.distance().powi(2)).sum::<f64>() / rs.len() as f64).sqrt();
+    for e in crate::compare::per_marker(&replay.residuals) {
+        let m = e.marker;
+        let axis = |a: usize| e.axes[a].map_or("-".to_string(), |x| format!("{:.3}", 1e3 * x));
+        let total = e.distance;
         let distance = match m {
             MarkerRef::Object(k) => replay
                 .attachments

@@ -117,3 +117,25 @@ fn nrmse_is_the_rms_distance_over_observed_axes_divided_by_the_extent() {
     assert!((e.nrmse - 0.4).abs() < 1e-12);
     assert_eq!(e.count, 1);
 }
+
+#[test]
+fn per_marker_errors_are_rms_over_each_observed_axis() {
+    let (a, b) = (MarkerRef::Object(0), MarkerRef::Finger(0));
+    let rs = [
+        residual(a, [1.0, 0.0, 0.0], [Some(0.0), None, Some(0.0)]),
+        residual(b, [0.0, 0.0, 2.0], [None, None, Some(0.0)]),
+        residual(a, [3.0, 5.0, 4.0], [Some(0.0), None, Some(4.0)]),
+    ];
+    let e = softgrip::compare::per_marker(&rs);
+    assert_eq!(e.len(), 2);
+    assert_eq!(e[0].marker, a);
+    // x: sqrt((1 + 9) / 2); y never observed; z: 0.
+    assert!((e[0].axes[0].unwrap() - 5f64.sqrt()).abs() < 1e-15);
+    assert_eq!(e[0].axes[1], None);
+    assert_eq!(e[0].axes[2], Some(0.0));
+    assert!((e[0].distance - 5f64.sqrt()).abs() < 1e-15);
+    assert_eq!(
+        (e[1].marker, e[1].axes, e[1].distance),
+        (b, [None, None, Some(2.0)], 2.0)
+    );
+}

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use softgrip::compare::Errors;
-use softgrip::recording::{MarkerRef, Recording};
+use softgrip::recording::Recording;
 use softgrip::report::Written;
 
 use super::progress_bar;
@@ -127,34 +127,16 @@ pub fn compare(path: &Path, json: Option<&Path>, report: &ReportArgs) -> Result<
         e.nrmse_all,
         1e3 * e.rmse_all_m
     );
-    let mut names: Vec<MarkerRef> = run.residuals.iter().map(|r| r.marker).collect();
-    names.sort();
-    names.dedup();
     println!("  marker      rmse x (mm)  rmse y (mm)  rmse z (mm)  rmse (mm)");
-    for m in names {
-        let rs: Vec<_> = run.residuals.iter().filter(|r| r.marker == m).collect();
-        let axis = |a: usize| {
-            let v: Vec<f64> = rs
-                .iter()
-                .filter_map(|r| r.recorded[a].map(|x| r.simulated[a] - x))
-                .collect();
-            if v.is_empty() {
-                "-".to_string()
-            } else {
-                format!(
-                    "{:.3}",
-                    1e3 * (v.iter().map(|d| d * d).sum::<f64>() / v.len() as f64).sqrt()
-                )
-            }
-        };
-        let total = (rs.iter().map(|r| r.distance().powi(2)).sum::<f64>() / rs.len() as f64).sqrt();
+    for m in softgrip::compare::per_marker(&run.residuals) {
+        let axis = |a: usize| m.axes[a].map_or("-".to_string(), |e| format!("{:.3}", 1e3 * e));
         println!(
             "  {:<10}  {:>11}  {:>11}  {:>11}  {:>9.3}",
-            recording.marker_name(m),
+            recording.marker_name(m.marker),
             axis(0),
             axis(1),
             axis(2),
-            1e3 * total
+            1e3 * m.distance
         );
     }
     if let Some(v) = run.volume_errors.last() {
