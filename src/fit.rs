@@ -98,7 +98,7 @@ pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String
         "tau_s" | "tau_c" => Ok((0.02, 0.5)),
         "poisson_ratio" => Ok((0.3, 0.499)),
         "damping_ratio" => Ok((0.1, 3.0)),
-        "friction" => Ok((0.0, 2.0)),
+        "friction" | "table_friction" => Ok((0.0, 2.0)),
         "restitution" => Ok((0.0, 1.0)),
         "contact_stiffness_scale" => Ok((0.1, 10.0)),
         other => Err(format!(

@@ -80,6 +80,12 @@ pub const PARAMS: &[Param] = &[
         about: "every [[finger]] friction",
     },
     Param {
+        name: "table_friction",
+        unit: "",
+        log: false,
+        about: "[support] friction, object-table (with kind = \"table\")",
+    },
+    Param {
         name: "restitution",
         unit: "",
         log: false,
@@ -125,6 +131,8 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, String> {
         "bulk_modulus" => Some(scene.model.bulk_modulus),
         "limit_stiffness" => Some(scene.model.limit_stiffness),
         "friction" => first.map(|f| f.friction),
+        "table_friction" => (scene.support.kind == crate::scene::SupportKind::Table)
+            .then_some(scene.support.friction),
         "restitution" => first.map(|f| f.restitution),
         "contact_stiffness_scale" => first.map(|f| f.contact_stiffness_scale),
         "dt" => Some(scene.simulation.dt),
@@ -147,6 +155,15 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
         "damping_ratio" => s.model.damping_ratio = value,
         "bulk_modulus" => s.model.bulk_modulus = value,
         "limit_stiffness" => s.model.limit_stiffness = value,
+        "table_friction" => {
+            if s.support.kind != crate::scene::SupportKind::Table {
+                return Err(
+                    "table_friction needs a table: the scene's [support] kind is not \"table\""
+                        .into(),
+                );
+            }
+            s.support.friction = value;
+        }
         "friction" | "restitution" | "contact_stiffness_scale" => {
             if s.fingers.is_empty() {
                 return Err(format!(

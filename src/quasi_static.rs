@@ -137,8 +137,9 @@ impl Simulation {
         ((self.state.fingers[k].position.dot(d) + reach) - surface).max(0.0)
     }
 
-    /// Sum of the forces the pinned particles need to stay put: the support
-    /// reaction (N). At rest it balances gravity, loads and finger forces.
+    /// Sum of the forces the pinned particles need to stay put, and the
+    /// table's force of the last step: the support reaction (N). At rest it
+    /// balances gravity, loads and finger forces.
     pub fn support_reaction(&self) -> DVec3 {
         let (model, state) = (&self.model, &self.state);
         let n = model.particle_count();
@@ -163,5 +164,6 @@ impl Simulation {
             .filter(|(_, fixed)| **fixed)
             .map(|(f, _)| *f)
             .sum::<DVec3>()
+            + crate::contact::table::total_force(state)
     }
 }

@@ -83,6 +83,37 @@ pub struct ContactMemory {
     pub anchor_offset: DVec3,
 }
 
+/// How a particle touches the table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TableMode {
+    /// Not touching.
+    #[default]
+    Free,
+    /// Held by static friction at its anchor.
+    Stick,
+    /// Sliding: kinetic friction against `direction`.
+    Slip,
+}
+
+/// A particle's contact with the table (`contact::table`): its mode, what it
+/// remembers between steps, and the forces of the last step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TableContact {
+    pub mode: TableMode,
+    /// Where the stick spring is tied to the table (z = 0).
+    pub anchor: DVec3,
+    /// Unit sliding direction in the plane, while slipping.
+    pub direction: DVec3,
+    /// Depth below z = 0 (m).
+    pub penetration: f64,
+    /// Normal force on the particle, along +z (N).
+    pub normal_force: f64,
+    /// Friction force on the particle, in the plane (N).
+    pub tangential_force: DVec3,
+    /// Sliding speed at the start of the last step (m/s); 0 unless slipping.
+    pub last_speed: f64,
+}
+
 /// Diagnostics of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
@@ -116,6 +147,9 @@ pub struct State {
     pub contact_memory: BTreeMap<(u32, u32), ContactMemory>,
     /// The mouse spring, if the object is being pulled.
     pub pull: Option<Pull>,
+    /// One per particle that can touch the table (`Model::table`), in its
+    /// order; empty without a table.
+    pub table: Vec<TableContact>,
     pub stats: StepStats,
 }
 
@@ -139,6 +173,10 @@ impl State {
             contacts: Vec::new(),
             contact_memory: BTreeMap::new(),
             pull: None,
+            table: vec![
+                TableContact::default();
+                model.table.as_ref().map_or(0, |t| t.particles.len())
+            ],
             stats: StepStats::default(),
         }
     }

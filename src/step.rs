@@ -258,6 +258,7 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     forces::external::accumulate(model, state, &mut s.force, &mut system);
     forces::pull::accumulate(model, state, &mut s.force, &mut system);
     contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
+    contact::table::accumulate(model, state, &mut s.force, &mut system);
     let elements = parallel.main_elements();
     forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
     parallel.finish_assembly(&mut s.force, &mut system);
@@ -366,6 +367,7 @@ pub fn update_diagnostics(model: &Model, state: &mut State) {
         + forces::springs::energy(model, state)
         + forces::external::energy(model, state)
         + contact::energy(model, state)
+        + contact::table::energy(model, state)
         + forces::pull::energy(model, state)
         + bulk_energy;
     let st = &mut state.stats;

@@ -157,14 +157,6 @@ fn restitution_out_of_range() {
 }
 
 #[test]
-fn table_support_is_not_supported_yet() {
-    expect(
-        &format!("{BASE}[support]\nkind = \"table\"\n"),
-        &["table", "not supported yet"],
-    );
-}
-
-#[test]
 fn malformed_toml() {
     expect("[object\nshape = \"cuboid\"\n", &["line"]);
 }

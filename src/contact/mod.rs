@@ -13,6 +13,7 @@ pub mod friction;
 pub mod hunt_crossley;
 pub mod plate_facet;
 pub mod sphere_facet;
+pub mod table;
 
 use glam::{DMat3, DVec3};
 

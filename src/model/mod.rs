@@ -9,6 +9,7 @@ pub use finger::{AxisDrive, FingerModel, HUNT_CROSSLEY_MIN_APPROACH_SPEED};
 
 use glam::DVec3;
 
+use crate::contact::table::{TABLE_STIFFNESS_FACTOR, TableModel};
 use crate::error::SimError;
 use crate::mesh::{TET_EDGES, TetMesh};
 use crate::scene::{Scene, Shape, SupportKind};
@@ -64,6 +65,8 @@ pub struct Model {
     pub edge_length: f64,
     pub young_modulus: f64,
     pub density: f64,
+    /// The table under the object (`[support] kind = "table"`).
+    pub table: Option<TableModel>,
 }
 
 /// Lloyd's stiffness contribution of one element (thesis eq. 7-8):
@@ -166,13 +169,6 @@ impl Model {
             file: file.clone(),
             source,
         })?;
-        if scene.support.kind == SupportKind::Table {
-            return Err(SimError::NotSupported {
-                what: format!(
-                    "{file}: [support] kind = \"table\" is not supported yet; use \"fixed-bottom\" or \"none\""
-                ),
-            });
-        }
         let n = mesh.nodes.len();
         let obj = &scene.object;
 
@@ -303,6 +299,14 @@ impl Model {
             .map(|f| FingerModel::new(f, obj.young_modulus, obj.poisson_ratio, gravity))
             .collect();
 
+        let table = (scene.support.kind == SupportKind::Table).then(|| {
+            TableModel::new(
+                &facets,
+                scene.support.friction,
+                TABLE_STIFFNESS_FACTOR * obj.young_modulus * edge_length,
+            )
+        });
+
         Ok(Model {
             rest_total_volume: rest_volume.iter().sum(),
             rest_positions: mesh.nodes,
@@ -332,6 +336,7 @@ impl Model {
             edge_length,
             young_modulus: obj.young_modulus,
             density: obj.density,
+            table,
         })
     }
 
@@ -389,6 +394,7 @@ impl Model {
             edge_length: (hi - lo).max_element(),
             young_modulus: 1.0,
             density: 1.0,
+            table: None,
         }
     }
 

@@ -8,7 +8,7 @@ use crate::fields::Field;
 use crate::mesh::TET_FACES;
 use crate::model::Model;
 use crate::scene::FingerShape;
-use crate::state::State;
+use crate::state::{State, TableMode};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -76,6 +76,8 @@ pub struct Style {
     pub object: [f32; 4],
     pub finger: [f32; 4],
     pub fixed: [f32; 4],
+    /// The table (`[support] kind = "table"`).
+    pub table: [f32; 4],
     pub stick: [f32; 4],
     pub slip: [f32; 4],
     pub normal_force: [f32; 4],
@@ -107,6 +109,7 @@ impl Default for Style {
             object: [0.93, 0.62, 0.45, 1.0],
             finger: [0.25, 0.45, 0.85, 1.0],
             fixed: [0.35, 0.35, 0.38, 1.0],
+            table: [0.62, 0.63, 0.66, 1.0],
             stick: [0.15, 0.80, 0.25, 1.0],
             slip: [0.95, 0.55, 0.05, 1.0],
             normal_force: [0.85, 0.10, 0.10, 1.0],
@@ -362,6 +365,9 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             mesh.add_sphere(f32v(at), 0.01 * scale, style.drag);
         }
     }
+    if let Some(table) = &model.table {
+        add_table(mesh, state, table, style, scale);
+    }
     for c in &state.contacts {
         let at = f32v(c.point);
         if style.contacts {
@@ -380,6 +386,48 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
         }
     }
     drawing
+}
+
+/// The table as a slab three times the object's extent around where the
+/// object is now, its top a hair under z = 0 (the object sinks micrometres
+/// into it), and its contacts: a dot per particle on it (stick or slip
+/// colours) with its normal and friction arrows.
+fn add_table(
+    mesh: &mut Mesh,
+    state: &State,
+    table: &crate::contact::table::TableModel,
+    style: &Style,
+    scale: f32,
+) {
+    let (lo, hi) = crate::mesh::bounds_of(&state.positions);
+    let centre = f32v(0.5 * (lo + hi));
+    let half = 1.5 * scale;
+    let top = -0.002 * scale;
+    mesh.add_box(
+        Vec3::new(centre.x - half, centre.y - half, top - 0.03 * scale),
+        Vec3::new(centre.x + half, centre.y + half, top),
+        style.table,
+    );
+    for (c, &p) in state.table.iter().zip(&table.particles) {
+        if c.mode == TableMode::Free {
+            continue;
+        }
+        let at = f32v(state.positions[p as usize]);
+        if style.contacts {
+            let color = if c.mode == TableMode::Stick {
+                style.stick
+            } else {
+                style.slip
+            };
+            mesh.add_sphere(at, 0.006 * scale, color);
+        }
+        if style.arrows {
+            let normal = Vec3::Z * (c.normal_force as f32 * style.force_scale);
+            mesh.add_arrow(at, normal, 0.002 * scale, style.normal_force);
+            let friction = f32v(c.tangential_force) * style.force_scale;
+            mesh.add_arrow(at, friction, 0.002 * scale, style.tangential_force);
+        }
+    }
 }
 
 /// How thick a plate finger is drawn (m): 2 % of the object's extent.
