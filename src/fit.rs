@@ -99,6 +99,11 @@ pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String
         "poisson_ratio" => Ok((0.3, 0.499)),
         "damping_ratio" => Ok((0.1, 3.0)),
         "friction" | "table_friction" => Ok((0.0, 2.0)),
+        "stiffening" => Ok((0.0, 1000.0)),
+        "compression_ratio" => Ok((0.2, 5.0)),
+        "prony_g" => Ok((0.0, 0.9)),
+        "prony_tau" => Ok((0.01, 100.0)),
+        "guide_friction" => Ok((0.0, 5.0)),
         "restitution" => Ok((0.0, 1.0)),
         "contact_stiffness_scale" => Ok((0.1, 10.0)),
         other => Err(format!(

@@ -131,6 +131,9 @@ fn load_norm(model: &Model, state: &State) -> f64 {
 /// Sets finger velocities on locked and velocity-driven axes before a step;
 /// a held finger moves towards where it is held along its free axes.
 pub fn drive_fingers(model: &Model, state: &mut State) {
+    // The velocity over the coming step: at its middle, so a ramp's
+    // distance is exact.
+    let time = state.time + 0.5 * model.dt;
     for (f, fs) in model.fingers.iter().zip(&mut state.fingers) {
         if let Some(target) = fs.held {
             let free = DVec3::from_array(
@@ -150,7 +153,13 @@ pub fn drive_fingers(model: &Model, state: &mut State) {
         for axis in 0..3 {
             match f.drive[axis] {
                 AxisDrive::Locked => fs.velocity[axis] = 0.0,
-                AxisDrive::Velocity(v) => fs.velocity[axis] = if stopped { 0.0 } else { v },
+                AxisDrive::Velocity(v) => {
+                    fs.velocity[axis] = if stopped {
+                        0.0
+                    } else {
+                        v * f.velocity_share(time)
+                    }
+                }
                 AxisDrive::Force => {}
             }
         }

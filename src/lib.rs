@@ -39,6 +39,7 @@ pub mod error;
 pub mod fields;
 pub mod fit;
 pub mod forces;
+pub mod grasp;
 pub mod integrate;
 pub mod live;
 pub mod mesh;

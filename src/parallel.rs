@@ -180,6 +180,8 @@ impl Parallel {
             s.positions.extend_from_slice(&state.positions);
             s.velocities.clear();
             s.velocities.extend_from_slice(&state.velocities);
+            s.maxwell.clear();
+            s.maxwell.extend_from_slice(&state.maxwell);
         }
         if self.is_threaded() {
             self.post(ASSEMBLE);

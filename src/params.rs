@@ -74,6 +74,30 @@ pub const PARAMS: &[Param] = &[
         about: "[model] limit_stiffness (softgrip)",
     },
     Param {
+        name: "stiffening",
+        unit: "",
+        log: false,
+        about: "[model] stiffening, strain stiffening of the springs (softgrip)",
+    },
+    Param {
+        name: "compression_ratio",
+        unit: "",
+        log: true,
+        about: "[model] compression_ratio, spring stiffness in compression over tension (softgrip)",
+    },
+    Param {
+        name: "prony_g",
+        unit: "",
+        log: false,
+        about: "[model] prony_g, the share of the stiffness that relaxes (softgrip)",
+    },
+    Param {
+        name: "prony_tau",
+        unit: "s",
+        log: true,
+        about: "[model] prony_tau, the relaxation time constant (softgrip)",
+    },
+    Param {
         name: "friction",
         unit: "",
         log: false,
@@ -84,6 +108,12 @@ pub const PARAMS: &[Param] = &[
         unit: "",
         log: false,
         about: "[support] friction, object-table (with kind = \"table\")",
+    },
+    Param {
+        name: "guide_friction",
+        unit: "N",
+        log: false,
+        about: "every [[finger]] guide_friction, Coulomb friction in the finger's guide (softgrip)",
     },
     Param {
         name: "restitution",
@@ -130,10 +160,15 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, String> {
         "damping_ratio" => Some(scene.model.damping_ratio),
         "bulk_modulus" => Some(scene.model.bulk_modulus),
         "limit_stiffness" => Some(scene.model.limit_stiffness),
+        "stiffening" => Some(scene.model.stiffening),
+        "compression_ratio" => Some(scene.model.compression_ratio),
+        "prony_g" => Some(scene.model.prony_g),
+        "prony_tau" => Some(scene.model.prony_tau),
         "friction" => first.map(|f| f.friction),
         "table_friction" => (scene.support.kind == crate::scene::SupportKind::Table)
             .then_some(scene.support.friction),
         "restitution" => first.map(|f| f.restitution),
+        "guide_friction" => first.map(|f| f.guide_friction),
         "contact_stiffness_scale" => first.map(|f| f.contact_stiffness_scale),
         "dt" => Some(scene.simulation.dt),
         _ => None,
@@ -155,6 +190,10 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
         "damping_ratio" => s.model.damping_ratio = value,
         "bulk_modulus" => s.model.bulk_modulus = value,
         "limit_stiffness" => s.model.limit_stiffness = value,
+        "stiffening" => s.model.stiffening = value,
+        "compression_ratio" => s.model.compression_ratio = value,
+        "prony_g" => s.model.prony_g = value,
+        "prony_tau" => s.model.prony_tau = value,
         "table_friction" => {
             if s.support.kind != crate::scene::SupportKind::Table {
                 return Err(
@@ -164,7 +203,7 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
             }
             s.support.friction = value;
         }
-        "friction" | "restitution" | "contact_stiffness_scale" => {
+        "friction" | "restitution" | "contact_stiffness_scale" | "guide_friction" => {
             if s.fingers.is_empty() {
                 return Err(format!(
                     "{name} is a finger parameter and the scene has no finger"
@@ -174,6 +213,7 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
                 match name {
                     "friction" => f.friction = value,
                     "restitution" => f.restitution = value,
+                    "guide_friction" => f.guide_friction = value,
                     _ => f.contact_stiffness_scale = value,
                 }
             }

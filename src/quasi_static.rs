@@ -133,7 +133,7 @@ impl Simulation {
             .iter()
             .map(|p| p.dot(d))
             .fold(f64::INFINITY, f64::min);
-        let reach = self.model.fingers[k].shape.reach();
+        let reach = self.model.fingers[k].shape.reach_along(d);
         ((self.state.fingers[k].position.dot(d) + reach) - surface).max(0.0)
     }
 

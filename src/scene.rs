@@ -15,6 +15,16 @@
 //! - `[[finger]] contact_stiffness_scale`: multiplies eq. 27's contact
 //!   stiffness (the lattice already carries the object's compliance; see
 //!   ARCHITECTURE.md, choice 10).
+//! - `[[finger]] guide_friction`: Coulomb friction (N) in the finger's
+//!   guide, so loading and unloading paths differ.
+//! - `[[finger]] start_time`, `ramp_time`: velocity-driven axes hold still
+//!   until `start_time` (s), then reach their velocity linearly over
+//!   `ramp_time` (s), so a grasp can squeeze first and then lift smoothly.
+//! - `[[finger]] shape = "box"` with `size = [x, y, z]`, and
+//!   `[[finger.part]]` (`shape`, `radius` or `size`, `offset`): box fingers
+//!   and fingers of several rigid shapes.
+//! - `[support] kind = "table"` is the spec's; its contact law is ours
+//!   (`contact::table`).
 
 use std::path::{Path, PathBuf};
 
@@ -61,6 +71,8 @@ struct RawScene {
     load: Vec<RawLoad>,
     #[serde(default)]
     finger: Vec<RawFinger>,
+    #[serde(default)]
+    region: Vec<RawRegion>,
     #[allow(dead_code)] // free-form by contract; kept so it parses
     extra: Option<toml::Table>,
 }
@@ -102,6 +114,10 @@ struct RawModel {
     tau_c: Option<f64>,
     constraint_iterations: Option<i64>,
     constraint_tolerance: Option<f64>,
+    stiffening: Option<f64>,
+    compression_ratio: Option<f64>,
+    prony_g: Option<f64>,
+    prony_tau: Option<f64>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -132,7 +148,10 @@ struct RawLoad {
 struct RawFinger {
     shape: Option<String>,
     radius: Option<f64>,
-    size: Option<[f64; 2]>,
+    /// `[x, y]` for a plate, `[x, y, z]` for a box.
+    size: Option<Vec<f64>>,
+    /// `[[finger.part]]`: more rigid shapes moving with the finger.
+    part: Option<Vec<RawPart>>,
     position: Option<[f64; 3]>,
     free_axes: Option<String>,
     control: Option<String>,
@@ -147,8 +166,29 @@ struct RawFinger {
     stick_stiffness: Option<f64>,
     stick_damping: Option<f64>,
     travel: Option<f64>,
+    start_time: Option<f64>,
+    ramp_time: Option<f64>,
     guide_speed: Option<f64>,
+    guide_friction: Option<f64>,
     contact_stiffness_scale: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRegion {
+    min: [f64; 3],
+    max: [f64; 3],
+    young_modulus: Option<f64>,
+    density: Option<f64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPart {
+    shape: Option<String>,
+    radius: Option<f64>,
+    size: Option<Vec<f64>>,
+    offset: Option<[f64; 3]>,
 }
 
 // ---------------------------------------------------------------------------
@@ -165,6 +205,8 @@ pub struct Scene {
     pub fixed: Vec<AaBox>,
     pub loads: Vec<Load>,
     pub fingers: Vec<Finger>,
+    /// `[[region]]`: boxes of other material (softgrip).
+    pub regions: Vec<Region>,
     /// Where the scene came from (for error messages and relative mesh paths).
     pub source: Option<PathBuf>,
     /// `table.key = value` of every default the resolver applied.
@@ -230,6 +272,17 @@ pub struct ModelParams {
     /// (a softgrip extension; `None` = exactly `constraint_iterations`
     /// sweeps, as the thesis).
     pub constraint_tolerance: Option<f64>,
+    /// Strain stiffening of the springs, beta: `F = k dl (1 + beta e^2)`
+    /// with `e = dl / l0`; 0 = the thesis's linear spring (softgrip).
+    pub stiffening: f64,
+    /// A spring's stiffness in compression over its stiffness in tension;
+    /// 1 = symmetric, the thesis (softgrip).
+    pub compression_ratio: f64,
+    /// Viscoelastic springs, one Prony term: the relative modulus g that
+    /// relaxes (0 = elastic, the thesis) ...
+    pub prony_g: f64,
+    /// ... with this time constant (s) (softgrip).
+    pub prony_tau: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -258,6 +311,16 @@ impl AaBox {
     }
 }
 
+/// A box of other material (`[[region]]`, softgrip): the elements whose
+/// centroid lies inside take its Young's modulus and density (the last
+/// region containing them wins).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Region {
+    pub region: AaBox,
+    pub young_modulus: f64,
+    pub density: f64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Load {
     pub region: AaBox,
@@ -274,15 +337,36 @@ pub enum FingerShape {
     Plate {
         half_size: [f64; 2],
     },
+    /// A rigid axis-aligned box (cuboid) centred on the finger; `half_size`
+    /// are half its x, y, z extents (softgrip).
+    Box {
+        half_size: [f64; 3],
+    },
+}
+
+/// One more rigid shape of a compound finger (`[[finger.part]]`), carried
+/// at `offset` from the finger's position (softgrip).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerPart {
+    pub shape: FingerShape,
+    pub offset: DVec3,
 }
 
 impl FingerShape {
     /// How far the finger's pressing surface lies from its centre (m): the
     /// sphere's radius; 0 for a plate, whose centre is on its face.
     pub fn reach(&self) -> f64 {
+        self.reach_along(DVec3::NEG_Z)
+    }
+
+    /// How far the finger's surface lies from its centre along the unit
+    /// direction `d` (m): the radius, 0 for a plate, the box's support
+    /// distance `sum |d_i| h_i` (its half height for -z).
+    pub fn reach_along(&self, d: DVec3) -> f64 {
         match *self {
             FingerShape::Sphere { radius } => radius,
             FingerShape::Plate { .. } => 0.0,
+            FingerShape::Box { half_size } => d.abs().dot(DVec3::from_array(half_size)),
         }
     }
 }
@@ -296,6 +380,8 @@ pub enum Control {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Finger {
     pub shape: FingerShape,
+    /// More shapes moving with it (a compound finger); empty for one shape.
+    pub parts: Vec<FingerPart>,
     pub position: DVec3,
     pub free_axes: [bool; 3],
     pub control: Control,
@@ -311,6 +397,14 @@ pub struct Finger {
     pub stick_damping: f64,
     /// Velocity control: stop after this distance (m); `None` = never stop.
     pub travel: Option<f64>,
+    /// Velocity-driven axes hold still until this time (s).
+    pub start_time: f64,
+    /// ... and then reach their velocity linearly over this time (s).
+    pub ramp_time: f64,
+    /// Coulomb friction in the finger's guide (N) on its force-driven axes:
+    /// against its motion, and holding it while the forces on it are
+    /// smaller (softgrip).
+    pub guide_friction: f64,
     /// Mass-less force control: approach speed before contact (m/s).
     pub guide_speed: f64,
     /// Multiplies the contact stiffness of thesis eq. 27 (1 = the thesis).
@@ -378,6 +472,7 @@ impl Scene {
             text,
             file,
             applied: Vec::new(),
+            parts_seen: 0,
         }
         .resolve(raw)
     }
@@ -443,6 +538,11 @@ impl Scene {
         if let Some(t) = m.constraint_tolerance {
             let _ = writeln!(s, "constraint_tolerance = {t:?}");
         }
+        let _ = writeln!(
+            s,
+            "stiffening = {:?}\ncompression_ratio = {:?}\nprony_g = {:?}\nprony_tau = {:?}",
+            m.stiffening, m.compression_ratio, m.prony_g, m.prony_tau
+        );
         s.push('\n');
         let kind = match self.support.kind {
             SupportKind::FixedBottom => "fixed-bottom",
@@ -467,6 +567,16 @@ impl Scene {
                 v3(l.force)
             );
         }
+        for r in &self.regions {
+            let _ = writeln!(
+                s,
+                "[[region]]\nmin = {}\nmax = {}\nyoung_modulus = {:?}\ndensity = {:?}\n",
+                v3(r.region.min),
+                v3(r.region.max),
+                r.young_modulus,
+                r.density
+            );
+        }
         for f in &self.fingers {
             s.push_str("[[finger]]\n");
             match f.shape {
@@ -479,6 +589,13 @@ impl Scene {
                         "shape = \"plate\"\nsize = [{:?}, {:?}]",
                         2.0 * half_size[0],
                         2.0 * half_size[1]
+                    );
+                }
+                FingerShape::Box { half_size } => {
+                    let _ = writeln!(
+                        s,
+                        "shape = \"box\"\nsize = {}",
+                        v3(DVec3::from_array(half_size) * 2.0)
                     );
                 }
             }
@@ -512,7 +629,36 @@ impl Scene {
             if let Some(t) = f.travel {
                 let _ = writeln!(s, "travel = {t:?}");
             }
+            let _ = writeln!(
+                s,
+                "start_time = {:?}\nramp_time = {:?}\nguide_friction = {:?}",
+                f.start_time, f.ramp_time, f.guide_friction
+            );
             s.push('\n');
+            for part in &f.parts {
+                s.push_str("[[finger.part]]\n");
+                match part.shape {
+                    FingerShape::Sphere { radius } => {
+                        let _ = writeln!(s, "shape = \"sphere\"\nradius = {radius:?}");
+                    }
+                    FingerShape::Plate { half_size } => {
+                        let _ = writeln!(
+                            s,
+                            "shape = \"plate\"\nsize = [{:?}, {:?}]",
+                            2.0 * half_size[0],
+                            2.0 * half_size[1]
+                        );
+                    }
+                    FingerShape::Box { half_size } => {
+                        let _ = writeln!(
+                            s,
+                            "shape = \"box\"\nsize = {}",
+                            v3(DVec3::from_array(half_size) * 2.0)
+                        );
+                    }
+                }
+                let _ = writeln!(s, "offset = {}\n", v3(part.offset));
+            }
         }
         s
     }
@@ -543,6 +689,8 @@ struct Resolver<'a> {
     text: &'a str,
     file: &'a str,
     applied: Vec<String>,
+    /// `[[finger.part]]` tables resolved so far (their file order).
+    parts_seen: usize,
 }
 
 /// One key of a table: where to report it.
@@ -922,6 +1070,34 @@ impl<'a> Resolver<'a> {
             |x| x > 0.0 && x <= 0.1,
             "must be in (0, 0.1] (a fraction of the rest length; omit the key for exactly constraint_iterations sweeps)",
         )?;
+        let stiffening = self.number(
+            at("model", "stiffening"),
+            m.stiffening,
+            0.0,
+            |x| (0.0..=1e4).contains(&x),
+            "must be in [0, 1e4] (F = k dl (1 + stiffening (dl / l0)^2); 0 = the linear spring)",
+        )?;
+        let compression_ratio = self.number(
+            at("model", "compression_ratio"),
+            m.compression_ratio,
+            1.0,
+            |x| x > 0.0 && x <= 100.0,
+            "must be in (0, 100] (compression stiffness over tension stiffness; 1 = symmetric)",
+        )?;
+        let prony_g = self.number(
+            at("model", "prony_g"),
+            m.prony_g,
+            0.0,
+            |x| (0.0..1.0).contains(&x),
+            "must be in [0, 1) (the share of the stiffness that relaxes; 0 = elastic)",
+        )?;
+        let prony_tau = self.number(
+            at("model", "prony_tau"),
+            m.prony_tau,
+            1.0,
+            |x| x > 0.0,
+            "must be > 0 s (the relaxation time constant)",
+        )?;
         let model = ModelParams {
             damping_ratio,
             alpha,
@@ -931,6 +1107,10 @@ impl<'a> Resolver<'a> {
             tau_c,
             constraint_iterations: iters as usize,
             constraint_tolerance,
+            stiffening,
+            compression_ratio,
+            prony_g,
+            prony_tau,
         };
 
         // [support]
@@ -995,6 +1175,36 @@ impl<'a> Resolver<'a> {
             fingers.push(self.finger(i, f)?);
         }
 
+        // [[region]]
+        let mut regions = Vec::new();
+        for (i, r) in raw.region.iter().enumerate() {
+            let at = |key| At {
+                table: "region",
+                index: Some(i),
+                key,
+            };
+            let region = self.aabox(at("max"), r.min, r.max)?;
+            let young_modulus = self.number(
+                at("young_modulus"),
+                r.young_modulus,
+                object.young_modulus,
+                |x| x > 0.0,
+                "must be > 0 Pa",
+            )?;
+            let density = self.number(
+                at("density"),
+                r.density,
+                object.density,
+                |x| x > 0.0,
+                "must be > 0 kg/m^3",
+            )?;
+            regions.push(Region {
+                region,
+                young_modulus,
+                density,
+            });
+        }
+
         Ok(Scene {
             simulation: Simulation {
                 dt,
@@ -1009,6 +1219,7 @@ impl<'a> Resolver<'a> {
             fixed,
             loads,
             fingers,
+            regions,
             source: None,
             defaults_applied: self.applied,
         })
@@ -1026,42 +1237,79 @@ impl<'a> Resolver<'a> {
         Ok(AaBox { min, max })
     }
 
+    /// A finger's (or a part's) `shape` with its `radius` or `size`.
+    fn finger_shape<'k>(
+        &mut self,
+        at: impl Fn(&'k str) -> At<'k>,
+        shape: Option<String>,
+        radius: Option<f64>,
+        size: Option<Vec<f64>>,
+    ) -> Result<FingerShape, SceneError> {
+        let extents = |this: &mut Self, n: usize, default: &[f64]| {
+            let size = this.default(at("size"), size.clone(), default.to_vec());
+            if size.len() != n || !size.iter().all(|c| c.is_finite() && *c > 0.0) {
+                let what = if n == 2 { "[x, y]" } else { "[x, y, z]" };
+                return Err(this.err(
+                    at("size"),
+                    format!("{size:?}"),
+                    &format!("must be {what}, every extent > 0 m"),
+                ));
+            }
+            Ok(size)
+        };
+        Ok(
+            match self
+                .default(at("shape"), shape, "sphere".to_string())
+                .as_str()
+            {
+                "sphere" => {
+                    let radius =
+                        self.number(at("radius"), radius, 0.015, |x| x > 0.0, "must be > 0 m")?;
+                    FingerShape::Sphere { radius }
+                }
+                "plate" => {
+                    let size = extents(self, 2, &[0.08, 0.08])?;
+                    FingerShape::Plate {
+                        half_size: [0.5 * size[0], 0.5 * size[1]],
+                    }
+                }
+                "box" => {
+                    let size = extents(self, 3, &[0.02, 0.02, 0.02])?;
+                    FingerShape::Box {
+                        half_size: [0.5 * size[0], 0.5 * size[1], 0.5 * size[2]],
+                    }
+                }
+                other => {
+                    return Err(self.err(
+                        at("shape"),
+                        format!("{other:?}"),
+                        "must be \"sphere\", \"plate\" or \"box\"",
+                    ));
+                }
+            },
+        )
+    }
+
     fn finger(&mut self, i: usize, f: &RawFinger) -> Result<Finger, SceneError> {
         let at = |key| At {
             table: "finger",
             index: Some(i),
             key,
         };
-        let shape = match self
-            .default(at("shape"), f.shape.clone(), "sphere".to_string())
-            .as_str()
-        {
-            "sphere" => {
-                let radius =
-                    self.number(at("radius"), f.radius, 0.015, |x| x > 0.0, "must be > 0 m")?;
-                FingerShape::Sphere { radius }
-            }
-            "plate" => {
-                let size = self.default(at("size"), f.size, [0.08, 0.08]);
-                if !size.iter().all(|c| c.is_finite() && *c > 0.0) {
-                    return Err(self.err(
-                        at("size"),
-                        format!("{size:?}"),
-                        "both extents must be > 0 m",
-                    ));
-                }
-                FingerShape::Plate {
-                    half_size: [0.5 * size[0], 0.5 * size[1]],
-                }
-            }
-            other => {
-                return Err(self.err(
-                    at("shape"),
-                    format!("{other:?}"),
-                    "must be \"sphere\" or \"plate\"",
-                ));
-            }
-        };
+        let shape = self.finger_shape(at, f.shape.clone(), f.radius, f.size.clone())?;
+        let mut parts = Vec::new();
+        for raw in f.part.iter().flatten() {
+            let index = self.parts_seen;
+            self.parts_seen += 1;
+            let at = |key| At {
+                table: "finger.part",
+                index: Some(index),
+                key,
+            };
+            let shape = self.finger_shape(at, raw.shape.clone(), raw.radius, raw.size.clone())?;
+            let offset = self.vec3(at("offset"), raw.offset, [0.0; 3])?;
+            parts.push(FingerPart { shape, offset });
+        }
         let position = self.vec3(at("position"), f.position, [0.0, 0.0, 0.035])?;
         let axes_text = self.default(at("free_axes"), f.free_axes.clone(), "z".to_string());
         let mut free_axes = [false; 3];
@@ -1155,6 +1403,27 @@ impl<'a> Resolver<'a> {
             "must be >= 0 N s/m",
         )?;
         let travel = self.optional(at("travel"), f.travel, |x| x >= 0.0, "must be >= 0 m")?;
+        let start_time = self.number(
+            at("start_time"),
+            f.start_time,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 s",
+        )?;
+        let ramp_time = self.number(
+            at("ramp_time"),
+            f.ramp_time,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 s",
+        )?;
+        let guide_friction = self.number(
+            at("guide_friction"),
+            f.guide_friction,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 N (the Coulomb friction force in the finger's guide)",
+        )?;
         let guide_speed = self.number(
             at("guide_speed"),
             f.guide_speed,
@@ -1171,6 +1440,7 @@ impl<'a> Resolver<'a> {
         )?;
         Ok(Finger {
             shape,
+            parts,
             position,
             free_axes,
             control,
@@ -1185,6 +1455,9 @@ impl<'a> Resolver<'a> {
             stick_stiffness,
             stick_damping,
             travel,
+            start_time,
+            ramp_time,
+            guide_friction,
             guide_speed,
             contact_stiffness_scale,
         })

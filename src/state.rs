@@ -68,6 +68,8 @@ pub struct Contact {
     pub stick: f64,
     /// Barycentric weights of the contact point (the H of eq. 38).
     pub weights: [f64; 3],
+    /// Which part of the finger touches (`FingerModel::parts`; 0 = its own shape).
+    pub part: u32,
     /// Energy stored in the stick spring, `k_stick |d|^2 / 2` (J).
     pub stick_energy: f64,
 }
@@ -150,6 +152,9 @@ pub struct State {
     /// One per particle that can touch the table (`Model::table`), in its
     /// order; empty without a table.
     pub table: Vec<TableContact>,
+    /// Viscoelastic springs: each spring's Maxwell-arm dashpot extension
+    /// (m), in spring order; empty unless `[model] prony_g > 0`.
+    pub maxwell: Vec<f64>,
     pub stats: StepStats,
 }
 
@@ -177,6 +182,11 @@ impl State {
                 TableContact::default();
                 model.table.as_ref().map_or(0, |t| t.particles.len())
             ],
+            maxwell: if model.spring_law.is_viscoelastic() {
+                vec![0.0; model.springs.len()]
+            } else {
+                Vec::new()
+            },
             stats: StepStats::default(),
         }
     }

@@ -279,6 +279,7 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     .map_err(|e| diverged(model, state, cg_message(e)))?;
     lap(&mut mark, &mut times.solve);
     let projection = project_spring_limits(model, state, &mut s.projection);
+    forces::springs::relax(model, state);
     lap(&mut mark, &mut times.projection);
 
     state.time += model.dt;

@@ -239,14 +239,6 @@ fn modulus_and_compare_write_their_figures() {
     assert!((nrmse - rmse / 0.1).abs() < 1e-12);
     assert_eq!(v["params"]["young_modulus"].as_f64(), Some(215856.0));
 
-    // A recording whose scene the core cannot build yet: a clear error.
-    let o = softgrip(&[
-        "compare",
-        &recording("ecoflex_compression/EF30_0T_A1/recording.toml"),
-        "--no-report",
-    ]);
-    assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("table"));
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -439,4 +431,37 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert!(v["nrmse"].as_f64().unwrap() < 1e-12, "{v}");
     let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn grasp_says_whether_friction_held_the_object() {
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-grasp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let json = dir.join("grasp.json");
+    let o = softgrip(&[
+        "grasp",
+        &scene("grasp_lift.toml"),
+        "--json",
+        json.to_str().expect("utf-8"),
+    ]);
+    let text = stdout(&o);
+    assert!(o.status.success(), "{text}");
+    assert!(text.contains("HELD"), "{text}");
+    assert!(
+        text.contains("force balance: weight / squeeze = 0.14"),
+        "{text}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
+    assert_eq!(v["held"], true);
+    assert!((v["finger_rise_m"].as_f64().expect("rise") - 0.02).abs() < 1e-4);
+    // A scene where nothing lifts is an error saying what to add.
+    let o = softgrip(&["grasp", &scene("pinch.toml")]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("no finger lifts") || err.contains("travel"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -46,6 +46,13 @@ fn thesis_scene_has_the_thesis_values() {
                 "guide_speed",
                 "constraint_tolerance",
                 "limit_stiffness",
+                "stiffening",
+                "compression_ratio",
+                "prony_g",
+                "prony_tau",
+                "start_time",
+                "ramp_time",
+                "guide_friction",
             ]
             .iter()
             .any(|k| d.contains(k))

@@ -11,6 +11,7 @@ use softgrip::Simulation;
 use softgrip::output::TrajectoryWriter;
 use softgrip::scene::Scene;
 
+mod grasp;
 mod lab;
 
 #[derive(Parser)]
@@ -157,6 +158,26 @@ enum Command {
         json: Option<PathBuf>,
         #[command(flatten)]
         report: lab::ReportArgs,
+    },
+    /// Grasp and lift (e.g. assets/scenes/grasp_lift.toml): the fingers
+    /// squeeze, lift after their start_time and hold; says whether friction
+    /// held the object and how far it slid, and with --boundary bisects the
+    /// least finger friction that holds it, against the force balance.
+    Grasp {
+        scene: PathBuf,
+        /// Seconds to hold after the lift.
+        #[arg(long, default_value_t = 2.0)]
+        hold: f64,
+        /// Held: the object slid down the fingers by less than this over the
+        /// hold (m).
+        #[arg(long, default_value_t = 1e-4)]
+        slip_bound: f64,
+        /// Also find the least friction that holds it (a dozen lifts).
+        #[arg(long)]
+        boundary: bool,
+        /// Also write the figures as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
     },
     /// Mesh files: figures, conversion, and the mesh a scene uses.
     Mesh {
@@ -421,6 +442,14 @@ pub fn main() -> ExitCode {
             surface,
         }) => run(scene.as_deref(), out.as_deref(), duration, fps, surface),
         Some(Command::Check { scene }) => check(scene.as_deref()),
+        Some(Command::Grasp {
+            scene,
+            hold,
+            slip_bound,
+            boundary,
+            json,
+        }) => load_scene(Some(&scene))
+            .and_then(|scene| grasp::grasp(&scene, hold, slip_bound, boundary, json.as_deref())),
         Some(Command::Compare {
             recording,
             json,

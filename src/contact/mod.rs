@@ -8,6 +8,7 @@
 //! Jacobians (rank-one in the normal, the tangent projector in the plane):
 //! contact stiffness far exceeds what an explicit step of 1 ms could carry.
 
+pub mod box_facet;
 pub mod broad_phase;
 pub mod friction;
 pub mod hunt_crossley;
@@ -35,6 +36,8 @@ pub struct Geometry {
     /// Unit normal from the finger into the object.
     pub normal: DVec3,
     pub penetration: f64,
+    /// Which of the finger's parts touches (`FingerModel::parts`).
+    pub part: usize,
 }
 
 /// Reused buffers of the contact stage.
@@ -45,13 +48,20 @@ pub struct ContactScratch {
     touched: Vec<(u32, u32)>,
 }
 
-/// Contact stiffness and exponent of a finger on a facet of the given area.
-fn stiffness_and_exponent(model: &Model, finger: usize, facet_area: f64) -> (f64, f64) {
+/// Contact stiffness and exponent of part `part` of a finger on a facet of
+/// the given area.
+fn stiffness_and_exponent(
+    model: &Model,
+    finger: usize,
+    part: usize,
+    facet_area: f64,
+) -> (f64, f64) {
     let f = &model.fingers[finger];
-    match f.shape {
-        FingerShape::Sphere { .. } => (f.hertz_stiffness * f.contact_stiffness_scale, 1.5),
+    let part = &f.parts[part];
+    match part.shape {
+        FingerShape::Sphere { .. } => (part.hertz_stiffness * f.contact_stiffness_scale, 1.5),
         // A rigid flat punch of the facet's area: F = 2 a E* d (Boussinesq), exponent 1.
-        FingerShape::Plate { .. } => (
+        FingerShape::Plate { .. } | FingerShape::Box { .. } => (
             2.0 * (facet_area / std::f64::consts::PI).sqrt()
                 * f.effective_modulus
                 * f.contact_stiffness_scale,
@@ -60,20 +70,35 @@ fn stiffness_and_exponent(model: &Model, finger: usize, facet_area: f64) -> (f64
     }
 }
 
-/// The contact geometry of finger `k` with facet `p`, if any.
-pub fn detect(model: &Model, k: usize, centre: DVec3, p: [DVec3; 3]) -> Option<Geometry> {
-    match model.fingers[k].shape {
+/// The contact geometry of one shape centred at `centre` with facet `p`.
+fn detect_shape(shape: FingerShape, centre: DVec3, p: [DVec3; 3]) -> Option<Geometry> {
+    match shape {
         FingerShape::Sphere { radius } => sphere_facet::detect(centre, radius, p),
         FingerShape::Plate { half_size } => {
             plate_facet::detect(centre, half_size, 0.5 * half_size[0].min(half_size[1]), p)
         }
+        FingerShape::Box { half_size } => box_facet::detect(centre, half_size, p),
     }
 }
 
-/// The box around finger `k` in which facets may touch it.
-pub fn finger_bounds(model: &Model, k: usize, centre: DVec3) -> (DVec3, DVec3) {
-    let margin = 0.5 * model.edge_length;
-    match model.fingers[k].shape {
+/// The contact geometry of finger `k` (at `centre`) with facet `p`, if any:
+/// the deepest of its parts' (a facet has one contact per finger).
+pub fn detect(model: &Model, k: usize, centre: DVec3, p: [DVec3; 3]) -> Option<Geometry> {
+    let mut best: Option<Geometry> = None;
+    for (i, part) in model.fingers[k].parts.iter().enumerate() {
+        if let Some(mut g) = detect_shape(part.shape, centre + part.offset, p)
+            && best.is_none_or(|b| g.penetration > b.penetration)
+        {
+            g.part = i;
+            best = Some(g);
+        }
+    }
+    best
+}
+
+/// The box around one shape centred at `centre` in which facets may touch it.
+fn shape_bounds(shape: FingerShape, centre: DVec3, margin: f64) -> (DVec3, DVec3) {
+    match shape {
         FingerShape::Sphere { radius } => (
             centre - DVec3::splat(radius + margin),
             centre + DVec3::splat(radius + margin),
@@ -85,7 +110,22 @@ pub fn finger_bounds(model: &Model, k: usize, centre: DVec3) -> (DVec3, DVec3) {
                 centre + DVec3::new(half_size[0] + margin, half_size[1] + margin, depth + margin),
             )
         }
+        FingerShape::Box { half_size } => {
+            let h = DVec3::from_array(half_size) + DVec3::splat(margin);
+            (centre - h, centre + h)
+        }
     }
+}
+
+/// The box around finger `k` (all its parts) in which facets may touch it.
+pub fn finger_bounds(model: &Model, k: usize, centre: DVec3) -> (DVec3, DVec3) {
+    let margin = 0.5 * model.edge_length;
+    model.fingers[k]
+        .parts
+        .iter()
+        .map(|p| shape_bounds(p.shape, centre + p.offset, margin))
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+        .unwrap_or((centre, centre))
 }
 
 /// Adds the contact forces of every finger and records the contacts.
@@ -147,7 +187,7 @@ pub fn accumulate(
             scratch.touched.push(key);
 
             let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
-            let (stiffness, exponent) = stiffness_and_exponent(model, k, area);
+            let (stiffness, exponent) = stiffness_and_exponent(model, k, g.part, area);
             let normal = hunt_crossley_normal_force(
                 stiffness,
                 exponent,
@@ -208,7 +248,7 @@ pub fn accumulate(
             // stiffness, F (R - d) grad(w_a) . grad(w_b), exceeds the springs'
             // by R / h and, left out, makes implicit Euler oscillate at period
             // two. It is positive semi-definite (a Gram matrix) and restoring.
-            if let FingerShape::Sphere { radius } = finger.shape {
+            if let FingerShape::Sphere { radius } = finger.parts[g.part].shape {
                 let grads = sphere_facet::barycentric_gradients(p, w);
                 let lever = normal.force * (radius - g.penetration).max(0.0);
                 if lever > 0.0 && grads.iter().any(|g| *g != DVec3::ZERO) {
@@ -247,6 +287,7 @@ pub fn accumulate(
                 tangential_force: tangential.force,
                 stick: tangential.stick,
                 weights: w,
+                part: g.part as u32,
                 stick_energy: 0.5 * params.stick_stiffness * drift.length_squared(),
             });
         }
@@ -268,7 +309,7 @@ pub fn energy(model: &Model, state: &State) -> f64 {
             let tri = model.facets[c.facet as usize];
             let p = tri.map(|i| state.positions[i as usize]);
             let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
-            let (k, e) = stiffness_and_exponent(model, c.finger as usize, area);
+            let (k, e) = stiffness_and_exponent(model, c.finger as usize, c.part as usize, area);
             hunt_crossley::elastic_energy(k, e, c.penetration) + c.stick_energy
         })
         .sum()

@@ -29,5 +29,6 @@ pub fn detect(
         weights: [1.0 / 3.0; 3],
         normal: DVec3::NEG_Z,
         penetration,
+        part: 0,
     })
 }

@@ -78,6 +78,7 @@ pub fn detect(centre: DVec3, radius: f64, p: [DVec3; 3]) -> Option<Geometry> {
             weights,
             normal: -outward,
             penetration,
+            part: 0,
         })
     } else {
         // Edge contact.
@@ -97,6 +98,7 @@ pub fn detect(centre: DVec3, radius: f64, p: [DVec3; 3]) -> Option<Geometry> {
             weights,
             normal,
             penetration,
+            part: 0,
         })
     }
 }

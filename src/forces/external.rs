@@ -7,6 +7,10 @@ use crate::model::{AxisDrive, Model};
 use crate::solver::System;
 use crate::state::State;
 
+/// Below this speed (m/s) a finger's guide friction holds it (static
+/// friction, as a stiff damper).
+pub const GUIDE_REST_SPEED: f64 = 1e-6;
+
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let n = model.particle_count();
     for (f, c) in force.iter_mut().zip(&model.constant_force) {
@@ -15,17 +19,28 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
     let vel = |dof: usize| super::velocity_of(state, dof);
     for (k, (finger, fs)) in model.fingers.iter().zip(&state.fingers).enumerate() {
         force[n + k] += finger.driving_force(fs.applied_force);
+        let axes = DVec3::from_array(
+            finger
+                .drive
+                .map(|d| if d == AxisDrive::Force { 1.0 } else { 0.0 }),
+        );
         // A mass-less finger moves against the guide's damping on its force axes.
         let guide = finger.guide_damping(fs.applied_force);
         if guide > 0.0 {
-            let axes = DVec3::from_array(
-                finger
-                    .drive
-                    .map(|d| if d == AxisDrive::Force { 1.0 } else { 0.0 }),
-            );
             let c = DMat3::from_diagonal(axes * guide);
             force[n + k] -= c * fs.velocity;
             system.add_diag(n + k, DMat3::ZERO, c, &vel);
+        }
+        // Coulomb friction in the guide: `F_g` against the velocity, as a
+        // damper `F_g / |v|` at the step's start velocity (implicit, so it
+        // stops the finger and never reverses it; held still it is a damper
+        // of `F_g / GUIDE_REST_SPEED`, which holds it while the forces on it
+        // are smaller than `F_g`).
+        if finger.guide_friction > 0.0 && fs.held.is_none() {
+            let v = fs.velocity * axes;
+            let d = finger.guide_friction / v.length().max(GUIDE_REST_SPEED);
+            force[n + k] -= d * v;
+            system.add_diag(n + k, DMat3::ZERO, DMat3::from_diagonal(axes * d), &vel);
         }
     }
 }

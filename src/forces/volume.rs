@@ -108,6 +108,10 @@ pub fn accumulate_elements(
             }
         }
         if bulk != 0.0 {
+            let bulk = match model.element_stiffness_scale.get(e) {
+                Some(scale) => bulk * scale,
+                None => bulk,
+            };
             let bulk_per_volume = bulk / v0;
             let s = bulk_per_volume * (volume - v0); // K (V / V0 - 1)
             for k in 0..4 {
@@ -153,11 +157,16 @@ pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
     // A plain loop: the iterator form compiled to code seven times slower.
     let x = &state.positions;
     let (mut volume, mut squares) = (0.0, 0.0);
-    for (tet, &v0) in model.tets.iter().zip(&model.rest_volume) {
+    let scale = &model.element_stiffness_scale;
+    for (e, (tet, &v0)) in model.tets.iter().zip(&model.rest_volume).enumerate() {
         let [a, b, c, d] = *tet;
         let v = signed_volume(x[a as usize], x[b as usize], x[c as usize], x[d as usize]);
         volume += v;
-        squares += (v - v0) * (v - v0) / v0;
+        let square = (v - v0) * (v - v0) / v0;
+        squares += match scale.get(e) {
+            Some(s) => square * s,
+            None => square,
+        };
     }
     (volume, 0.5 * model.bulk_modulus * squares)
 }

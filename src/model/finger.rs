@@ -22,14 +22,32 @@ pub enum AxisDrive {
     Velocity(f64),
 }
 
+/// One rigid shape of a finger, at `offset` from its position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PartModel {
+    pub shape: FingerShape,
+    pub offset: DVec3,
+    /// Sphere: Hertz sphere-plane stiffness K (eq. 27), N/m^1.5.
+    pub hertz_stiffness: f64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct FingerModel {
+    /// The shape at the finger's position (`parts[0]`).
     pub shape: FingerShape,
+    /// Every shape of the finger: its own first, then `[[finger.part]]`s.
+    pub parts: Vec<PartModel>,
     pub initial_position: DVec3,
     pub mass: f64,
     pub drive: [AxisDrive; 3],
     /// Velocity control: distance after which the finger holds still (m).
     pub travel: Option<f64>,
+    /// Velocity-driven axes hold still until this time (s) ...
+    pub start_time: f64,
+    /// ... then reach their velocity linearly over this time (s).
+    pub ramp_time: f64,
+    /// Coulomb friction in the guide (N), on the force-driven axes.
+    pub guide_friction: f64,
     /// The scene's `force` (N); the state's `applied_force` starts from it.
     pub force: DVec3,
     /// The finger's weight `m g` (N).
@@ -72,16 +90,29 @@ impl FingerModel {
         let sigma_f = (1.0 - f.poisson_ratio * f.poisson_ratio) / f.young_modulus;
         let sigma_o = (1.0 - object_poisson * object_poisson) / object_modulus;
         let effective_modulus = 1.0 / (sigma_f + sigma_o);
-        let hertz_stiffness = match f.shape {
+        let hertz = |shape: FingerShape| match shape {
             FingerShape::Sphere { radius } => 4.0 / 3.0 * effective_modulus * radius.sqrt(),
-            FingerShape::Plate { .. } => 0.0,
+            FingerShape::Plate { .. } | FingerShape::Box { .. } => 0.0,
         };
+        let hertz_stiffness = hertz(f.shape);
+        let parts = std::iter::once((f.shape, DVec3::ZERO))
+            .chain(f.parts.iter().map(|p| (p.shape, p.offset)))
+            .map(|(shape, offset)| PartModel {
+                shape,
+                offset,
+                hertz_stiffness: hertz(shape),
+            })
+            .collect();
         FingerModel {
             shape: f.shape,
+            parts,
             initial_position: f.position,
             mass: f.mass,
             drive,
             travel: f.travel,
+            start_time: f.start_time,
+            ramp_time: f.ramp_time,
+            guide_friction: f.guide_friction,
             force: f.force,
             weight: f.mass * gravity,
             load_direction: f.force.normalize_or_zero(),
@@ -119,6 +150,18 @@ impl FingerModel {
             applied_force.length().max(1e-3) / self.guide_speed
         } else {
             0.0
+        }
+    }
+
+    /// The share of its velocity a velocity-driven axis has at `time`:
+    /// 0 before `start_time`, rising linearly to 1 over `ramp_time`.
+    pub fn velocity_share(&self, time: f64) -> f64 {
+        if time < self.start_time {
+            0.0
+        } else if self.ramp_time > 0.0 {
+            ((time - self.start_time) / self.ramp_time).min(1.0)
+        } else {
+            1.0
         }
     }
 

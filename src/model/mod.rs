@@ -5,7 +5,7 @@
 
 mod finger;
 
-pub use finger::{AxisDrive, FingerModel, HUNT_CROSSLEY_MIN_APPROACH_SPEED};
+pub use finger::{AxisDrive, FingerModel, HUNT_CROSSLEY_MIN_APPROACH_SPEED, PartModel};
 
 use glam::DVec3;
 
@@ -67,6 +67,47 @@ pub struct Model {
     pub density: f64,
     /// The table under the object (`[support] kind = "table"`).
     pub table: Option<TableModel>,
+    /// How a spring's force follows its length (`forces::springs`).
+    pub spring_law: SpringLaw,
+    /// Each element's Young's modulus over the object's (`[[region]]`s):
+    /// scales its bulk term as it scales its springs. Empty without
+    /// regions (every element 1).
+    pub element_stiffness_scale: Vec<f64>,
+}
+
+/// The springs' force law beyond the thesis's linear spring (softgrip
+/// extensions; the default is the thesis's, and takes its code path).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpringLaw {
+    /// beta: `F = k dl (1 + beta (dl / l0)^2)`.
+    pub stiffening: f64,
+    /// Stiffness in compression over stiffness in tension.
+    pub compression_ratio: f64,
+    /// Prony relative modulus g and time constant tau (s).
+    pub prony_g: f64,
+    pub prony_tau: f64,
+}
+
+impl Default for SpringLaw {
+    fn default() -> Self {
+        SpringLaw {
+            stiffening: 0.0,
+            compression_ratio: 1.0,
+            prony_g: 0.0,
+            prony_tau: 1.0,
+        }
+    }
+}
+
+impl SpringLaw {
+    /// The thesis's linear elastic spring.
+    pub fn is_linear(&self) -> bool {
+        self.stiffening == 0.0 && self.compression_ratio == 1.0 && self.prony_g == 0.0
+    }
+
+    pub fn is_viscoelastic(&self) -> bool {
+        self.prony_g > 0.0
+    }
 }
 
 /// Lloyd's stiffness contribution of one element (thesis eq. 7-8):
@@ -172,12 +213,39 @@ impl Model {
         let n = mesh.nodes.len();
         let obj = &scene.object;
 
+        // Each element's material: the object's, or its `[[region]]`'s.
+        let mut element_modulus = vec![obj.young_modulus; mesh.tets.len()];
+        let mut element_density = vec![obj.density; mesh.tets.len()];
+        for (b, region) in scene.regions.iter().enumerate() {
+            let mut any = false;
+            for (t, tet) in mesh.tets.iter().enumerate() {
+                let centroid = tet.iter().map(|&p| mesh.nodes[p as usize]).sum::<DVec3>() * 0.25;
+                if region.region.contains(centroid) {
+                    element_modulus[t] = region.young_modulus;
+                    element_density[t] = region.density;
+                    any = true;
+                }
+            }
+            if !any {
+                let (lo, hi) = mesh.bounds();
+                return Err(SimError::EmptyRegion {
+                    file: file.clone(),
+                    table: "region".into(),
+                    index: b + 1,
+                    min: region.region.min.to_array(),
+                    max: region.region.max.to_array(),
+                    bounds_min: lo.to_array(),
+                    bounds_max: hi.to_array(),
+                });
+            }
+        }
+
         // Masses (eq. 6) and rest volumes.
         let rest_volume: Vec<f64> = (0..mesh.tets.len()).map(|t| mesh.tet_volume(t)).collect();
         let mut mass = vec![0.0; n];
-        for (tet, &v) in mesh.tets.iter().zip(&rest_volume) {
+        for ((tet, &v), &density) in mesh.tets.iter().zip(&rest_volume).zip(&element_density) {
             for &p in tet {
-                mass[p as usize] += 0.25 * obj.density * v;
+                mass[p as usize] += 0.25 * density * v;
             }
         }
 
@@ -258,8 +326,8 @@ impl Model {
                 .unwrap_or(u32::MAX)
         };
         let mut tet_springs = Vec::with_capacity(mesh.tets.len());
-        for (tet, &v) in mesh.tets.iter().zip(&rest_volume) {
-            let k_e = lloyd_stiffness(v, obj.young_modulus);
+        for ((tet, &v), &modulus) in mesh.tets.iter().zip(&rest_volume).zip(&element_modulus) {
+            let k_e = lloyd_stiffness(v, modulus);
             let slots = TET_EDGES.map(|[a, b]| spring_of(tet[a], tet[b]));
             for &s in &slots {
                 springs[s as usize].stiffness += k_e;
@@ -337,6 +405,20 @@ impl Model {
             young_modulus: obj.young_modulus,
             density: obj.density,
             table,
+            element_stiffness_scale: if scene.regions.is_empty() {
+                Vec::new()
+            } else {
+                element_modulus
+                    .iter()
+                    .map(|e| e / obj.young_modulus)
+                    .collect()
+            },
+            spring_law: SpringLaw {
+                stiffening: scene.model.stiffening,
+                compression_ratio: scene.model.compression_ratio,
+                prony_g: scene.model.prony_g,
+                prony_tau: scene.model.prony_tau,
+            },
         })
     }
 
@@ -395,6 +477,8 @@ impl Model {
             young_modulus: 1.0,
             density: 1.0,
             table: None,
+            element_stiffness_scale: Vec::new(),
+            spring_law: SpringLaw::default(),
         }
     }
 

@@ -329,19 +329,28 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
         } else {
             &mut drawing.opaque
         };
-        match f.shape {
-            FingerShape::Sphere { radius } => body.add_sphere(centre, radius as f32, finger_color),
-            FingerShape::Plate { half_size } => {
-                let h = Vec3::new(half_size[0] as f32, half_size[1] as f32, 0.0);
-                let thickness = plate_thickness(model) as f32;
-                body.add_box(centre - h, centre + h + Vec3::Z * thickness, finger_color);
+        for part in &f.parts {
+            let at = centre + f32v(part.offset);
+            match part.shape {
+                FingerShape::Sphere { radius } => body.add_sphere(at, radius as f32, finger_color),
+                FingerShape::Plate { half_size } => {
+                    let h = Vec3::new(half_size[0] as f32, half_size[1] as f32, 0.0);
+                    let thickness = plate_thickness(model) as f32;
+                    body.add_box(at - h, at + h + Vec3::Z * thickness, finger_color);
+                }
+                FingerShape::Box { half_size } => {
+                    let h = f32v(DVec3::from_array(half_size));
+                    body.add_box(at - h, at + h, finger_color);
+                }
             }
         }
         let mesh = &mut drawing.opaque;
         if style.arrows {
             // From the finger's surface, along the force on it.
             let force = f32v(fs.contact_force) * style.force_scale;
-            let from = centre + force.normalize_or_zero() * f.shape.reach() as f32;
+            let from = centre
+                + force.normalize_or_zero()
+                    * f.shape.reach_along(fs.contact_force.normalize_or_zero()) as f32;
             mesh.add_arrow(from, force, 0.006 * scale, style.finger_force);
         }
     }

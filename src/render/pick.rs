@@ -72,17 +72,21 @@ pub fn pick(model: &Model, state: &State, ray: &Ray, plate_thickness: f64) -> Op
         }
     };
     for (index, (f, fs)) in model.fingers.iter().zip(&state.fingers).enumerate() {
-        let t = match f.shape {
-            FingerShape::Sphere { radius } => hit_sphere(ray, fs.position, radius),
-            FingerShape::Plate { half_size } => {
-                let h = DVec3::new(half_size[0], half_size[1], 0.0);
-                hit_box(
-                    ray,
-                    fs.position - h,
-                    fs.position + h + DVec3::Z * plate_thickness,
-                )
+        let hit = |part: &crate::model::PartModel| {
+            let at = fs.position + part.offset;
+            match part.shape {
+                FingerShape::Sphere { radius } => hit_sphere(ray, at, radius),
+                FingerShape::Plate { half_size } => {
+                    let h = DVec3::new(half_size[0], half_size[1], 0.0);
+                    hit_box(ray, at - h, at + h + DVec3::Z * plate_thickness)
+                }
+                FingerShape::Box { half_size } => {
+                    let h = DVec3::from_array(half_size);
+                    hit_box(ray, at - h, at + h)
+                }
             }
         };
+        let t = f.parts.iter().filter_map(hit).reduce(f64::min);
         if let Some(t) = t {
             consider(
                 t,

@@ -18,7 +18,7 @@ use glam::{DVec3, Vec3};
 use crate::live::{Command, Frame, LiveSimulation, RunState};
 use crate::render::gpu::{Pipeline, Target};
 use crate::render::{self, Camera, Style, View, pick};
-use crate::scene::{Control, FingerShape, Scene};
+use crate::scene::{Control, FingerShape, Scene, SupportKind};
 use crate::state::Pull;
 
 /// How the viewer runs.
@@ -639,6 +639,46 @@ impl Panels {
                     0.0..=1e5,
                     "limit stiffness (x)",
                 );
+                changed |= log_slider(ui, &mut s.model.stiffening, 0.0..=1e4, "stiffening");
+                changed |= log_slider(
+                    ui,
+                    &mut s.model.compression_ratio,
+                    0.05..=20.0,
+                    "compression / tension stiffness",
+                );
+                changed |= ui
+                    .add(
+                        egui::Slider::new(&mut s.model.prony_g, 0.0..=0.95)
+                            .text("viscoelastic g (relaxing share)"),
+                    )
+                    .changed();
+                changed |= log_slider(
+                    ui,
+                    &mut s.model.prony_tau,
+                    1e-3..=1e3,
+                    "viscoelastic tau (s)",
+                );
+            });
+        egui::CollapsingHeader::new("Support")
+            .default_open(false)
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    for (kind, name) in [
+                        (SupportKind::FixedBottom, "fixed bottom"),
+                        (SupportKind::Table, "table"),
+                        (SupportKind::None, "none"),
+                    ] {
+                        changed |= ui.radio_value(&mut s.support.kind, kind, name).changed();
+                    }
+                });
+                ui.add_enabled_ui(s.support.kind == SupportKind::Table, |ui| {
+                    changed |= ui
+                        .add(
+                            egui::Slider::new(&mut s.support.friction, 0.0..=2.0)
+                                .text("table friction"),
+                        )
+                        .changed();
+                });
             });
         egui::CollapsingHeader::new("Fingers")
             .default_open(true)
@@ -678,6 +718,12 @@ impl Panels {
                         }
                         changed |= ui
                             .add(egui::Slider::new(&mut f.friction, 0.0..=2.0).text("friction"))
+                            .changed();
+                        changed |= ui
+                            .add(
+                                egui::Slider::new(&mut f.guide_friction, 0.0..=10.0)
+                                    .text("guide friction (N)"),
+                            )
                             .changed();
                         changed |= ui
                             .add(
