@@ -118,6 +118,8 @@ struct RawModel {
     compression_ratio: Option<f64>,
     prony_g: Option<f64>,
     prony_tau: Option<f64>,
+    elasticity: Option<String>,
+    self_collision: Option<bool>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -283,6 +285,21 @@ pub struct ModelParams {
     pub prony_g: f64,
     /// ... with this time constant (s) (softgrip).
     pub prony_tau: f64,
+    /// The elastic model: the thesis's springs, or neo-Hookean elements
+    /// (softgrip; `forces::fem`).
+    pub elasticity: Elasticity,
+    /// Self-collision of the object's surface (softgrip;
+    /// `contact::self_collision`).
+    pub self_collision: bool,
+}
+
+/// `[model] elasticity`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Elasticity {
+    /// The thesis's mass-spring lattice (eq. 3-12).
+    Springs,
+    /// Linear tetrahedra with the stable neo-Hookean energy.
+    NeoHookean,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -540,8 +557,16 @@ impl Scene {
         }
         let _ = writeln!(
             s,
-            "stiffening = {:?}\ncompression_ratio = {:?}\nprony_g = {:?}\nprony_tau = {:?}",
-            m.stiffening, m.compression_ratio, m.prony_g, m.prony_tau
+            "stiffening = {:?}\ncompression_ratio = {:?}\nprony_g = {:?}\nprony_tau = {:?}\nelasticity = \"{}\"\nself_collision = {}",
+            m.stiffening,
+            m.compression_ratio,
+            m.prony_g,
+            m.prony_tau,
+            match m.elasticity {
+                Elasticity::Springs => "springs",
+                Elasticity::NeoHookean => "neo-hookean",
+            },
+            m.self_collision
         );
         s.push('\n');
         let kind = match self.support.kind {
@@ -1098,7 +1123,25 @@ impl<'a> Resolver<'a> {
             |x| x > 0.0,
             "must be > 0 s (the relaxation time constant)",
         )?;
+        let elasticity_at = at("model", "elasticity");
+        let elasticity = match self
+            .default(elasticity_at, m.elasticity.clone(), "springs".to_string())
+            .as_str()
+        {
+            "springs" => Elasticity::Springs,
+            "neo-hookean" => Elasticity::NeoHookean,
+            other => {
+                return Err(self.err(
+                    elasticity_at,
+                    format!("{other:?}"),
+                    "must be \"springs\" (the thesis's lattice) or \"neo-hookean\" (finite elements)",
+                ));
+            }
+        };
+        let self_collision = self.default(at("model", "self_collision"), m.self_collision, false);
         let model = ModelParams {
+            self_collision,
+            elasticity,
             damping_ratio,
             alpha,
             bulk_modulus,

@@ -85,6 +85,22 @@ pub struct ContactMemory {
     pub anchor_offset: DVec3,
 }
 
+/// A boundary particle pressed against a facet of the same object
+/// (`contact::self_collision`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfContact {
+    pub particle: u32,
+    pub facet: u32,
+    /// The facet's point closest to the particle.
+    pub point: DVec3,
+    /// The facet's outward unit normal: the force on the particle is along it.
+    pub normal: DVec3,
+    /// Force on the particle (N).
+    pub force: f64,
+    /// How far inside the contact thickness (m).
+    pub depth: f64,
+}
+
 /// How a particle touches the table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum TableMode {
@@ -155,6 +171,8 @@ pub struct State {
     /// Viscoelastic springs: each spring's Maxwell-arm dashpot extension
     /// (m), in spring order; empty unless `[model] prony_g > 0`.
     pub maxwell: Vec<f64>,
+    /// This step's self-collision contacts (`[model] self_collision`).
+    pub self_contacts: Vec<SelfContact>,
     pub stats: StepStats,
 }
 
@@ -187,6 +205,7 @@ impl State {
             } else {
                 Vec::new()
             },
+            self_contacts: Vec::new(),
             stats: StepStats::default(),
         }
     }

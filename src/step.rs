@@ -28,6 +28,7 @@ pub struct Scratch {
     dv: Vec<DVec3>,
     cg: CgScratch,
     contact: ContactScratch,
+    self_collision: contact::self_collision::SelfScratch,
     projection: ProjectionScratch,
     energy_watch: EnergyWatch,
     stage_seconds: StageSeconds,
@@ -45,6 +46,7 @@ impl Clone for Scratch {
             dv: self.dv.clone(),
             cg: self.cg.clone(),
             contact: self.contact.clone(),
+            self_collision: self.self_collision.clone(),
             projection: self.projection.clone(),
             energy_watch: self.energy_watch.clone(),
             stage_seconds: self.stage_seconds,
@@ -259,6 +261,13 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     forces::pull::accumulate(model, state, &mut s.force, &mut system);
     contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
     contact::table::accumulate(model, state, &mut s.force, &mut system);
+    contact::self_collision::accumulate(
+        model,
+        state,
+        &mut s.force,
+        &mut system,
+        &mut s.self_collision,
+    );
     let elements = parallel.main_elements();
     forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
     parallel.finish_assembly(&mut s.force, &mut system);
@@ -369,6 +378,7 @@ pub fn update_diagnostics(model: &Model, state: &mut State) {
         + forces::external::energy(model, state)
         + contact::energy(model, state)
         + contact::table::energy(model, state)
+        + contact::self_collision::energy(model, state)
         + forces::pull::energy(model, state)
         + bulk_energy;
     let st = &mut state.stats;

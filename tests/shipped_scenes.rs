@@ -53,6 +53,8 @@ fn thesis_scene_has_the_thesis_values() {
                 "start_time",
                 "ramp_time",
                 "guide_friction",
+                "elasticity",
+                "self_collision",
             ]
             .iter()
             .any(|k| d.contains(k))

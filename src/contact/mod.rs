@@ -13,6 +13,7 @@ pub mod broad_phase;
 pub mod friction;
 pub mod hunt_crossley;
 pub mod plate_facet;
+pub mod self_collision;
 pub mod sphere_facet;
 pub mod table;
 

@@ -2,6 +2,7 @@
 //! forces to the force vector and its negative Jacobians to the system.
 
 pub mod external;
+pub mod fem;
 pub mod pull;
 pub mod springs;
 pub mod volume;

@@ -26,6 +26,9 @@ use crate::state::State;
 /// inside the limit, so the projection and the limit spring do not pull
 /// against each other (ARCHITECTURE.md, choice 5).
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    if model.fem.is_some() {
+        return accumulate_dampers(model, state, force, system);
+    }
     if !model.spring_law.is_linear() {
         return accumulate_general(model, state, force, system);
     }
@@ -162,6 +165,30 @@ pub fn accumulate_general(model: &Model, state: &State, force: &mut [DVec3], sys
     }
 }
 
+/// The springs' dampers alone (eq. 4): the damping of the neo-Hookean
+/// model, whose elastic forces are the elements' (`forces::fem`).
+fn accumulate_dampers(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    let x = &state.positions;
+    let v = &state.velocities;
+    let dt = system.dt();
+    for (slot, s) in model.springs.iter().enumerate() {
+        let (i, j) = (s.i as usize, s.j as usize);
+        let delta = x[j] - x[i];
+        let l = delta.length();
+        if l <= 0.0 {
+            continue;
+        }
+        let u = delta / l;
+        let f = (s.damping * u.dot(v[j] - v[i])) * u;
+        force[i] += f;
+        force[j] -= f;
+        let w = outer(u, u) * (s.damping * dt);
+        system.diag[i] += w;
+        system.diag[j] += w;
+        system.off[slot] -= w;
+    }
+}
+
 /// After a step: each viscoelastic spring's dashpot moves towards its
 /// present extension, `q = (q + a dl) / (1 + a)`, `a = dt / tau` (the
 /// implicit Euler step [`spring_law`] assumed).
@@ -213,6 +240,9 @@ fn limit_spring(model: &Model, s: &crate::model::Spring, l: f64) -> Option<(f64,
 /// Elastic energy stored in the springs (their Maxwell arms included) and
 /// their limit springs (J).
 pub fn energy(model: &Model, state: &State) -> f64 {
+    if let Some(fem) = &model.fem {
+        return super::fem::energy(model, fem, state);
+    }
     let law = &model.spring_law;
     let linear = law.is_linear();
     model

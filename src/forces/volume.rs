@@ -62,6 +62,9 @@ pub fn accumulate_elements(
     system: &mut System,
     elements: std::ops::Range<usize>,
 ) {
+    if let Some(fem) = &model.fem {
+        return super::fem::accumulate_elements(model, fem, state, force, system, elements);
+    }
     let (alpha, bulk) = (model.alpha, model.bulk_modulus);
     if alpha == 0.0 && bulk == 0.0 {
         return;

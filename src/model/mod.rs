@@ -12,7 +12,7 @@ use glam::DVec3;
 use crate::contact::table::{TABLE_STIFFNESS_FACTOR, TableModel};
 use crate::error::SimError;
 use crate::mesh::{TET_EDGES, TetMesh};
-use crate::scene::{Scene, Shape, SupportKind};
+use crate::scene::{Elasticity, Scene, Shape, SupportKind};
 
 /// A spring and its parallel damper between particles `i < j` (thesis Fig. 4).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +69,11 @@ pub struct Model {
     pub table: Option<TableModel>,
     /// How a spring's force follows its length (`forces::springs`).
     pub spring_law: SpringLaw,
+    /// Self-collision of the surface (`[model] self_collision`).
+    pub self_collision: Option<crate::contact::self_collision::SelfCollisionModel>,
+    /// The neo-Hookean elements (`[model] elasticity = "neo-hookean"`),
+    /// which replace the springs' elastic forces; `None` for the springs.
+    pub fem: Option<crate::forces::fem::FemModel>,
     /// Each element's Young's modulus over the object's (`[[region]]`s):
     /// scales its bulk term as it scales its springs. Empty without
     /// regions (every element 1).
@@ -375,6 +380,26 @@ impl Model {
             )
         });
 
+        let fem_mode = scene.model.elasticity == Elasticity::NeoHookean;
+        let (mesh_nodes, mesh_tets) = (&mesh.nodes, &mesh.tets);
+        let fem = fem_mode.then(|| {
+            crate::forces::fem::FemModel::new(
+                mesh_nodes,
+                mesh_tets,
+                &element_modulus,
+                obj.poisson_ratio,
+            )
+        });
+
+        let self_collision = scene.model.self_collision.then(|| {
+            crate::contact::self_collision::SelfCollisionModel::new(
+                mesh_nodes,
+                &facets,
+                edge_length,
+                obj.young_modulus,
+            )
+        });
+
         Ok(Model {
             rest_total_volume: rest_volume.iter().sum(),
             rest_positions: mesh.nodes,
@@ -392,11 +417,19 @@ impl Model {
             dt: scene.simulation.dt,
             cg_tolerance: scene.simulation.cg_tolerance,
             cg_max_iterations: scene.simulation.cg_max_iterations,
-            alpha: scene.model.alpha,
-            bulk_modulus: scene.model.bulk_modulus,
-            limit_stiffness: scene.model.limit_stiffness,
-            tau_s: scene.model.tau_s,
-            tau_c: scene.model.tau_c,
+            alpha: if fem_mode { 0.0 } else { scene.model.alpha },
+            bulk_modulus: if fem_mode {
+                0.0
+            } else {
+                scene.model.bulk_modulus
+            },
+            limit_stiffness: if fem_mode {
+                0.0
+            } else {
+                scene.model.limit_stiffness
+            },
+            tau_s: scene.model.tau_s.filter(|_| !fem_mode),
+            tau_c: scene.model.tau_c.filter(|_| !fem_mode),
             constraint_iterations: scene.model.constraint_iterations,
             constraint_tolerance: scene.model.constraint_tolerance,
             extent,
@@ -405,6 +438,8 @@ impl Model {
             young_modulus: obj.young_modulus,
             density: obj.density,
             table,
+            fem,
+            self_collision,
             element_stiffness_scale: if scene.regions.is_empty() {
                 Vec::new()
             } else {
@@ -478,6 +513,8 @@ impl Model {
             density: 1.0,
             table: None,
             element_stiffness_scale: Vec::new(),
+            fem: None,
+            self_collision: None,
             spring_law: SpringLaw::default(),
         }
     }

@@ -78,6 +78,8 @@ pub struct Style {
     pub fixed: [f32; 4],
     /// The table (`[support] kind = "table"`).
     pub table: [f32; 4],
+    /// A particle pressed against the object's own surface.
+    pub self_contact: [f32; 4],
     pub stick: [f32; 4],
     pub slip: [f32; 4],
     pub normal_force: [f32; 4],
@@ -110,6 +112,7 @@ impl Default for Style {
             finger: [0.25, 0.45, 0.85, 1.0],
             fixed: [0.35, 0.35, 0.38, 1.0],
             table: [0.62, 0.63, 0.66, 1.0],
+            self_contact: [0.75, 0.20, 0.85, 1.0],
             stick: [0.15, 0.80, 0.25, 1.0],
             slip: [0.95, 0.55, 0.05, 1.0],
             normal_force: [0.85, 0.10, 0.10, 1.0],
@@ -376,6 +379,18 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
     }
     if let Some(table) = &model.table {
         add_table(mesh, state, table, style, scale);
+    }
+    // Self-collision: a dot on each particle pressed against the surface,
+    // and its force.
+    for c in &state.self_contacts {
+        let at = f32v(state.positions[c.particle as usize]);
+        if style.contacts {
+            mesh.add_sphere(at, 0.006 * scale, style.self_contact);
+        }
+        if style.arrows {
+            let force = f32v(c.normal * c.force) * style.force_scale;
+            mesh.add_arrow(at, force, 0.002 * scale, style.normal_force);
+        }
     }
     for c in &state.contacts {
         let at = f32v(c.point);

@@ -18,7 +18,7 @@ use glam::{DVec3, Vec3};
 use crate::live::{Command, Frame, LiveSimulation, RunState};
 use crate::render::gpu::{Pipeline, Target};
 use crate::render::{self, Camera, Style, View, pick};
-use crate::scene::{Control, FingerShape, Scene, SupportKind};
+use crate::scene::{Control, Elasticity, FingerShape, Scene, SupportKind};
 use crate::state::Pull;
 
 /// How the viewer runs.
@@ -658,6 +658,22 @@ impl Panels {
                     1e-3..=1e3,
                     "viscoelastic tau (s)",
                 );
+                ui.horizontal(|ui| {
+                    ui.label("elasticity");
+                    changed |= ui
+                        .radio_value(&mut s.model.elasticity, Elasticity::Springs, "springs")
+                        .changed();
+                    changed |= ui
+                        .radio_value(
+                            &mut s.model.elasticity,
+                            Elasticity::NeoHookean,
+                            "neo-Hookean FEM",
+                        )
+                        .changed();
+                });
+                changed |= ui
+                    .checkbox(&mut s.model.self_collision, "self-collision")
+                    .changed();
             });
         egui::CollapsingHeader::new("Support")
             .default_open(false)

@@ -1,0 +1,154 @@
+//! The neo-Hookean finite-element model (`[model] elasticity =
+//! "neo-hookean"`): uniaxial compression against the energy's analytic
+//! solution, and the thesis scene's indentation under mesh refinement.
+
+use softgrip::quasi_static::RestTolerance;
+use softgrip::{Scene, Simulation};
+
+const E: f64 = 60e3;
+const NU: f64 = 0.45;
+
+/// The energy's constants (see `forces::fem`).
+fn constants() -> (f64, f64, f64) {
+    let mu = E / (2.0 * (1.0 + NU));
+    let lambda = E * NU / ((1.0 + NU) * (1.0 - 2.0 * NU)) + mu;
+    (mu, lambda, 1.0 + mu / lambda)
+}
+
+/// Uniaxial stress with free sides: `P_22 = 0` gives `J = a - mu / (lambda
+/// l1)`, and then `P_11 = mu (l1 - J / l1^2)`, the lateral stretch
+/// `sqrt(J / l1)`.
+fn analytic(stretch: f64) -> (f64, f64) {
+    let (mu, lambda, a) = constants();
+    let j = a - mu / (lambda * stretch);
+    (
+        mu * (stretch - j / (stretch * stretch)),
+        (j / stretch).sqrt(),
+    )
+}
+
+fn settle(sim: &mut Simulation) {
+    sim.settle(
+        RestTolerance {
+            speed: 1e-6,
+            consecutive_steps: 50,
+            max_seconds: 20.0,
+        },
+        |_| {},
+    )
+    .expect("rest");
+}
+
+/// A 20 mm cube on a frictionless table under a frictionless plate: the
+/// middle of the cube is in uniaxial stress. Its measured stretch and the
+/// nominal stress F / A0 lie on the analytic curve within 2 %, and so does
+/// its lateral stretch.
+#[test]
+fn uniaxial_compression_follows_the_analytic_neo_hookean_stress() {
+    for force in [2.0, 6.0] {
+        let text = format!(
+            r#"
+[simulation]
+gravity = [0.0, 0.0, 0.0]
+
+[object]
+shape = "cuboid"
+size = [0.02, 0.02, 0.02]
+edge_length = 0.0025
+young_modulus = {E}
+poisson_ratio = {NU}
+
+[model]
+elasticity = "neo-hookean"
+
+[support]
+kind = "table"
+friction = 0.0
+
+[[finger]]
+shape = "plate"
+size = [0.06, 0.06]
+position = [0.0, 0.0, 0.0201]
+force = [0.0, 0.0, -{force}]
+friction = 0.0
+contact_stiffness_scale = 10
+"#
+        );
+        let scene = Scene::from_toml_str(&text, "uniaxial.toml").expect("scene");
+        let mut sim = Simulation::new(&scene).expect("sim");
+        settle(&mut sim);
+        let m = &sim.model;
+        let mean = |pick: &dyn Fn(glam::DVec3) -> bool, axis: usize| {
+            let idx: Vec<usize> = (0..m.particle_count())
+                .filter(|&i| pick(m.rest_positions[i]))
+                .collect();
+            idx.iter()
+                .map(|&i| sim.state.positions[i][axis])
+                .sum::<f64>()
+                / idx.len() as f64
+        };
+        // Between the planes z = 5 mm and z = 15 mm, away from the ends.
+        let near = |z: f64| move |p: glam::DVec3| (p.z - z).abs() < 1e-9;
+        let stretch = (mean(&near(0.015), 2) - mean(&near(0.005), 2)) / 0.01;
+        // Across the middle, between the side faces x = -10 and +10 mm.
+        let side =
+            |x: f64| move |p: glam::DVec3| (p.x - x).abs() < 1e-9 && (p.z - 0.01).abs() < 1e-9;
+        let lateral = (mean(&side(0.01), 0) - mean(&side(-0.01), 0)) / 0.02;
+        let nominal = -force / (0.02 * 0.02);
+        let (p_exact, lateral_exact) = analytic(stretch);
+        eprintln!(
+            "F {force} N: stretch {stretch:.5}, nominal stress {nominal:.1} Pa, analytic {p_exact:.1} Pa; lateral {lateral:.5} (analytic {lateral_exact:.5})"
+        );
+        assert!(
+            (nominal - p_exact).abs() < 0.02 * p_exact.abs(),
+            "F = {force} N: stress {nominal:.1} Pa at stretch {stretch:.5}, the energy gives {p_exact:.1} Pa"
+        );
+        assert!(
+            (lateral - lateral_exact).abs() < 0.02 * (lateral_exact - 1.0).abs().max(1e-3),
+            "lateral stretch {lateral:.5}, the energy gives {lateral_exact:.5}"
+        );
+    }
+}
+
+fn thesis_depth(edge: f64, elasticity: &str) -> f64 {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/thesis_cuboid_light_guide.toml"
+    );
+    let text = std::fs::read_to_string(path).expect("scene");
+    let mut scene = Scene::from_toml_str(&text, path).expect("scene");
+    scene.object.edge_length = edge;
+    if elasticity == "neo-hookean" {
+        scene.model.elasticity = softgrip::scene::Elasticity::NeoHookean;
+    }
+    let mut sim = Simulation::new(&scene).expect("sim");
+    sim.set_load(0, 9.73);
+    settle(&mut sim);
+    sim.indentation(0)
+}
+
+/// The thesis scene (9.73 N through the light guide) indents the same as
+/// the mesh is refined: successive differences shrink.
+#[test]
+fn the_thesis_indentation_converges_under_mesh_refinement() {
+    let edges = [0.008, 0.0057, 0.004];
+    let depths: Vec<f64> = edges
+        .iter()
+        .map(|&h| thesis_depth(h, "neo-hookean"))
+        .collect();
+    eprintln!(
+        "neo-Hookean depths (mm) at edges {edges:?}: {:?}",
+        depths.iter().map(|d| d * 1e3).collect::<Vec<_>>()
+    );
+    let first = (depths[1] - depths[0]).abs();
+    let second = (depths[2] - depths[1]).abs();
+    assert!(
+        second < 0.7 * first,
+        "differences {first:e} then {second:e} m: not converging"
+    );
+    assert!(
+        second < 0.05 * depths[2],
+        "the last refinement still moves the depth by {:.1} %",
+        100.0 * second / depths[2]
+    );
+}
