@@ -30,7 +30,68 @@ pub fn thesis_scene_run(
     seconds: f64,
     threads: usize,
 ) -> Result<BenchRun, SimError> {
-    let mut sim = Simulation::new(&thesis_scene_with_edge(edge_length))?;
+    scene_run(&thesis_scene_with_edge(edge_length), seconds, threads)
+}
+
+/// The thesis scene with each of the physics options of issue 6 turned on
+/// in turn (the first: none), for `softgrip bench --options`.
+pub fn option_variants(edge_length: f64) -> Vec<(&'static str, Scene)> {
+    use crate::scene::{AaBox, Elasticity, Region, SupportKind};
+    let base = thesis_scene_with_edge(edge_length);
+    let with = |f: &dyn Fn(&mut Scene)| {
+        let mut s = base.clone();
+        f(&mut s);
+        s
+    };
+    vec![
+        ("none (the thesis scene)", base.clone()),
+        (
+            "table, friction 0.5",
+            with(&|s| {
+                s.support.kind = SupportKind::Table;
+                s.support.friction = 0.5;
+            }),
+        ),
+        ("strain stiffening 30", with(&|s| s.model.stiffening = 30.0)),
+        (
+            "compression ratio 2",
+            with(&|s| s.model.compression_ratio = 2.0),
+        ),
+        (
+            "viscoelastic g 0.3, tau 0.5 s",
+            with(&|s| {
+                s.model.prony_g = 0.3;
+                s.model.prony_tau = 0.5;
+            }),
+        ),
+        (
+            "[[region]]: right half E x 3",
+            with(&|s| {
+                s.regions.push(Region {
+                    region: AaBox {
+                        min: glam::DVec3::new(0.0, -1.0, -1.0),
+                        max: glam::DVec3::new(1.0, 1.0, 1.0),
+                    },
+                    young_modulus: 3.0 * s.object.young_modulus,
+                    density: s.object.density,
+                })
+            }),
+        ),
+        (
+            "guide friction 0.5 N",
+            with(&|s| s.fingers[0].guide_friction = 0.5),
+        ),
+        ("self-collision", with(&|s| s.model.self_collision = true)),
+        (
+            "neo-Hookean elements",
+            with(&|s| s.model.elasticity = Elasticity::NeoHookean),
+        ),
+    ]
+}
+
+/// Runs `scene` for `seconds` of simulated time and times it.
+pub fn scene_run(scene: &Scene, seconds: f64, threads: usize) -> Result<BenchRun, SimError> {
+    let mut sim = Simulation::new(scene)?;
     sim.set_threads(threads);
     let steps = (seconds / sim.model.dt).round() as u64;
     let mut cg = 0;

@@ -21,14 +21,18 @@ pub enum Field {
     /// each contact's force shared by its barycentric weights, divided by
     /// the particle's share (a third) of the area of its boundary facets.
     ContactPressure,
+    /// The material's Young's modulus (Pa), volume-weighted over the
+    /// elements at each particle: shows `[[region]]`s.
+    YoungModulus,
 }
 
 impl Field {
-    pub const ALL: [Field; 4] = [
+    pub const ALL: [Field; 5] = [
         Field::Displacement,
         Field::SpringStrain,
         Field::VolumeChange,
         Field::ContactPressure,
+        Field::YoungModulus,
     ];
 
     pub fn label(self) -> &'static str {
@@ -37,6 +41,7 @@ impl Field {
             Field::SpringStrain => "spring strain",
             Field::VolumeChange => "element volume change",
             Field::ContactPressure => "contact pressure",
+            Field::YoungModulus => "Young's modulus",
         }
     }
 
@@ -45,7 +50,7 @@ impl Field {
         match self {
             Field::Displacement => "mm",
             Field::SpringStrain | Field::VolumeChange => "%",
-            Field::ContactPressure => "kPa",
+            Field::ContactPressure | Field::YoungModulus => "kPa",
         }
     }
 
@@ -54,7 +59,7 @@ impl Field {
         match self {
             Field::Displacement => 1e3,
             Field::SpringStrain | Field::VolumeChange => 1e2,
-            Field::ContactPressure => 1e-3,
+            Field::ContactPressure | Field::YoungModulus => 1e-3,
         }
     }
 
@@ -70,6 +75,7 @@ impl Field {
             Field::SpringStrain => particle_spring_strain(model, state),
             Field::VolumeChange => particle_volume_change(model, state),
             Field::ContactPressure => contact_pressure(model, state),
+            Field::YoungModulus => particle_young_modulus(model),
         }
     }
 }
@@ -155,6 +161,24 @@ pub fn particle_volume_change(model: &Model, state: &State) -> Vec<f64> {
     sum.iter()
         .zip(&weight)
         .map(|(s, w)| if *w > 0.0 { s / w } else { 0.0 })
+        .collect()
+}
+
+/// Young's modulus at each particle (Pa): its elements', volume-weighted.
+pub fn particle_young_modulus(model: &Model) -> Vec<f64> {
+    let n = model.particle_count();
+    let mut sum = vec![0.0f64; n];
+    let mut weight = vec![0.0f64; n];
+    for (e, (t, v0)) in model.tets.iter().zip(&model.rest_volume).enumerate() {
+        let scale = model.element_stiffness_scale.get(e).copied().unwrap_or(1.0);
+        for &i in t {
+            sum[i as usize] += v0 * scale * model.young_modulus;
+            weight[i as usize] += v0;
+        }
+    }
+    sum.iter()
+        .zip(&weight)
+        .map(|(s, w)| if *w > 0.0 { s / w } else { model.young_modulus })
         .collect()
 }
 

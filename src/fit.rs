@@ -92,7 +92,9 @@ pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String
         )),
     };
     match param.name {
-        "young_modulus" | "bulk_modulus" | "limit_stiffness" => around(10.0),
+        "young_modulus" | "bulk_modulus" | "limit_stiffness" | "region_young_modulus" => {
+            around(10.0)
+        }
         "alpha" => around(100.0),
         "density" => around(2.0),
         "tau_s" | "tau_c" => Ok((0.02, 0.5)),

@@ -98,6 +98,12 @@ pub const PARAMS: &[Param] = &[
         about: "[model] prony_tau, the relaxation time constant (softgrip)",
     },
     Param {
+        name: "region_young_modulus",
+        unit: "Pa",
+        log: true,
+        about: "every [[region]] young_modulus (softgrip)",
+    },
+    Param {
         name: "friction",
         unit: "",
         log: false,
@@ -164,6 +170,7 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, String> {
         "compression_ratio" => Some(scene.model.compression_ratio),
         "prony_g" => Some(scene.model.prony_g),
         "prony_tau" => Some(scene.model.prony_tau),
+        "region_young_modulus" => scene.regions.first().map(|r| r.young_modulus),
         "friction" => first.map(|f| f.friction),
         "table_friction" => (scene.support.kind == crate::scene::SupportKind::Table)
             .then_some(scene.support.friction),
@@ -194,6 +201,14 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
         "compression_ratio" => s.model.compression_ratio = value,
         "prony_g" => s.model.prony_g = value,
         "prony_tau" => s.model.prony_tau = value,
+        "region_young_modulus" => {
+            if s.regions.is_empty() {
+                return Err("region_young_modulus needs a [[region]] in the scene".into());
+            }
+            for r in &mut s.regions {
+                r.young_modulus = value;
+            }
+        }
         "table_friction" => {
             if s.support.kind != crate::scene::SupportKind::Table {
                 return Err(

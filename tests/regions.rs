@@ -159,3 +159,32 @@ fn a_region_outside_the_object_is_an_error_naming_it() {
         .to_string();
     assert!(e.contains("region") && e.contains("far.toml"), "{e}");
 }
+
+#[test]
+fn region_modulus_is_a_parameter_for_sweeps_and_fits() {
+    let scene = block(-0.015);
+    assert_eq!(
+        softgrip::params::get(&scene, "region_young_modulus"),
+        Ok(Some(E_STIFF))
+    );
+    let set = softgrip::params::set(&scene, "region_young_modulus", 2e5).expect("set");
+    assert_eq!(set.regions[0].young_modulus, 2e5);
+    let e = softgrip::params::set(&scene, "region_young_modulus", -1.0).expect_err("negative");
+    assert!(e.contains("region_young_modulus"), "{e}");
+}
+
+/// The viewer's "Young's modulus" colouring shows the regions.
+#[test]
+fn the_modulus_field_shows_the_regions() {
+    let sim = Simulation::new(&block(-0.015)).expect("sim");
+    let values = softgrip::fields::Field::YoungModulus.particle_values(&sim.model, &sim.state);
+    for (p, e) in sim.model.rest_positions.iter().zip(&values) {
+        if p.x < -0.0041 {
+            assert!((e - E_SOFT).abs() < 1e-6, "{p:?}: {e}");
+        } else if p.x > 0.0041 {
+            assert!((e - E_STIFF).abs() < 1e-6, "{p:?}: {e}");
+        } else if p.x.abs() < 1e-9 {
+            assert!(*e > E_SOFT && *e < E_STIFF, "on the interface: {e}");
+        }
+    }
+}

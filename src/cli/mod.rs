@@ -251,6 +251,11 @@ enum Command {
         /// Simulated seconds per measurement.
         #[arg(long, default_value_t = 1.0)]
         seconds: f64,
+        /// Instead: the thesis scene at the first edge length with each
+        /// physics option (table, stiffening, viscoelastic, regions, guide
+        /// friction, self-collision, neo-Hookean, ...) on in turn.
+        #[arg(long)]
+        options: bool,
     },
 }
 
@@ -517,7 +522,14 @@ pub fn main() -> ExitCode {
             edges,
             seconds,
             threads,
-        }) => bench(&edges, seconds, threads),
+            options,
+        }) => {
+            if options {
+                bench_options(edges.first().copied().unwrap_or(4.0), seconds, threads)
+            } else {
+                bench(&edges, seconds, threads)
+            }
+        }
         #[cfg(feature = "gui")]
         Some(Command::Screenshot {
             scene,
@@ -870,6 +882,28 @@ fn check(scene_path: Option<&Path>) -> Result<()> {
 }
 
 /// Peak memory is the process's high-water mark, so sizes run smallest first.
+/// The cost of each physics option on the thesis scene.
+fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
+    println!("{}", softgrip::bench::machine_description());
+    println!(
+        "the thesis scene at {edge_mm} mm edges, {seconds} s simulated, each option on in turn"
+    );
+    println!("| option | ms per step | CG iterations per step | against none |");
+    println!("|---|---|---|---|");
+    let mut base = None;
+    for (name, scene) in softgrip::bench::option_variants(edge_mm * 1e-3) {
+        let r = softgrip::bench::scene_run(&scene, seconds, threads)?;
+        let ms = 1e3 * r.wall_seconds / r.steps as f64;
+        let reference = *base.get_or_insert(ms);
+        println!(
+            "| {name} | {ms:.2} | {:.1} | {:.2} x |",
+            r.cg_iterations as f64 / r.steps as f64,
+            ms / reference
+        );
+    }
+    Ok(())
+}
+
 fn bench(edges_mm: &[f64], seconds: f64, threads: usize) -> Result<()> {
     let mut edges_mm = edges_mm.to_vec();
     edges_mm.sort_by(|a, b| b.total_cmp(a));
