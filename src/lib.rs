@@ -35,6 +35,7 @@ pub mod bench;
 pub mod compare;
 pub mod constraints;
 pub mod contact;
+pub mod diagnose;
 pub mod error;
 pub mod fields;
 pub mod fit;

@@ -56,7 +56,7 @@ pub enum Start {
 }
 
 /// What a marker name refers to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum MarkerRef {
     /// `[markers]` entry `k` (sorted by name): a material point of the
     /// object's surface.

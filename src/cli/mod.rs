@@ -11,6 +11,7 @@ use softgrip::Simulation;
 use softgrip::output::TrajectoryWriter;
 use softgrip::scene::Scene;
 
+mod diagnose;
 mod grasp;
 mod lab;
 
@@ -158,6 +159,26 @@ enum Command {
         json: Option<PathBuf>,
         #[command(flatten)]
         report: lab::ReportArgs,
+    },
+    /// Missing-physics diagnosis: fit the nominal model (E, alpha, tau_s,
+    /// tau_c), locate what it still misses against the noise, fit a
+    /// catalogue of candidate effects (table-friction, strain-stiffening,
+    /// viscoelastic-creep, finger-friction, heterogeneous-stiffness,
+    /// load-loss) and name the one(s) that explain it, or "none".
+    Diagnose {
+        recording: PathBuf,
+        /// Baseline parameters to keep at the scene's values (e.g. alpha).
+        #[arg(long, num_args = 1..)]
+        lock: Vec<String>,
+        /// Simulations at most per fit.
+        #[arg(long, default_value_t = 120)]
+        max_evaluations: usize,
+        /// Simulations at once (0: one per core).
+        #[arg(long, default_value_t = 0)]
+        workers: usize,
+        /// Also write the spec's JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
     },
     /// Grasp and lift (e.g. assets/scenes/grasp_lift.toml): the fingers
     /// squeeze, lift after their start_time and hold; says whether friction
@@ -447,6 +468,13 @@ pub fn main() -> ExitCode {
             surface,
         }) => run(scene.as_deref(), out.as_deref(), duration, fps, surface),
         Some(Command::Check { scene }) => check(scene.as_deref()),
+        Some(Command::Diagnose {
+            recording,
+            lock,
+            max_evaluations,
+            workers,
+            json,
+        }) => diagnose::diagnose(&recording, &lock, max_evaluations, workers, json.as_deref()),
         Some(Command::Grasp {
             scene,
             hold,

@@ -1,0 +1,101 @@
+//! `softgrip diagnose`: find what physics a fitted model still misses
+//! against a recording (`softgrip::diagnose`).
+
+use std::path::Path;
+
+use anyhow::Result;
+use softgrip::diagnose::{self, DiagnoseOptions};
+use softgrip::recording::Recording;
+
+pub fn diagnose(
+    recording_path: &Path,
+    lock: &[String],
+    max_evaluations: usize,
+    workers: usize,
+    json: Option<&Path>,
+) -> Result<()> {
+    let recording = Recording::load(recording_path)?;
+    println!(
+        "{}: {} ({} samples, {} markers)",
+        recording_path.display(),
+        recording.description,
+        recording.samples.len(),
+        recording.markers.len()
+    );
+    let options = DiagnoseOptions {
+        lock: lock.to_vec(),
+        max_evaluations,
+        workers,
+        ..DiagnoseOptions::default()
+    };
+    let bar = super::progress_bar(1, "fits");
+    let d = diagnose::diagnose(&recording, &options, &|done, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    })
+    .map_err(anyhow::Error::msg)?;
+    bar.finish_and_clear();
+    let params = |p: &[(String, f64)]| {
+        p.iter()
+            .map(|(k, v)| format!("{k} {v:.4e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!(
+        "baseline: {}; NRMSE {:.4}, over all markers {:.4}",
+        params(&d.baseline.params),
+        d.baseline.errors.nrmse,
+        d.baseline.errors.nrmse_all
+    );
+    println!(
+        "noise (from the data): {:.3} mm on object markers, {:.3} mm on fingers",
+        d.noise.object_m * 1e3,
+        d.noise.finger_m * 1e3
+    );
+    println!("mismatch: {}", d.location.description);
+    println!("| candidate | BIC change | residual removed | NRMSE all | parameters |");
+    println!("|---|---|---|---|---|");
+    let mut ranked: Vec<&diagnose::Hypothesis> = d.hypotheses.iter().collect();
+    ranked.sort_by(|a, b| {
+        (a.round, a.score)
+            .partial_cmp(&(b.round, b.score))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    for h in ranked {
+        let name = if h.variant.is_empty() {
+            h.effect.to_string()
+        } else {
+            format!("{} ({})", h.effect, h.variant)
+        };
+        match &h.fit {
+            Ok(f) => println!(
+                "| {name} | {:+.1} | {:.0} % | {:.4} | {} |",
+                h.score,
+                100.0 * h.explained,
+                f.errors.nrmse_all,
+                params(&f.params)
+            ),
+            Err(e) => println!("| {name} | failed | | | {e} |"),
+        }
+    }
+    println!("verdict: {}", d.verdict());
+    if !d.effects.is_empty() {
+        println!("effects: {}", d.effects.join(" + "));
+        println!("fitted: {}", params(&d.final_fit.params));
+        println!(
+            "NRMSE {:.4} -> {:.4}; over all markers {:.4} -> {:.4}",
+            d.baseline.errors.nrmse,
+            d.final_fit.errors.nrmse,
+            d.baseline.errors.nrmse_all,
+            d.final_fit.errors.nrmse_all
+        );
+    }
+    println!("evidence: {}", d.evidence);
+    if let Some(path) = json {
+        let value = diagnose::to_json(&d, &recording);
+        std::fs::write(path, serde_json::to_string_pretty(&value)? + "\n")
+            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}

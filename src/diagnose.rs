@@ -1,0 +1,1087 @@
+//! Missing-physics diagnosis: when a fitted simulation and a recording still
+//! differ, find where, name the physics the model left out, add it, fit it
+//! and show the fit improve; say "none" when the residual is noise.
+//!
+//! 1. **Baseline.** The nominal model's uncertain parameters (E, alpha,
+//!    tau_s, tau_c unless locked) are fitted to the recording, with every
+//!    marker counted, the fingers' included: force lost along the load path
+//!    or creep move the finger more than the object.
+//! 2. **Noise**, from the data: per marker and axis, the second differences
+//!    of the baseline's residual along the samples (`sigma^2 = mean(d2^2) /
+//!    6`, Rice's estimator taken one order further). A mismatch that
+//!    varies smoothly with load or time cancels out of second differences;
+//!    white measurement noise does not. Object markers and fingers get
+//!    their own sigma.
+//! 3. **Locate.** Each marker, axis and region's residual against that
+//!    noise (a chi-square test at three of its standard deviations), and
+//!    how the residual depends on the sample (grows with load, only on
+//!    unloading, late at constant load).
+//! 4. **Explain.** A catalogue of candidate effects, each a model
+//!    extension of issue 6 with its own parameters, is fitted (its
+//!    parameters plus the modulus, from the current fit). Candidates are
+//!    compared by the Bayesian information criterion of a Gaussian
+//!    likelihood with the noise level free, `n ln(RSS / n) + k ln n` (RSS
+//!    the noise-weighted residual sum of squares): it needs no refits
+//!    (cross-validation on held-out samples would need one per fold per
+//!    candidate, and a recording has 7 to 30 samples) and penalises each
+//!    parameter by `ln n`. An effect is accepted when it lowers BIC by more
+//!    than 10 ("very strong" evidence, Kass and Raftery 1995) **and**
+//!    removes at least a third of the residual sum of squares: the model's
+//!    own form error (a lattice against a continuum, a coarse mesh against
+//!    a fine one) is a smooth mismatch that any extra parameter absorbs a
+//!    little of, and that must not be named as missing physics. Accepted
+//!    effects stay in and the rest are tried again (greedy), so two
+//!    effects present at once are both found.
+//! 5. **Verdict**: the effects found, or "none" (the residual is at the
+//!    noise level, or nothing explains a significant share of it), or
+//!    "unexplained" (a significant mismatch, with its location, that no
+//!    candidate explains).
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::compare::{Errors, Residual};
+use crate::fit::{FitOptions, FitParam, minimize};
+use crate::params;
+use crate::recording::{MarkerRef, Mode, Recording};
+use crate::replay::{Replay, ReplayOptions, replay};
+use crate::scene::{AaBox, Region, Scene, SupportKind};
+use crate::sweep::parallel_map;
+
+/// BIC must fall by more than this for an effect to be accepted.
+pub const BIC_THRESHOLD: f64 = 10.0;
+/// ... and the weighted residual sum of squares by at least this share.
+pub const MIN_EXPLAINED: f64 = 0.3;
+/// A mismatch no candidate explains is "unexplained" when the baseline's
+/// RMS residual is more than this many times the noise; below, the
+/// verdict is "none": a residual within a few noise levels that no
+/// physics explains is the model's own form error (a lattice against a
+/// continuum, one mesh against another), not missing physics.
+pub const UNEXPLAINED_RATIO: f64 = 3.0;
+
+/// How a diagnosis runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiagnoseOptions {
+    /// Baseline parameters not to fit (kept at the scene's values).
+    pub lock: Vec<String>,
+    /// Simulations at most per fit (the baseline's and each candidate's).
+    pub max_evaluations: usize,
+    /// Simulations at once (0: one per core).
+    pub workers: usize,
+    /// At most this many effects are added.
+    pub max_effects: usize,
+}
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions {
+            lock: Vec::new(),
+            max_evaluations: 120,
+            workers: 0,
+            max_effects: 2,
+        }
+    }
+}
+
+/// The noise level, estimated from the data (m, one standard deviation per
+/// coordinate).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Noise {
+    pub object_m: f64,
+    pub finger_m: f64,
+    /// How many second differences each estimate rests on.
+    pub object_count: usize,
+    pub finger_count: usize,
+}
+
+impl Noise {
+    fn sigma(&self, marker: MarkerRef) -> f64 {
+        match marker {
+            MarkerRef::Object(_) => self.object_m,
+            MarkerRef::Finger(_) => self.finger_m,
+        }
+    }
+}
+
+/// Per marker and axis, the residual components in sample order.
+fn series(residuals: &[Residual]) -> HashMap<(MarkerRef, usize), Vec<f64>> {
+    let mut out: HashMap<(MarkerRef, usize), Vec<(usize, f64)>> = HashMap::new();
+    for r in residuals {
+        for a in 0..3 {
+            if let Some(x) = r.recorded[a] {
+                out.entry((r.marker, a))
+                    .or_default()
+                    .push((r.sample, r.simulated[a] - x));
+            }
+        }
+    }
+    out.into_iter()
+        .map(|(k, mut v)| {
+            v.sort_by_key(|(s, _)| *s);
+            (k, v.into_iter().map(|(_, x)| x).collect())
+        })
+        .collect()
+}
+
+/// The noise from second differences of the residual along the samples
+/// (see the module docs). A class with too few differences (fewer than 3)
+/// takes the other's level, or a floor of 1 um.
+pub fn estimate_noise(residuals: &[Residual]) -> Noise {
+    let mut sums = [(0.0, 0usize); 2];
+    let mut keys: Vec<_> = series(residuals).into_iter().collect();
+    keys.sort_by_key(|((m, a), _)| (marker_key(*m), *a));
+    for ((marker, _), values) in keys {
+        let class = matches!(marker, MarkerRef::Finger(_)) as usize;
+        for w in values.windows(3) {
+            let d2 = w[0] - 2.0 * w[1] + w[2];
+            sums[class].0 += d2 * d2;
+            sums[class].1 += 1;
+        }
+    }
+    let level = |(sum, n): (f64, usize)| (n >= 3).then(|| (sum / (6.0 * n as f64)).sqrt());
+    let (object, finger) = (level(sums[0]), level(sums[1]));
+    let floor = 1e-6;
+    let object_m = object.or(finger).unwrap_or(floor).max(floor);
+    let finger_m = finger.or(object).unwrap_or(floor).max(floor);
+    Noise {
+        object_m,
+        finger_m,
+        object_count: sums[0].1,
+        finger_count: sums[1].1,
+    }
+}
+
+fn marker_key(m: MarkerRef) -> (u8, usize) {
+    match m {
+        MarkerRef::Object(k) => (0, k),
+        MarkerRef::Finger(k) => (1, k),
+    }
+}
+
+/// The marker's name in the recording.
+pub fn marker_name(recording: &Recording, m: MarkerRef) -> String {
+    match m {
+        MarkerRef::Object(k) => recording.markers[k].name.clone(),
+        MarkerRef::Finger(0) => "finger".into(),
+        MarkerRef::Finger(k) => format!("finger{k}"),
+    }
+}
+
+/// The noise-weighted residual sum of squares over every observed
+/// component (fingers included), and the number of components.
+pub fn weighted_rss(residuals: &[Residual], noise: &Noise) -> (f64, usize) {
+    let mut rss = 0.0;
+    let mut n = 0;
+    for r in residuals {
+        let s = noise.sigma(r.marker);
+        for a in 0..3 {
+            if let Some(x) = r.recorded[a] {
+                let e = (r.simulated[a] - x) / s;
+                rss += e * e;
+                n += 1;
+            }
+        }
+    }
+    (rss, n)
+}
+
+/// BIC of a least-squares fit with the noise level free.
+pub fn bic(rss: f64, n: usize, k: usize) -> f64 {
+    let n = n.max(1) as f64;
+    n * (rss.max(1e-300) / n).ln() + k as f64 * n.ln()
+}
+
+/// Is a chi-square of `chi2` on `dof` degrees of freedom beyond three of
+/// its standard deviations?
+pub fn significant(chi2: f64, dof: usize) -> bool {
+    let d = dof.max(1) as f64;
+    chi2 > d + 3.0 * (2.0 * d).sqrt()
+}
+
+/// Where and when the residual stands out of the noise.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Location {
+    /// Markers whose residual is significant, worst first, with their RMS
+    /// residual over the noise.
+    pub markers: Vec<(String, f64)>,
+    /// Axes ("x", "y", "z") whose residual is significant.
+    pub axes: Vec<String>,
+    /// Regions of the object whose markers' residual is significant, with
+    /// RMS over noise, worst first.
+    pub regions: Vec<(String, f64)>,
+    /// How it depends on the sample.
+    pub when: String,
+    /// In words.
+    pub description: String,
+    /// The whole residual's chi-square and degrees of freedom.
+    pub chi2: f64,
+    pub dof: usize,
+    pub significant: bool,
+}
+
+/// The named regions a marker at `p` belongs to, on an object with bounds
+/// `lo..hi`, pressed by a finger starting at `finger`.
+fn regions_of(p: DVec3, lo: DVec3, hi: DVec3, finger: Option<DVec3>) -> Vec<&'static str> {
+    let size = hi - lo;
+    let centre = 0.5 * (lo + hi);
+    let mut out = Vec::new();
+    if let Some(f) = finger {
+        let near = (p.truncate() - f.truncate()).length() < 0.25 * size.truncate().max_element()
+            && p.z > hi.z - 0.25 * size.z;
+        if near {
+            out.push("contact zone");
+        }
+    }
+    if p.z < lo.z + 0.25 * size.z {
+        out.push("base");
+    }
+    if p.z > hi.z - 0.25 * size.z {
+        out.push("top");
+    }
+    let side =
+        (p.x - lo.x).min(hi.x - p.x) < 0.1 * size.x || (p.y - lo.y).min(hi.y - p.y) < 0.1 * size.y;
+    if side {
+        out.push("sides");
+    }
+    if p.x < centre.x - 0.05 * size.x {
+        out.push("left half");
+    } else if p.x > centre.x + 0.05 * size.x {
+        out.push("right half");
+    }
+    out
+}
+
+/// Locates the residual of `replay` against `noise`.
+pub fn locate(recording: &Recording, replay: &Replay, noise: &Noise) -> Location {
+    let residuals = &replay.residuals;
+    let (chi2, n) = weighted_rss(residuals, noise);
+    let mut loc = Location {
+        chi2,
+        dof: n,
+        significant: significant(chi2, n),
+        ..Location::default()
+    };
+    // Per marker.
+    let mut per_marker: HashMap<MarkerRef, (f64, usize)> = HashMap::new();
+    let mut per_axis = [(0.0, 0usize); 3];
+    for r in residuals {
+        let s = noise.sigma(r.marker);
+        for a in 0..3 {
+            if let Some(x) = r.recorded[a] {
+                let e = ((r.simulated[a] - x) / s).powi(2);
+                let m = per_marker.entry(r.marker).or_default();
+                m.0 += e;
+                m.1 += 1;
+                per_axis[a].0 += e;
+                per_axis[a].1 += 1;
+            }
+        }
+    }
+    let mut markers: Vec<(MarkerRef, f64, usize)> = per_marker
+        .into_iter()
+        .map(|(m, (c, k))| (m, c, k))
+        .collect();
+    markers.sort_by_key(|(m, _, _)| marker_key(*m));
+    let mut named: Vec<(String, f64)> = markers
+        .iter()
+        .filter(|(_, c, k)| significant(*c, *k))
+        .map(|(m, c, k)| (marker_name(recording, *m), (c / *k as f64).sqrt()))
+        .collect();
+    named.sort_by(|a, b| b.1.total_cmp(&a.1));
+    loc.markers = named;
+    loc.axes = ["x", "y", "z"]
+        .iter()
+        .zip(per_axis)
+        .filter(|(_, (c, k))| *k > 0 && significant(*c, *k))
+        .map(|(a, _)| a.to_string())
+        .collect();
+    // Per region, over object markers.
+    let (lo, hi) = crate::mesh::bounds_of(
+        &recording
+            .markers
+            .iter()
+            .map(|m| m.reference)
+            .collect::<Vec<_>>(),
+    );
+    let (lo, hi) = object_bounds(recording).unwrap_or((lo, hi));
+    let finger = recording.scene.fingers.first().map(|f| f.position);
+    let mut per_region: HashMap<&'static str, (f64, usize)> = HashMap::new();
+    for (m, c, k) in &markers {
+        if let MarkerRef::Object(i) = m {
+            for name in regions_of(recording.markers[*i].reference, lo, hi, finger) {
+                let e = per_region.entry(name).or_default();
+                e.0 += c;
+                e.1 += k;
+            }
+        }
+    }
+    let mut regions: Vec<(String, f64)> = per_region
+        .into_iter()
+        .filter(|(_, (c, k))| significant(*c, *k))
+        .map(|(name, (c, k))| (name.to_string(), (c / k as f64).sqrt()))
+        .collect();
+    regions.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    loc.regions = regions;
+    loc.when = when(recording, residuals, noise);
+    loc.description = if !loc.significant {
+        "the residual is at the noise level".into()
+    } else {
+        let who = if loc.markers.is_empty() {
+            "spread thinly over every marker".to_string()
+        } else {
+            format!(
+                "markers {}",
+                loc.markers
+                    .iter()
+                    .take(4)
+                    .map(|(m, _)| m.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        let regions = if loc.regions.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({})",
+                loc.regions
+                    .iter()
+                    .take(2)
+                    .map(|(r, _)| r.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        let axes = if loc.axes.is_empty() {
+            String::new()
+        } else {
+            format!(", along {}", loc.axes.join(" and "))
+        };
+        format!("{who}{regions}{axes}; {}", loc.when)
+    };
+    loc
+}
+
+/// The object's undeformed bounds, from its scene.
+fn object_bounds(recording: &Recording) -> Option<(DVec3, DVec3)> {
+    let mesh = crate::model::Model::mesh_of(&recording.scene).ok()?;
+    Some(mesh.bounds())
+}
+
+/// How the residual depends on the samples, in words.
+fn when(recording: &Recording, residuals: &[Residual], noise: &Noise) -> String {
+    let samples = &recording.samples;
+    if samples.len() < 3 {
+        return "too few samples to say when".into();
+    }
+    // Mean squared residual per sample (over noise).
+    let mut per_sample = vec![(0.0, 0usize); samples.len()];
+    for r in residuals {
+        let s = noise.sigma(r.marker);
+        for a in 0..3 {
+            if let Some(x) = r.recorded[a] {
+                per_sample[r.sample].0 += ((r.simulated[a] - x) / s).powi(2);
+                per_sample[r.sample].1 += 1;
+            }
+        }
+    }
+    let level: Vec<f64> = per_sample
+        .iter()
+        .map(|(c, k)| if *k > 0 { c / *k as f64 } else { 0.0 })
+        .collect();
+    let mean = |idx: &[usize]| {
+        if idx.is_empty() {
+            0.0
+        } else {
+            idx.iter().map(|&i| level[i]).sum::<f64>() / idx.len() as f64
+        }
+    };
+    match recording.mode {
+        Mode::QuasiStatic => {
+            let unloading: Vec<usize> = (1..samples.len())
+                .filter(|&i| samples[i].load < samples[i - 1].load)
+                .collect();
+            let loading: Vec<usize> = (0..samples.len())
+                .filter(|i| !unloading.contains(i))
+                .collect();
+            if !unloading.is_empty() && mean(&unloading) > 3.0 * mean(&loading).max(1.0) {
+                return "mostly on unloading".into();
+            }
+            // Rank correlation of the residual with the load on the way up.
+            let loads: Vec<f64> = loading.iter().map(|&i| samples[i].load).collect();
+            let levels: Vec<f64> = loading.iter().map(|&i| level[i]).collect();
+            if spearman(&loads, &levels) > 0.7 {
+                "grows with load".into()
+            } else {
+                "at every load".into()
+            }
+        }
+        Mode::TimeSeries => {
+            // Within each constant-load stretch: the later half against
+            // the earlier half.
+            let mut early = Vec::new();
+            let mut late = Vec::new();
+            let mut start = 0;
+            for i in 1..=samples.len() {
+                if i == samples.len() || samples[i].load != samples[start].load {
+                    let len = i - start;
+                    for (j, k) in (start..i).enumerate() {
+                        if 2 * j < len {
+                            early.push(k);
+                        } else {
+                            late.push(k);
+                        }
+                    }
+                    start = i;
+                }
+            }
+            if mean(&late) > 2.0 * mean(&early).max(1.0) {
+                "grows late in time at constant load".into()
+            } else if mean(&early) > 2.0 * mean(&late).max(1.0) {
+                "right after load changes".into()
+            } else {
+                "throughout".into()
+            }
+        }
+    }
+}
+
+/// Spearman's rank correlation (0 for fewer than 3 points or no spread).
+fn spearman(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() < 3 {
+        return 0.0;
+    }
+    let rank = |v: &[f64]| {
+        let mut idx: Vec<usize> = (0..v.len()).collect();
+        idx.sort_by(|&i, &j| v[i].total_cmp(&v[j]));
+        let mut r = vec![0.0; v.len()];
+        for (k, &i) in idx.iter().enumerate() {
+            r[i] = k as f64;
+        }
+        r
+    };
+    let (ra, rb) = (rank(a), rank(b));
+    let n = ra.len() as f64;
+    let ma = ra.iter().sum::<f64>() / n;
+    let mb = rb.iter().sum::<f64>() / n;
+    let cov: f64 = ra.iter().zip(&rb).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = ra.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = rb.iter().map(|y| (y - mb).powi(2)).sum();
+    if va <= 0.0 || vb <= 0.0 {
+        0.0
+    } else {
+        cov / (va * vb).sqrt()
+    }
+}
+
+/// A candidate effect: a change to the scene and the parameters it brings.
+#[derive(Debug, Clone)]
+pub struct Candidate {
+    /// The spec's name (`table-friction`, ...).
+    pub effect: &'static str,
+    /// Which variant, for effects with several (the region's half).
+    pub variant: String,
+    /// The scene with the effect added (at its parameters' start values).
+    pub scene: Scene,
+    pub params: Vec<FitParam>,
+}
+
+fn param(name: &str, lower: f64, upper: f64, log: bool) -> Option<FitParam> {
+    Some(FitParam {
+        param: params::find(name).ok()?,
+        lower,
+        upper,
+        log,
+    })
+}
+
+/// The catalogue of candidate effects for `scene` (already carrying the
+/// current fit) and `recording`: those that apply.
+pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    let e = scene.object.young_modulus;
+    let Some(modulus) = param("young_modulus", e / 3.0, e * 3.0, true) else {
+        return out;
+    };
+    // The modulus and the effect's own: a candidate whose parameter is not
+    // known is left out rather than offered broken.
+    let with_modulus = |ps: Vec<Option<FitParam>>| {
+        ps.into_iter()
+            .collect::<Option<Vec<_>>>()
+            .map(|mut v| {
+                v.insert(0, modulus);
+                v
+            })
+            .unwrap_or_default()
+    };
+    let with = |f: &dyn Fn(&mut Scene)| {
+        let mut s = scene.clone();
+        f(&mut s);
+        s
+    };
+    if scene.support.kind != SupportKind::None {
+        out.push(Candidate {
+            effect: "table-friction",
+            variant: String::new(),
+            scene: with(&|s| {
+                s.support.kind = SupportKind::Table;
+                s.support.friction = 0.0;
+            }),
+            params: with_modulus(vec![param("table_friction", 0.0, 2.0, false)]),
+        });
+    }
+    out.push(Candidate {
+        effect: "strain-stiffening",
+        variant: String::new(),
+        scene: scene.clone(),
+        params: with_modulus(vec![param("stiffening", 0.0, 300.0, false)]),
+    });
+    if recording.mode == Mode::TimeSeries {
+        out.push(Candidate {
+            effect: "viscoelastic-creep",
+            variant: String::new(),
+            scene: with(&|s| s.model.prony_tau = 1.0),
+            params: with_modulus(vec![
+                param("prony_g", 0.0, 0.9, false),
+                param("prony_tau", 0.05, 20.0, true),
+            ]),
+        });
+    }
+    if !scene.fingers.is_empty() {
+        out.push(Candidate {
+            effect: "finger-friction",
+            variant: String::new(),
+            scene: scene.clone(),
+            params: with_modulus(vec![param("friction", 0.0, 2.0, false)]),
+        });
+    }
+    if let Ok(mesh) = crate::model::Model::mesh_of(scene) {
+        let (lo, hi) = mesh.bounds();
+        let c = 0.5 * (lo + hi);
+        let pad = 1e-3 * (hi - lo).max_element();
+        let halves = [
+            ("left half", lo - pad, DVec3::new(c.x, hi.y, hi.z) + pad),
+            ("right half", DVec3::new(c.x, lo.y, lo.z) - pad, hi + pad),
+            ("bottom half", lo - pad, DVec3::new(hi.x, hi.y, c.z) + pad),
+            ("top half", DVec3::new(lo.x, lo.y, c.z) - pad, hi + pad),
+        ];
+        for (name, min, max) in halves {
+            out.push(Candidate {
+                effect: "heterogeneous-stiffness",
+                variant: name.to_string(),
+                scene: with(&|s| {
+                    s.regions.push(Region {
+                        region: AaBox { min, max },
+                        young_modulus: e,
+                        density: s.object.density,
+                    })
+                }),
+                params: with_modulus(vec![param(
+                    "region_young_modulus",
+                    e / 10.0,
+                    e * 10.0,
+                    true,
+                )]),
+            });
+        }
+    }
+    let loads = recording.samples.iter().map(|s| s.load).fold(0.0, f64::max);
+    let pressed = scene.fingers.iter().any(|f| f.force != DVec3::ZERO);
+    if pressed && loads > 0.0 {
+        out.push(Candidate {
+            effect: "load-loss",
+            variant: String::new(),
+            scene: scene.clone(),
+            params: with_modulus(vec![param("guide_friction", 0.0, 0.5 * loads, false)]),
+        });
+    }
+    out
+}
+
+/// One fitted model.
+#[derive(Debug, Clone)]
+pub struct ModelFit {
+    pub scene: Scene,
+    /// The fitted parameters, by name.
+    pub params: Vec<(String, f64)>,
+    pub errors: Errors,
+    /// Noise-weighted residual sum of squares, components, parameters.
+    pub rss: f64,
+    pub n: usize,
+    pub k: usize,
+    pub bic: f64,
+    pub replay: Replay,
+    pub evaluations: usize,
+}
+
+/// A candidate tried.
+#[derive(Debug, Clone)]
+pub struct Hypothesis {
+    pub effect: &'static str,
+    pub variant: String,
+    pub fit: Result<ModelFit, String>,
+    /// BIC against the model it was added to (negative: better).
+    pub score: f64,
+    /// Share of the weighted residual sum of squares it removed.
+    pub explained: f64,
+    pub round: usize,
+}
+
+/// The outcome.
+#[derive(Debug, Clone)]
+pub struct Diagnosis {
+    pub baseline: ModelFit,
+    pub noise: Noise,
+    pub location: Location,
+    pub hypotheses: Vec<Hypothesis>,
+    /// The effects accepted, in order; empty: none or unexplained.
+    pub effects: Vec<&'static str>,
+    pub unexplained: bool,
+    pub final_fit: ModelFit,
+    /// Location of what is left after the effects.
+    pub remaining: Location,
+    pub evidence: String,
+}
+
+impl Diagnosis {
+    /// The spec's `verdict.effect`: the first effect found, "none" or
+    /// "unexplained".
+    pub fn verdict(&self) -> String {
+        match self.effects.first() {
+            Some(e) => e.to_string(),
+            None if self.unexplained => "unexplained".into(),
+            None => "none".into(),
+        }
+    }
+}
+
+/// Progress: (fits done, fits planned, what is being fitted).
+pub type Progress<'a> = &'a (dyn Fn(usize, usize, &str) + Sync);
+
+/// Fits `params` of `scene` to `recording` minimising the noise-weighted
+/// residual sum of squares over every marker (fingers included).
+fn fit_model(
+    recording: &Recording,
+    scene: &Scene,
+    params: &[FitParam],
+    noise: &Noise,
+    k_total: usize,
+    options: &DiagnoseOptions,
+) -> Result<ModelFit, String> {
+    let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
+        let mut s = scene.clone();
+        for (p, v) in params.iter().zip(values) {
+            s = params::set(&s, p.param.name, *v)?;
+        }
+        replay(
+            recording,
+            &s,
+            ReplayOptions {
+                threads,
+                ..ReplayOptions::default()
+            },
+            |_| {},
+        )
+        .map_err(|e| e.to_string())
+    };
+    let start: Vec<f64> = params
+        .iter()
+        .map(|p| {
+            let v = params::get(scene, p.param.name).ok().flatten();
+            v.map_or(0.5, |v| p.unit(v))
+        })
+        .collect();
+    let value_at =
+        |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
+    let mut cache: HashMap<Vec<u64>, f64> = HashMap::new();
+    let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    let mut evaluations = 0usize;
+    let best_u = {
+        let mut evaluate = |points: &[Vec<f64>]| -> Vec<f64> {
+            let todo: Vec<Vec<f64>> = points
+                .iter()
+                .filter(|u| !cache.contains_key(&key(u)))
+                .cloned()
+                .collect();
+            let threads = if todo.len() == 1 { 0 } else { 1 };
+            let results = parallel_map(
+                &todo,
+                options.workers,
+                |u| {
+                    run(&value_at(u), threads)
+                        .map(|r| weighted_rss(&r.residuals, noise).0)
+                        .unwrap_or(f64::INFINITY)
+                },
+                &|_| {},
+            );
+            for (u, f) in todo.iter().zip(results) {
+                cache.insert(key(u), f);
+            }
+            evaluations += todo.len();
+            points
+                .iter()
+                .map(|u| cache.get(&key(u)).copied().unwrap_or(f64::INFINITY))
+                .collect()
+        };
+        let f0 = evaluate(std::slice::from_ref(&start))[0];
+        if !f0.is_finite() {
+            return Err(run(&value_at(&start), 0)
+                .err()
+                .unwrap_or_else(|| "the start failed".into()));
+        }
+        // A small space-filling design (4 points per parameter), then the
+        // local search from the best.
+        let design: Vec<Vec<f64>> = (1..=4 * params.len())
+            .map(|k| crate::fit::halton(k, params.len()))
+            .collect();
+        let (mut best_u, mut best_f) = (start.clone(), f0);
+        for (u, f) in design.iter().zip(evaluate(&design)) {
+            if f < best_f {
+                (best_u, best_f) = (u.clone(), f);
+            }
+        }
+        let spent = 1 + design.len();
+        let fit_options = FitOptions {
+            max_evaluations: options.max_evaluations,
+            workers: options.workers,
+            x_tolerance: 2e-3,
+            f_tolerance: 1e-4,
+            stall: 12,
+            ..FitOptions::default()
+        };
+        let m = minimize(
+            &mut evaluate,
+            &best_u,
+            best_f,
+            options.max_evaluations.saturating_sub(spent),
+            fit_options,
+        );
+        if m.f < best_f {
+            best_u = m.x;
+        }
+        best_u
+    };
+    let values = value_at(&best_u);
+    let replay = run(&values, 0)?;
+    let (rss, n) = weighted_rss(&replay.residuals, noise);
+    let mut fitted_scene = scene.clone();
+    for (p, v) in params.iter().zip(&values) {
+        fitted_scene = params::set(&fitted_scene, p.param.name, *v)?;
+    }
+    let evaluations = evaluations + 1;
+    Ok(ModelFit {
+        scene: fitted_scene,
+        params: params
+            .iter()
+            .zip(&values)
+            .map(|(p, v)| (p.param.name.to_string(), *v))
+            .collect(),
+        errors: replay.errors,
+        rss,
+        n,
+        k: k_total,
+        bic: bic(rss, n, k_total),
+        replay,
+        evaluations,
+    })
+}
+
+/// The baseline's parameters: E, alpha, tau_s and tau_c, less the locked
+/// ones and those the scene's model does not use.
+pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, String> {
+    for name in lock {
+        params::find(name)?;
+    }
+    let neo = scene.model.elasticity == crate::scene::Elasticity::NeoHookean;
+    let mut out = Vec::new();
+    for name in ["young_modulus", "alpha", "tau_s", "tau_c"] {
+        if lock.iter().any(|l| l == name) {
+            continue;
+        }
+        if neo && name != "young_modulus" {
+            continue; // the elements have no alpha or spring limits
+        }
+        if scene.model.alpha == 0.0 && name == "alpha" {
+            continue; // off in the scene: nothing to fit
+        }
+        let p = params::find(name)?;
+        let (lower, upper) = crate::fit::default_bounds(p, scene)?;
+        out.push(FitParam {
+            param: p,
+            lower,
+            upper,
+            log: p.log,
+        });
+    }
+    Ok(out)
+}
+
+/// Runs the diagnosis.
+pub fn diagnose(
+    recording: &Recording,
+    options: &DiagnoseOptions,
+    progress: Progress,
+) -> Result<Diagnosis, String> {
+    let scene = &recording.scene;
+    let base_params = baseline_params(scene, &options.lock)?;
+    // The noise needs a residual, and the weighted fit needs the noise:
+    // a first fit weighs every coordinate alike (1 mm), the noise comes
+    // from its residual, and the baseline is refitted with it.
+    let unit = Noise {
+        object_m: 1e-3,
+        finger_m: 1e-3,
+        object_count: 0,
+        finger_count: 0,
+    };
+    let candidates_guess = catalogue(recording, scene).len();
+    let planned = 2 + candidates_guess * 2;
+    progress(0, planned, "baseline");
+    let first = fit_model(
+        recording,
+        scene,
+        &base_params,
+        &unit,
+        base_params.len(),
+        options,
+    )?;
+    let noise = estimate_noise(&first.replay.residuals);
+    progress(1, planned, "baseline, weighted by the noise");
+    let baseline = fit_model(
+        recording,
+        &first.scene,
+        &base_params,
+        &noise,
+        base_params.len(),
+        options,
+    )?;
+    let location = locate(recording, &baseline.replay, &noise);
+    let mut hypotheses = Vec::new();
+    let mut effects = Vec::new();
+    let mut current = baseline.clone();
+    let mut done = 2;
+    let mut unexplained = false;
+    if location.significant {
+        let mut tried: Vec<&'static str> = Vec::new();
+        for round in 0..options.max_effects {
+            let cands: Vec<Candidate> = catalogue(recording, &current.scene)
+                .into_iter()
+                .filter(|c| !effects.contains(&c.effect) && !tried.contains(&c.effect))
+                .collect();
+            if cands.is_empty() {
+                break;
+            }
+            let mut best: Option<usize> = None;
+            let start = hypotheses.len();
+            for c in cands {
+                progress(done, planned, c.effect);
+                let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
+                let fit = fit_model(recording, &c.scene, &c.params, &noise, k, options);
+                done += 1;
+                let (score, explained) = match &fit {
+                    Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
+                    Err(_) => (f64::INFINITY, 0.0),
+                };
+                hypotheses.push(Hypothesis {
+                    effect: c.effect,
+                    variant: c.variant,
+                    fit,
+                    score,
+                    explained,
+                    round,
+                });
+            }
+            for (i, h) in hypotheses.iter().enumerate().skip(start) {
+                if best.is_none_or(|b| h.score < hypotheses[b].score) {
+                    best = Some(i);
+                }
+            }
+            let Some(b) = best else { break };
+            let h = &hypotheses[b];
+            if h.score < -BIC_THRESHOLD && h.explained >= MIN_EXPLAINED {
+                effects.push(h.effect);
+                if let Ok(f) = &h.fit {
+                    current = f.clone();
+                }
+                // Variants of an effect found are not tried again.
+                tried.push(h.effect);
+            } else {
+                let ratio = (location.chi2 / location.dof.max(1) as f64).sqrt();
+                unexplained = effects.is_empty() && ratio > UNEXPLAINED_RATIO;
+                break;
+            }
+        }
+    }
+    let remaining = locate(recording, &current.replay, &noise);
+    let evidence = evidence_text(
+        &location,
+        &hypotheses,
+        &effects,
+        unexplained,
+        &baseline,
+        &current,
+    );
+    progress(planned, planned, "done");
+    Ok(Diagnosis {
+        baseline,
+        noise,
+        location,
+        hypotheses,
+        effects,
+        unexplained,
+        final_fit: current,
+        remaining,
+        evidence,
+    })
+}
+
+fn evidence_text(
+    location: &Location,
+    hypotheses: &[Hypothesis],
+    effects: &[&'static str],
+    unexplained: bool,
+    baseline: &ModelFit,
+    current: &ModelFit,
+) -> String {
+    if !location.significant {
+        return format!(
+            "nothing is missing: after the baseline fit the residual is at the noise level (chi-square {:.0} on {} coordinates, within three standard deviations)",
+            location.chi2, location.dof
+        );
+    }
+    let ranked = |round: usize| {
+        let mut v: Vec<&Hypothesis> = hypotheses.iter().filter(|h| h.round == round).collect();
+        v.sort_by(|a, b| a.score.total_cmp(&b.score));
+        v
+    };
+    let name = |h: &Hypothesis| {
+        if h.variant.is_empty() {
+            h.effect.to_string()
+        } else {
+            format!("{} ({})", h.effect, h.variant)
+        }
+    };
+    if effects.is_empty() {
+        let r = ranked(0);
+        let best = r
+            .first()
+            .map(|h| {
+                format!(
+                    "; the best candidate, {}, changes BIC by {:+.1} and explains {:.0} % of it",
+                    name(h),
+                    h.score,
+                    100.0 * h.explained
+                )
+            })
+            .unwrap_or_default();
+        let ratio = (location.chi2 / location.dof.max(1) as f64).sqrt();
+        return if unexplained {
+            format!(
+                "unexplained: a mismatch {ratio:.1} times the noise ({}) that no candidate explains (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD}){best}",
+                location.description,
+                100.0 * MIN_EXPLAINED
+            )
+        } else {
+            format!(
+                "nothing is missing: the residual left after the baseline fit, {ratio:.1} times the noise ({}), is explained by no candidate (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD}): the model's own form error{best}",
+                location.description,
+                100.0 * MIN_EXPLAINED
+            )
+        };
+    }
+    let mut parts = Vec::new();
+    for (round, effect) in effects.iter().enumerate() {
+        let r = ranked(round);
+        let chosen = r.iter().find(|h| h.effect == *effect);
+        let runner = r.iter().find(|h| h.effect != *effect);
+        if let Some(c) = chosen {
+            let mut s = format!(
+                "{} lowers BIC by {:.1} and removes {:.0} % of the weighted residual",
+                name(c),
+                -c.score,
+                100.0 * c.explained
+            );
+            if let Some(ru) = runner {
+                s += &format!(
+                    "; the runner-up, {}, only {:.1} ({:.0} %)",
+                    name(ru),
+                    -ru.score,
+                    100.0 * ru.explained
+                );
+            }
+            parts.push(s);
+        }
+    }
+    format!(
+        "{}. NRMSE (all markers) {:.4} -> {:.4}",
+        parts.join("; then "),
+        baseline.errors.nrmse_all,
+        current.errors.nrmse_all
+    )
+}
+
+/// The spec's JSON (`diagnose --json`), with softgrip's additions
+/// (`verdict.effects`, `verdict.evidence`, `noise`, `mismatch.regions`).
+pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
+    let params = |f: &ModelFit| {
+        serde_json::Value::Object(
+            f.params
+                .iter()
+                .map(|(k, v)| (k.clone(), serde_json::json!(v)))
+                .collect(),
+        )
+    };
+    let hypotheses: Vec<serde_json::Value> = d
+        .hypotheses
+        .iter()
+        .map(|h| {
+            let mut v = serde_json::json!({
+                "effect": h.effect,
+                "score": h.score,
+                "explained": h.explained,
+                "round": h.round,
+            });
+            if !h.variant.is_empty() {
+                v["variant"] = serde_json::json!(h.variant);
+            }
+            match &h.fit {
+                Ok(f) => {
+                    v["params"] = params(f);
+                    v["nrmse"] = serde_json::json!(f.errors.nrmse);
+                    v["nrmse_all"] = serde_json::json!(f.errors.nrmse_all);
+                }
+                Err(e) => v["error"] = serde_json::json!(e),
+            }
+            v
+        })
+        .collect();
+    let _ = recording;
+    serde_json::json!({
+        "baseline": {
+            "nrmse": d.baseline.errors.nrmse,
+            "nrmse_all": d.baseline.errors.nrmse_all,
+            "rmse_m": d.baseline.errors.rmse_m,
+            "params": params(&d.baseline),
+        },
+        "noise": {"object_m": d.noise.object_m, "finger_m": d.noise.finger_m},
+        "mismatch": {
+            "markers": d.location.markers.iter().map(|(m, _)| m.clone()).collect::<Vec<_>>(),
+            "axes": d.location.axes,
+            "where": d.location.description,
+            "when": d.location.when,
+            "regions": d.location.regions.iter().map(|(r, _)| r.clone()).collect::<Vec<_>>(),
+            "significant": d.location.significant,
+        },
+        "hypotheses": hypotheses,
+        "verdict": {
+            "effect": d.verdict(),
+            "effects": d.effects,
+            "params": params(&d.final_fit),
+            "nrmse_before": d.baseline.errors.nrmse,
+            "nrmse_after": d.final_fit.errors.nrmse,
+            "nrmse_all_before": d.baseline.errors.nrmse_all,
+            "nrmse_all_after": d.final_fit.errors.nrmse_all,
+            "evidence": d.evidence,
+        }
+    })
+}

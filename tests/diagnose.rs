@@ -1,0 +1,176 @@
+//! The diagnosis's parts, on residuals whose truth is known: the noise
+//! estimate, the significance test, the criterion, where a mismatch is,
+//! and which candidates apply to which recordings.
+
+use glam::DVec3;
+use softgrip::compare::Residual;
+use softgrip::diagnose::{self, Noise};
+use softgrip::recording::{MarkerRef, Mode, Recording};
+use softgrip::synth::Gaussian;
+
+/// Residuals of `markers` object markers over `samples` samples, x and z
+/// observed: a smooth mismatch `trend(marker, sample)` (m) plus Gaussian
+/// noise of `sigma`.
+fn residuals(
+    markers: usize,
+    samples: usize,
+    sigma: f64,
+    trend: impl Fn(usize, usize) -> f64,
+) -> Vec<Residual> {
+    let mut g = Gaussian::new(3);
+    let mut out = Vec::new();
+    for s in 0..samples {
+        for m in 0..markers {
+            let sim = DVec3::new(0.01 * m as f64, 0.0, 0.02);
+            let t = trend(m, s);
+            out.push(Residual {
+                sample: s,
+                marker: MarkerRef::Object(m),
+                simulated: sim,
+                recorded: [
+                    Some(sim.x - t + sigma * g.sample()),
+                    None,
+                    Some(sim.z - t + sigma * g.sample()),
+                ],
+            });
+        }
+    }
+    out
+}
+
+/// Second differences see through a smooth mismatch ten times the noise
+/// (1 mm, growing with the square of the load) and give the noise.
+#[test]
+fn the_noise_estimate_sees_through_a_smooth_mismatch() {
+    let sigma = 1e-4;
+    for (what, trend) in [
+        (
+            "none",
+            Box::new(|_: usize, _: usize| 0.0) as Box<dyn Fn(usize, usize) -> f64>,
+        ),
+        (
+            "growing with load",
+            Box::new(|m: usize, s: usize| {
+                1e-3 * (m as f64 + 1.0) / 9.0 * (s as f64 / 30.0).powi(2)
+            }),
+        ),
+    ] {
+        let r = residuals(9, 30, sigma, trend);
+        let noise = diagnose::estimate_noise(&r);
+        assert!(
+            (noise.object_m - sigma).abs() < 0.1 * sigma,
+            "{what}: estimated {:e} m, true {sigma:e} m",
+            noise.object_m
+        );
+        assert_eq!(noise.object_count, 9 * 2 * 28);
+        // No finger markers: the fingers take the objects' level.
+        assert_eq!(noise.finger_m, noise.object_m);
+    }
+}
+
+#[test]
+fn chi_square_significance_and_the_criterion() {
+    assert!(!diagnose::significant(100.0, 100));
+    assert!(!diagnose::significant(140.0, 100), "within 3 sd (42.4)");
+    assert!(diagnose::significant(143.0, 100));
+    // BIC: a parameter costs ln n; halving the residual with one more
+    // parameter on 144 coordinates is worth 144 ln 2 - ln 144.
+    let gain = diagnose::bic(50.0, 144, 5) - diagnose::bic(100.0, 144, 4);
+    assert!((gain - (-144.0 * 2f64.ln() + 144f64.ln())).abs() < 1e-9);
+}
+
+/// A marker pulled off by a millimetre that grows with the load is named,
+/// along its axis, and nothing else is.
+#[test]
+fn a_mismatch_is_located_at_its_marker_and_axis() {
+    let sigma = 1e-4;
+    let rec = Recording::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
+    )))
+    .expect("recording");
+    let markers = rec.markers.len();
+    let samples = rec.samples.len();
+    let mut r = residuals(markers, samples, sigma, |_, _| 0.0);
+    let mut g = Gaussian::new(11);
+    for x in &mut r {
+        if x.marker == MarkerRef::Object(2) {
+            // Simulated 1 mm x load fraction too far along x, only.
+            let load = rec.samples[x.sample].load / 9.73;
+            x.recorded[0] = Some(x.simulated.x - 1e-3 * load + sigma * g.sample());
+        }
+    }
+    let noise = Noise {
+        object_m: sigma,
+        finger_m: sigma,
+        object_count: 0,
+        finger_count: 0,
+    };
+    let replay = softgrip::replay::Replay {
+        attachments: Vec::new(),
+        errors: softgrip::compare::errors(&r, 0.05),
+        residuals: r,
+        volume_errors: Vec::new(),
+        largest_strain: [0.0; 2],
+        states: Vec::new(),
+    };
+    let loc = diagnose::locate(&rec, &replay, &noise);
+    assert!(loc.significant);
+    assert_eq!(loc.markers.len(), 1, "{:?}", loc.markers);
+    assert_eq!(loc.markers[0].0, rec.markers[2].name);
+    assert_eq!(loc.axes, vec!["x".to_string()]);
+    assert_eq!(loc.when, "grows with load");
+    // Pure noise: nothing located.
+    let quiet = softgrip::replay::Replay {
+        residuals: residuals(markers, samples, sigma, |_, _| 0.0),
+        ..replay
+    };
+    let loc = diagnose::locate(&rec, &quiet, &noise);
+    assert!(!loc.significant, "chi2 {} on {}", loc.chi2, loc.dof);
+    assert!(loc.markers.is_empty());
+}
+
+/// Which candidates apply: creep needs time, the table a support, load
+/// loss a pressing finger.
+#[test]
+fn the_catalogue_offers_what_applies() {
+    let rec = Recording::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
+    )))
+    .expect("recording");
+    assert_eq!(rec.mode, Mode::QuasiStatic);
+    let names = |c: &[diagnose::Candidate]| {
+        let mut v: Vec<&str> = c.iter().map(|c| c.effect).collect();
+        v.dedup();
+        v
+    };
+    let all = diagnose::catalogue(&rec, &rec.scene);
+    assert_eq!(
+        names(&all),
+        vec![
+            "table-friction",
+            "strain-stiffening",
+            "finger-friction",
+            "heterogeneous-stiffness",
+            "load-loss"
+        ]
+    );
+    assert_eq!(
+        all.iter()
+            .filter(|c| c.effect == "heterogeneous-stiffness")
+            .count(),
+        4,
+        "one per half"
+    );
+    let mut timed = rec.clone();
+    timed.mode = Mode::TimeSeries;
+    assert!(names(&diagnose::catalogue(&timed, &rec.scene)).contains(&"viscoelastic-creep"));
+    let mut free = rec.scene.clone();
+    free.support.kind = softgrip::scene::SupportKind::None;
+    assert!(!names(&diagnose::catalogue(&rec, &free)).contains(&"table-friction"));
+    // Locking a baseline parameter leaves it out; an unknown one is an error.
+    let base = diagnose::baseline_params(&rec.scene, &["alpha".into()]).expect("params");
+    assert!(base.iter().all(|p| p.param.name != "alpha"));
+    assert!(diagnose::baseline_params(&rec.scene, &["alfa".into()]).is_err());
+}
