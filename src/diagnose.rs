@@ -668,6 +668,7 @@ fn fit_model(
     noise: &Noise,
     k_total: usize,
     options: &DiagnoseOptions,
+    design: bool,
 ) -> Result<ModelFit, String> {
     let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
         let mut s = scene.clone();
@@ -732,9 +733,13 @@ fn fit_model(
         }
         // A small space-filling design (4 points per parameter), then the
         // local search from the best.
-        let design: Vec<Vec<f64>> = (1..=4 * params.len())
-            .map(|k| crate::fit::halton(k, params.len()))
-            .collect();
+        let design: Vec<Vec<f64>> = if design {
+            (1..=4 * params.len())
+                .map(|k| crate::fit::halton(k, params.len()))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let (mut best_u, mut best_f) = (start.clone(), f0);
         for (u, f) in design.iter().zip(evaluate(&design)) {
             if f < best_f {
@@ -835,7 +840,7 @@ pub fn diagnose(
         finger_count: 0,
     };
     let candidates_guess = catalogue(recording, scene).len();
-    let planned = 2 + candidates_guess * 2;
+    let planned = 2 + candidates_guess * options.max_effects;
     progress(0, planned, "baseline");
     let first = fit_model(
         recording,
@@ -844,6 +849,7 @@ pub fn diagnose(
         &unit,
         base_params.len(),
         options,
+        true,
     )?;
     let noise = estimate_noise(&first.replay.residuals);
     progress(1, planned, "baseline, weighted by the noise");
@@ -854,6 +860,7 @@ pub fn diagnose(
         &noise,
         base_params.len(),
         options,
+        false, // from the first fit's optimum: the weights changed a little
     )?;
     let location = locate(recording, &baseline.replay, &noise);
     let mut hypotheses = Vec::new();
@@ -876,7 +883,7 @@ pub fn diagnose(
             for c in cands {
                 progress(done, planned, c.effect);
                 let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
-                let fit = fit_model(recording, &c.scene, &c.params, &noise, k, options);
+                let fit = fit_model(recording, &c.scene, &c.params, &noise, k, options, true);
                 done += 1;
                 let (score, explained) = match &fit {
                     Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
