@@ -49,6 +49,9 @@ use crate::replay::{Replay, ReplayOptions, replay};
 use crate::scene::{AaBox, Region, Scene, SupportKind};
 use crate::sweep::parallel_map;
 
+/// Candidates that removed less than this share of the residual in the
+/// first round are not tried again in later rounds.
+pub const PROMISING: f64 = 0.05;
 /// BIC must fall by more than this for an effect to be accepted.
 pub const BIC_THRESHOLD: f64 = 10.0;
 /// ... and the weighted residual sum of squares by at least this share.
@@ -65,8 +68,11 @@ pub const UNEXPLAINED_RATIO: f64 = 3.0;
 pub struct DiagnoseOptions {
     /// Baseline parameters not to fit (kept at the scene's values).
     pub lock: Vec<String>,
-    /// Simulations at most per fit (the baseline's and each candidate's).
+    /// Simulations at most for the baseline fit ...
     pub max_evaluations: usize,
+    /// ... and per parameter for each candidate's (8 design points, then
+    /// the local search; the candidates start from the baseline's values).
+    pub candidate_evaluations_per_param: usize,
     /// Simulations at once (0: one per core).
     pub workers: usize,
     /// At most this many effects are added.
@@ -77,7 +83,8 @@ impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
             lock: Vec::new(),
-            max_evaluations: 120,
+            max_evaluations: 80,
+            candidate_evaluations_per_param: 20,
             workers: 0,
             max_effects: 2,
         }
@@ -669,6 +676,7 @@ fn fit_model(
     k_total: usize,
     options: &DiagnoseOptions,
     design: bool,
+    budget: usize,
 ) -> Result<ModelFit, String> {
     let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
         let mut s = scene.clone();
@@ -748,7 +756,7 @@ fn fit_model(
         }
         let spent = 1 + design.len();
         let fit_options = FitOptions {
-            max_evaluations: options.max_evaluations,
+            max_evaluations: budget,
             workers: options.workers,
             x_tolerance: 2e-3,
             f_tolerance: 1e-4,
@@ -759,7 +767,7 @@ fn fit_model(
             &mut evaluate,
             &best_u,
             best_f,
-            options.max_evaluations.saturating_sub(spent),
+            budget.saturating_sub(spent),
             fit_options,
         );
         if m.f < best_f {
@@ -850,6 +858,7 @@ pub fn diagnose(
         base_params.len(),
         options,
         true,
+        options.max_evaluations,
     )?;
     let noise = estimate_noise(&first.replay.residuals);
     progress(1, planned, "baseline, weighted by the noise");
@@ -861,6 +870,7 @@ pub fn diagnose(
         base_params.len(),
         options,
         false, // from the first fit's optimum: the weights changed a little
+        options.max_evaluations / 2,
     )?;
     let location = locate(recording, &baseline.replay, &noise);
     let mut hypotheses = Vec::new();
@@ -871,9 +881,22 @@ pub fn diagnose(
     if location.significant {
         let mut tried: Vec<&'static str> = Vec::new();
         for round in 0..options.max_effects {
+            // After the first round, only the candidates that explained
+            // something (5 %) on their own are tried again: an effect that
+            // changed nothing then will not change anything next to another.
+            let promising = |c: &Candidate| {
+                round == 0
+                    || hypotheses.iter().any(|h: &Hypothesis| {
+                        h.round == 0
+                            && h.effect == c.effect
+                            && h.variant == c.variant
+                            && h.explained >= PROMISING
+                    })
+            };
             let cands: Vec<Candidate> = catalogue(recording, &current.scene)
                 .into_iter()
                 .filter(|c| !effects.contains(&c.effect) && !tried.contains(&c.effect))
+                .filter(promising)
                 .collect();
             if cands.is_empty() {
                 break;
@@ -883,7 +906,10 @@ pub fn diagnose(
             for c in cands {
                 progress(done, planned, c.effect);
                 let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
-                let fit = fit_model(recording, &c.scene, &c.params, &noise, k, options, true);
+                let budget = options.candidate_evaluations_per_param * c.params.len();
+                let fit = fit_model(
+                    recording, &c.scene, &c.params, &noise, k, options, true, budget,
+                );
                 done += 1;
                 let (score, explained) = match &fit {
                     Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),

@@ -50,6 +50,7 @@ pub mod output;
 pub mod parallel;
 pub mod params;
 pub mod plot;
+pub mod prove;
 pub mod quasi_static;
 pub mod recording;
 #[cfg(feature = "gui")]

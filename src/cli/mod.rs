@@ -170,8 +170,9 @@ enum Command {
         /// Baseline parameters to keep at the scene's values (e.g. alpha).
         #[arg(long, num_args = 1..)]
         lock: Vec<String>,
-        /// Simulations at most per fit.
-        #[arg(long, default_value_t = 120)]
+        /// Simulations at most for the baseline fit (each candidate's fit
+        /// gets 20 per parameter).
+        #[arg(long, default_value_t = 80)]
         max_evaluations: usize,
         /// Simulations at once (0: one per core).
         #[arg(long, default_value_t = 0)]
@@ -179,6 +180,20 @@ enum Command {
         /// Also write the spec's JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
+    },
+    /// The diagnosis's proof on concealed data: make the suite of
+    /// recordings (each effect at two strengths, three controls, one with
+    /// two effects), diagnose each blind and write DIAGNOSIS.md.
+    Prove {
+        /// Where the recordings go.
+        #[arg(long, default_value = "target/prove")]
+        out: PathBuf,
+        /// Only the cases whose name contains this (e.g. load-loss).
+        #[arg(long, default_value = "")]
+        only: String,
+        /// The report.
+        #[arg(long, default_value = "DIAGNOSIS.md")]
+        report: PathBuf,
     },
     /// Grasp and lift (e.g. assets/scenes/grasp_lift.toml): the fingers
     /// squeeze, lift after their start_time and hold; says whether friction
@@ -475,6 +490,7 @@ pub fn main() -> ExitCode {
             workers,
             json,
         }) => diagnose::diagnose(&recording, &lock, max_evaluations, workers, json.as_deref()),
+        Some(Command::Prove { out, only, report }) => prove(&out, &only, &report),
         Some(Command::Grasp {
             scene,
             hold,
@@ -910,6 +926,29 @@ fn check(scene_path: Option<&Path>) -> Result<()> {
 }
 
 /// Peak memory is the process's high-water mark, so sizes run smallest first.
+fn prove(out: &Path, only: &str, report: &Path) -> Result<()> {
+    let bar = progress_bar(1, "recordings");
+    let outcomes = softgrip::prove::run(
+        out,
+        only,
+        &softgrip::diagnose::DiagnoseOptions::default(),
+        &|i, total, name| {
+            bar.set_length(total as u64);
+            bar.set_position(i as u64);
+            bar.set_message(name.to_string());
+        },
+    );
+    bar.finish_and_clear();
+    anyhow::ensure!(
+        !outcomes.is_empty(),
+        "--only {only:?}: no case of the suite matches"
+    );
+    let text = softgrip::prove::report(&outcomes);
+    std::fs::write(report, &text).with_context(|| format!("cannot write {}", report.display()))?;
+    print!("{text}");
+    Ok(())
+}
+
 /// The cost of each physics option on the thesis scene.
 fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
     println!("{}", softgrip::bench::machine_description());
