@@ -13,6 +13,7 @@ pub fn diagnose(
     max_evaluations: usize,
     workers: usize,
     json: Option<&Path>,
+    report: &super::lab::ReportArgs,
 ) -> Result<()> {
     let recording = Recording::load(recording_path)?;
     println!(
@@ -92,6 +93,10 @@ pub fn diagnose(
         );
     }
     println!("evidence: {}", d.evidence);
+    if let Some(dir) = report.dir("diagnose", recording_path) {
+        let written = softgrip::report::diagnosis(&dir, &recording, &d)?;
+        println!("report: {}", written.markdown.display());
+    }
     if let Some(path) = json {
         let value = diagnose::to_json(&d, &recording);
         std::fs::write(path, serde_json::to_string_pretty(&value)? + "\n")

@@ -26,7 +26,7 @@ pub struct ReportArgs {
 }
 
 impl ReportArgs {
-    fn dir(&self, command: &str, recording: &Path) -> Option<PathBuf> {
+    pub(crate) fn dir(&self, command: &str, recording: &Path) -> Option<PathBuf> {
         if self.no_report {
             return None;
         }

@@ -180,6 +180,8 @@ enum Command {
         /// Also write the spec's JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
+        #[command(flatten)]
+        report: lab::ReportArgs,
     },
     /// The diagnosis's proof on concealed data: make the suite of
     /// recordings (each effect at two strengths, three controls, one with
@@ -489,7 +491,15 @@ pub fn main() -> ExitCode {
             max_evaluations,
             workers,
             json,
-        }) => diagnose::diagnose(&recording, &lock, max_evaluations, workers, json.as_deref()),
+            report,
+        }) => diagnose::diagnose(
+            &recording,
+            &lock,
+            max_evaluations,
+            workers,
+            json.as_deref(),
+            &report,
+        ),
         Some(Command::Prove { out, only, report }) => prove(&out, &only, &report),
         Some(Command::Grasp {
             scene,

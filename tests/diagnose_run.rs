@@ -1,0 +1,81 @@
+//! A whole diagnosis, end to end on a concealed recording with a small
+//! budget: the spec's JSON and the report's files. (Whether it names the
+//! right effect is `softgrip prove`'s question, on the full budget.)
+
+use softgrip::diagnose::{self, DiagnoseOptions};
+use softgrip::prove;
+
+#[test]
+fn a_diagnosis_writes_the_specs_json_and_its_report() {
+    let dir = std::env::temp_dir().join(format!("softgrip-diag-{}", std::process::id()));
+    let case = prove::cases()
+        .into_iter()
+        .find(|c| c.name == "load-loss-strong")
+        .expect("case");
+    let rec = prove::write_case(&case, &dir.join("rec"), 5).expect("recording");
+    let options = DiagnoseOptions {
+        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
+        max_evaluations: 8,
+        candidate_evaluations_per_param: 5,
+        max_effects: 1,
+        ..DiagnoseOptions::default()
+    };
+    let steps = std::sync::Mutex::new(Vec::new());
+    let d = diagnose::diagnose(&rec, &options, &|done, total, what| {
+        if let Ok(mut s) = steps.lock() {
+            s.push((done, total, what.to_string()));
+        }
+    })
+    .expect("diagnosis");
+    let steps = steps.into_inner().expect("steps");
+    assert!(steps.len() >= 3, "progress reported: {steps:?}");
+    assert!(
+        steps.windows(2).all(|w| w[0].0 <= w[1].0),
+        "and it only grows"
+    );
+    // Only E was fitted in the baseline.
+    assert_eq!(d.baseline.params.len(), 1);
+    assert_eq!(d.baseline.params[0].0, "young_modulus");
+    let v = diagnose::to_json(&d, &rec);
+    for key in ["nrmse", "nrmse_all", "rmse_m", "params"] {
+        assert!(v["baseline"].get(key).is_some(), "baseline.{key}");
+    }
+    for key in ["markers", "axes", "where", "when"] {
+        assert!(v["mismatch"].get(key).is_some(), "mismatch.{key}");
+    }
+    for key in [
+        "effect",
+        "nrmse_before",
+        "nrmse_after",
+        "nrmse_all_before",
+        "nrmse_all_after",
+    ] {
+        assert!(v["verdict"].get(key).is_some(), "verdict.{key}");
+    }
+    let effect = v["verdict"]["effect"].as_str().expect("effect");
+    let names = [
+        "none",
+        "unexplained",
+        "table-friction",
+        "strain-stiffening",
+        "viscoelastic-creep",
+        "finger-friction",
+        "heterogeneous-stiffness",
+        "load-loss",
+    ];
+    assert!(names.contains(&effect), "{effect}");
+    let hypotheses = v["hypotheses"].as_array().expect("hypotheses");
+    assert!(!hypotheses.is_empty() || effect == "none");
+    for h in hypotheses {
+        assert!(names.contains(&h["effect"].as_str().expect("effect")));
+        assert!(h["score"].is_number());
+    }
+    let written = softgrip::report::diagnosis(&dir.join("report"), &rec, &d).expect("report");
+    let md = std::fs::read_to_string(&written.markdown).expect("markdown");
+    assert!(md.contains("## Verdict"), "{md}");
+    assert!(md.contains("residuals.png"));
+    for image in &written.images {
+        assert!(std::fs::read(image).expect("png").starts_with(b"\x89PNG"));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
