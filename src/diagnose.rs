@@ -8,7 +8,9 @@
 //!    or creep move the finger more than the object.
 //! 2. **Noise**, from the data: per marker and axis, the second differences
 //!    of the baseline's residual along the samples (`sigma^2 = mean(d2^2) /
-//!    6`, Rice's estimator taken one order further). A mismatch that
+//!    6`, Rice's estimator taken one order further), within each run of
+//!    samples whose load moves one way (a residual turns where the load
+//!    turns, and across the turn it would count as noise). A mismatch that
 //!    varies smoothly with load or time cancels out of second differences;
 //!    white measurement noise does not. Object markers and fingers get
 //!    their own sigma.
@@ -111,8 +113,8 @@ impl Noise {
     }
 }
 
-/// Per marker and axis, the residual components in sample order.
-fn series(residuals: &[Residual]) -> HashMap<(MarkerRef, usize), Vec<f64>> {
+/// Per marker and axis, (sample, residual component) in sample order.
+fn series_indexed(residuals: &[Residual]) -> HashMap<(MarkerRef, usize), Vec<(usize, f64)>> {
     let mut out: HashMap<(MarkerRef, usize), Vec<(usize, f64)>> = HashMap::new();
     for r in residuals {
         for a in 0..3 {
@@ -123,25 +125,33 @@ fn series(residuals: &[Residual]) -> HashMap<(MarkerRef, usize), Vec<f64>> {
             }
         }
     }
-    out.into_iter()
-        .map(|(k, mut v)| {
-            v.sort_by_key(|(s, _)| *s);
-            (k, v.into_iter().map(|(_, x)| x).collect())
-        })
-        .collect()
+    for v in out.values_mut() {
+        v.sort_by_key(|(s, _)| *s);
+    }
+    out
 }
 
 /// The noise from second differences of the residual along the samples
 /// (see the module docs). A class with too few differences (fewer than 3)
 /// takes the other's level, or a floor of 1 um.
 pub fn estimate_noise(residuals: &[Residual]) -> Noise {
+    estimate_noise_split(residuals, &[])
+}
+
+/// As [`estimate_noise`], the second differences taken only within runs of
+/// samples between the `breaks` (sample indices where the load turns).
+pub fn estimate_noise_split(residuals: &[Residual], breaks: &[usize]) -> Noise {
     let mut sums = [(0.0, 0usize); 2];
-    let mut keys: Vec<_> = series(residuals).into_iter().collect();
+    let run_of = |s: usize| breaks.iter().filter(|&&b| b <= s).count();
+    let mut keys: Vec<_> = series_indexed(residuals).into_iter().collect();
     keys.sort_by_key(|((m, a), _)| (marker_key(*m), *a));
     for ((marker, _), values) in keys {
         let class = matches!(marker, MarkerRef::Finger(_)) as usize;
         for w in values.windows(3) {
-            let d2 = w[0] - 2.0 * w[1] + w[2];
+            if run_of(w[0].0) != run_of(w[2].0) {
+                continue;
+            }
+            let d2 = w[0].1 - 2.0 * w[1].1 + w[2].1;
             sums[class].0 += d2 * d2;
             sums[class].1 += 1;
         }
@@ -819,7 +829,14 @@ pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, 
             continue; // off in the scene: nothing to fit
         }
         let p = params::find(name)?;
-        let (lower, upper) = crate::fit::default_bounds(p, scene)?;
+        let (mut lower, upper) = crate::fit::default_bounds(p, scene)?;
+        // A limit below 0.08 acts on nearly every spring: the projection
+        // then makes the response depend on the load path, and the fit
+        // used it to mimic other physics (hysteresis from load loss) with
+        // an unphysical modulus.
+        if name.starts_with("tau") {
+            lower = lower.max(0.08);
+        }
         out.push(FitParam {
             param: p,
             lower,
@@ -860,7 +877,12 @@ pub fn diagnose(
         true,
         options.max_evaluations,
     )?;
-    let noise = estimate_noise(&first.replay.residuals);
+    let loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
+    let breaks: Vec<usize> = (1..loads.len().saturating_sub(1))
+        .filter(|&i| (loads[i] - loads[i - 1]) * (loads[i + 1] - loads[i]) < 0.0)
+        .map(|i| i + 1)
+        .collect();
+    let noise = estimate_noise_split(&first.replay.residuals, &breaks);
     progress(1, planned, "baseline, weighted by the noise");
     let baseline = fit_model(
         recording,

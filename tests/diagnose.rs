@@ -174,3 +174,28 @@ fn the_catalogue_offers_what_applies() {
     assert!(base.iter().all(|p| p.param.name != "alpha"));
     assert!(diagnose::baseline_params(&rec.scene, &["alfa".into()]).is_err());
 }
+
+/// Where the load turns (loading, then unloading) the residual turns too;
+/// differences taken across the turn would call that noise. Split at the
+/// turn, the estimate is the noise again.
+#[test]
+fn the_noise_estimate_is_not_fooled_by_a_load_reversal() {
+    let sigma = 1e-4;
+    // As `softgrip prove` loads: up over 6 samples, down over 2, the
+    // mismatch growing to 1 mm at the turn and falling back with the load.
+    let loads = [1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 4.5, 1.5];
+    let vee = |m: usize, s: usize| 1e-3 * (m as f64 + 1.0) / 9.0 * loads[s] / 9.0;
+    let r = residuals(9, 8, sigma, vee);
+    let across = diagnose::estimate_noise(&r).object_m;
+    // The load turns at sample 5: the runs are 0..=5 and 6..=7, leaving
+    // 72 second differences, whose estimate spreads by about 10 %.
+    let split = diagnose::estimate_noise_split(&r, &[6]).object_m;
+    assert!(
+        across > 1.2 * sigma,
+        "across the turn the estimate is inflated: {across:e}"
+    );
+    assert!(
+        (split - sigma).abs() < 0.2 * sigma,
+        "split at the turn: {split:e} m, true {sigma:e} m"
+    );
+}
