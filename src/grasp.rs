@@ -55,15 +55,7 @@ pub struct GraspRun {
 }
 
 fn centre_of_mass(sim: &Simulation) -> DVec3 {
-    let m = &sim.model.mass;
-    let total: f64 = m.iter().sum();
-    sim.state
-        .positions
-        .iter()
-        .zip(m)
-        .map(|(x, m)| *x * *m)
-        .sum::<DVec3>()
-        / total
+    sim.state.centre_of_mass(&sim.model)
 }
 
 /// A finger's driven velocity (m/s): its velocity-driven axes'.

@@ -376,6 +376,25 @@ impl FingerShape {
         self.reach_along(DVec3::NEG_Z)
     }
 
+    /// Its `shape` and `radius` or `size` keys, as a scene file writes them
+    /// (for a `[[finger]]` and a `[[finger.part]]` alike).
+    pub fn to_toml(&self) -> String {
+        match *self {
+            FingerShape::Sphere { radius } => format!("shape = \"sphere\"\nradius = {radius:?}\n"),
+            FingerShape::Plate { half_size: [x, y] } => {
+                format!("shape = \"plate\"\nsize = [{:?}, {:?}]\n", 2.0 * x, 2.0 * y)
+            }
+            FingerShape::Box {
+                half_size: [x, y, z],
+            } => format!(
+                "shape = \"box\"\nsize = [{:?}, {:?}, {:?}]\n",
+                2.0 * x,
+                2.0 * y,
+                2.0 * z
+            ),
+        }
+    }
+
     /// How far the finger's surface lies from its centre along the unit
     /// direction `d` (m): the radius, 0 for a plate, the box's support
     /// distance `sum |d_i| h_i` (its half height for -z).
@@ -604,26 +623,7 @@ impl Scene {
         }
         for f in &self.fingers {
             s.push_str("[[finger]]\n");
-            match f.shape {
-                FingerShape::Sphere { radius } => {
-                    let _ = writeln!(s, "shape = \"sphere\"\nradius = {radius:?}");
-                }
-                FingerShape::Plate { half_size } => {
-                    let _ = writeln!(
-                        s,
-                        "shape = \"plate\"\nsize = [{:?}, {:?}]",
-                        2.0 * half_size[0],
-                        2.0 * half_size[1]
-                    );
-                }
-                FingerShape::Box { half_size } => {
-                    let _ = writeln!(
-                        s,
-                        "shape = \"box\"\nsize = {}",
-                        v3(DVec3::from_array(half_size) * 2.0)
-                    );
-                }
-            }
+            s.push_str(&f.shape.to_toml());
             let axes: String = ['x', 'y', 'z']
                 .iter()
                 .zip(f.free_axes)
@@ -662,26 +662,7 @@ impl Scene {
             s.push('\n');
             for part in &f.parts {
                 s.push_str("[[finger.part]]\n");
-                match part.shape {
-                    FingerShape::Sphere { radius } => {
-                        let _ = writeln!(s, "shape = \"sphere\"\nradius = {radius:?}");
-                    }
-                    FingerShape::Plate { half_size } => {
-                        let _ = writeln!(
-                            s,
-                            "shape = \"plate\"\nsize = [{:?}, {:?}]",
-                            2.0 * half_size[0],
-                            2.0 * half_size[1]
-                        );
-                    }
-                    FingerShape::Box { half_size } => {
-                        let _ = writeln!(
-                            s,
-                            "shape = \"box\"\nsize = {}",
-                            v3(DVec3::from_array(half_size) * 2.0)
-                        );
-                    }
-                }
+                s.push_str(&part.shape.to_toml());
                 let _ = writeln!(s, "offset = {}\n", v3(part.offset));
             }
         }

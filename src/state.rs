@@ -222,6 +222,17 @@ impl State {
             .count()
     }
 
+    /// The object's centre of mass (m), loads' masses included.
+    pub fn centre_of_mass(&self, model: &Model) -> DVec3 {
+        let total: f64 = model.mass.iter().sum();
+        self.positions
+            .iter()
+            .zip(&model.mass)
+            .map(|(x, m)| *x * *m)
+            .sum::<DVec3>()
+            / total
+    }
+
     /// Total linear momentum of the object and the fingers.
     pub fn momentum(&self, model: &Model) -> DVec3 {
         let object: DVec3 = self

@@ -40,15 +40,7 @@ friction = {friction}
 }
 
 fn centre_of_mass(sim: &Simulation) -> DVec3 {
-    let m = &sim.model.mass;
-    let total: f64 = m.iter().sum();
-    sim.state
-        .positions
-        .iter()
-        .zip(m)
-        .map(|(x, m)| *x * *m)
-        .sum::<DVec3>()
-        / total
+    sim.state.centre_of_mass(&sim.model)
 }
 
 #[test]

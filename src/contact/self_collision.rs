@@ -86,6 +86,8 @@ impl SelfCollisionModel {
 pub struct SelfScratch {
     grid: FacetGrid,
     candidates: Vec<u32>,
+    /// (particle, facet, closest point, weights, facet normal, height).
+    found: Vec<(u32, u32, DVec3, [f64; 3], DVec3, f64)>,
 }
 
 /// Adds the self-collision forces and Jacobians; records the contacts.
@@ -109,7 +111,7 @@ pub fn accumulate(
         .rebuild(2.0 * model.edge_length, &model.facets, x);
     let (d, k) = (sc.thickness, sc.stiffness);
     let vel = |dof: usize| crate::forces::velocity_of(state, dof);
-    let mut found = Vec::new();
+    scratch.found.clear();
     for &p in &sc.particles {
         let pi = p as usize;
         let xp = x[pi];
@@ -132,10 +134,10 @@ pub fn accumulate(
             if s <= -d || s >= d {
                 continue;
             }
-            found.push((p, f, c, w, normal, s));
+            scratch.found.push((p, f, c, w, normal, s));
         }
     }
-    for (p, f, c, w, n, s) in found {
+    for &(p, f, c, w, n, s) in &scratch.found {
         let pi = p as usize;
         let tri = model.facets[f as usize];
         let idx = tri.map(|i| i as usize);

@@ -34,7 +34,6 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
     }
     let x = &state.positions;
     let v = &state.velocities;
-    let dt = system.dt();
     for (slot, s) in model.springs.iter().enumerate() {
         let (i, j) = (s.i as usize, s.j as usize);
         let delta = x[j] - x[i];
@@ -51,23 +50,8 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
 
         let uu = outer(u, u);
         let transverse = (1.0 - s.rest_length / l).max(0.0);
-        let mut kp = uu * s.stiffness + (DMat3::IDENTITY - uu) * (s.stiffness * transverse);
-        if let Some((start, k_lim)) = limit_spring(model, s, l) {
-            let f = k_lim * (l - start) * u;
-            force[i] += f;
-            force[j] -= f;
-            let t = (1.0 - start / l).max(0.0);
-            kp += uu * k_lim + (DMat3::IDENTITY - uu) * (k_lim * t);
-        }
-        // Blocks (i, i) and (j, j) get +W, block (i, j) = (spring.i, spring.j)
-        // gets -W, with W = dt^2 Kp + dt Dp; `Kp v` is Kp (v_i - v_j) at i.
-        let w = kp * (dt * dt) + uu * (s.damping * dt);
-        system.diag[i] += w;
-        system.diag[j] += w;
-        system.off[slot] -= w;
-        let kv = kp * (v[i] - v[j]);
-        system.kv[i] += kv;
-        system.kv[j] -= kv;
+        let kp = uu * s.stiffness + (DMat3::IDENTITY - uu) * (s.stiffness * transverse);
+        limit_and_blocks(model, s, slot, l, u, kp, v, force, system);
     }
 }
 
@@ -129,7 +113,6 @@ pub struct SpringForce {
 pub fn accumulate_general(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let x = &state.positions;
     let v = &state.velocities;
-    let dt = system.dt();
     for (slot, s) in model.springs.iter().enumerate() {
         let (i, j) = (s.i as usize, s.j as usize);
         let delta = x[j] - x[i];
@@ -147,21 +130,8 @@ pub fn accumulate_general(model: &Model, state: &State, force: &mut [DVec3], sys
 
         let uu = outer(u, u);
         let kp_linear = uu * law.tangent;
-        let mut kp = kp_linear + (DMat3::IDENTITY - uu) * law.transverse.max(0.0);
-        if let Some((start, k_lim)) = limit_spring(model, s, l) {
-            let f = k_lim * (l - start) * u;
-            force[i] += f;
-            force[j] -= f;
-            let t = (1.0 - start / l).max(0.0);
-            kp += uu * k_lim + (DMat3::IDENTITY - uu) * (k_lim * t);
-        }
-        let w = kp * (dt * dt) + uu * (s.damping * dt);
-        system.diag[i] += w;
-        system.diag[j] += w;
-        system.off[slot] -= w;
-        let kv = kp * (v[i] - v[j]);
-        system.kv[i] += kv;
-        system.kv[j] -= kv;
+        let kp = kp_linear + (DMat3::IDENTITY - uu) * law.transverse.max(0.0);
+        limit_and_blocks(model, s, slot, l, u, kp, v, force, system);
     }
 }
 
@@ -205,6 +175,42 @@ pub fn relax(model: &Model, state: &mut State) {
         let dl = x[s.i as usize].distance(x[s.j as usize]) - s.rest_length;
         *q = (*q + a * dl) / (1.0 + a);
     }
+}
+
+/// The end of a spring's pass, shared by the thesis's and the general
+/// law: its limit spring, if it is near a limit, then its blocks. Blocks
+/// (i, i) and (j, j) get +W, block (i, j) = (spring.i, spring.j) gets -W,
+/// with W = dt^2 Kp + dt Dp; `Kp v` is Kp (v_i - v_j) at i.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn limit_and_blocks(
+    model: &Model,
+    s: &crate::model::Spring,
+    slot: usize,
+    l: f64,
+    u: DVec3,
+    mut kp: DMat3,
+    v: &[DVec3],
+    force: &mut [DVec3],
+    system: &mut System,
+) {
+    let (i, j) = (s.i as usize, s.j as usize);
+    let uu = outer(u, u);
+    if let Some((start, k_lim)) = limit_spring(model, s, l) {
+        let f = k_lim * (l - start) * u;
+        force[i] += f;
+        force[j] -= f;
+        let t = (1.0 - start / l).max(0.0);
+        kp += uu * k_lim + (DMat3::IDENTITY - uu) * (k_lim * t);
+    }
+    let dt = system.dt();
+    let w = kp * (dt * dt) + uu * (s.damping * dt);
+    system.diag[i] += w;
+    system.diag[j] += w;
+    system.off[slot] -= w;
+    let kv = kp * (v[i] - v[j]);
+    system.kv[i] += kv;
+    system.kv[j] -= kv;
 }
 
 /// Where a limit spring starts, as a fraction of the rest length before the
