@@ -44,7 +44,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use crate::compare::{Errors, Residual};
-use crate::fit::{FitOptions, FitParam, minimize};
+use crate::fit::{FitOptions, FitParam, levenberg_marquardt};
 use crate::params;
 use crate::recording::{MarkerRef, Mode, Recording};
 use crate::replay::{Replay, ReplayOptions, replay};
@@ -58,6 +58,11 @@ pub const PROMISING: f64 = 0.05;
 pub const BIC_THRESHOLD: f64 = 10.0;
 /// ... and the weighted residual sum of squares by at least this share.
 pub const MIN_EXPLAINED: f64 = 0.3;
+
+/// Finite-difference step of the fits' Jacobian, in the unit box of each
+/// parameter (2 % of E over its log range): large enough to stand above
+/// the rest tolerance of a quasi-static replay.
+pub const JACOBIAN_STEP: f64 = 0.01;
 /// A mismatch no candidate explains is "unexplained" when the baseline's
 /// RMS residual is more than this many times the noise; below, the
 /// verdict is "none": a residual within a few noise levels that no
@@ -201,6 +206,21 @@ pub fn weighted_rss(residuals: &[Residual], noise: &Noise) -> (f64, usize) {
         }
     }
     (rss, n)
+}
+
+/// The residual of every observed component over its noise level
+/// (fingers included), in the order of `residuals`.
+pub fn weighted_residuals(residuals: &[Residual], noise: &Noise) -> Vec<f64> {
+    let mut out = Vec::with_capacity(3 * residuals.len());
+    for r in residuals {
+        let s = noise.sigma(r.marker);
+        for a in 0..3 {
+            if let Some(x) = r.recorded[a] {
+                out.push((r.simulated[a] - x) / s);
+            }
+        }
+    }
+    out
 }
 
 /// BIC of a least-squares fit with the noise level free.
@@ -713,11 +733,11 @@ fn fit_model(
         .collect();
     let value_at =
         |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
-    let mut cache: HashMap<Vec<u64>, f64> = HashMap::new();
+    let mut cache: HashMap<Vec<u64>, Option<Vec<f64>>> = HashMap::new();
     let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
     let mut evaluations = 0usize;
     let best_u = {
-        let mut evaluate = |points: &[Vec<f64>]| -> Vec<f64> {
+        let mut evaluate = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
             let todo: Vec<Vec<f64>> = points
                 .iter()
                 .filter(|u| !cache.contains_key(&key(u)))
@@ -729,8 +749,8 @@ fn fit_model(
                 options.workers,
                 |u| {
                     run(&value_at(u), threads)
-                        .map(|r| weighted_rss(&r.residuals, noise).0)
-                        .unwrap_or(f64::INFINITY)
+                        .ok()
+                        .map(|r| weighted_residuals(&r.residuals, noise))
                 },
                 &|_| {},
             );
@@ -740,28 +760,34 @@ fn fit_model(
             evaluations += todo.len();
             points
                 .iter()
-                .map(|u| cache.get(&key(u)).copied().unwrap_or(f64::INFINITY))
+                .map(|u| cache.get(&key(u)).cloned().flatten())
                 .collect()
         };
-        let f0 = evaluate(std::slice::from_ref(&start))[0];
+        let cost = |r: &Option<Vec<f64>>| {
+            r.as_ref()
+                .map_or(f64::INFINITY, |r| r.iter().map(|v| v * v).sum::<f64>())
+        };
+        let r0 = evaluate(std::slice::from_ref(&start)).remove(0);
+        let f0 = cost(&r0);
         if !f0.is_finite() {
             return Err(run(&value_at(&start), 0)
                 .err()
                 .unwrap_or_else(|| "the start failed".into()));
         }
-        // A small space-filling design (4 points per parameter), then the
-        // local search from the best.
+        // A small space-filling design (2 points per parameter) against
+        // local minima, then Levenberg-Marquardt from the best.
         let design: Vec<Vec<f64>> = if design {
-            (1..=4 * params.len())
+            (1..=2 * params.len())
                 .map(|k| crate::fit::halton(k, params.len()))
                 .collect()
         } else {
             Vec::new()
         };
-        let (mut best_u, mut best_f) = (start.clone(), f0);
-        for (u, f) in design.iter().zip(evaluate(&design)) {
+        let (mut best_u, mut best_r, mut best_f) = (start.clone(), r0, f0);
+        for (u, r) in design.iter().zip(evaluate(&design)) {
+            let f = cost(&r);
             if f < best_f {
-                (best_u, best_f) = (u.clone(), f);
+                (best_u, best_r, best_f) = (u.clone(), r, f);
             }
         }
         let spent = 1 + design.len();
@@ -770,18 +796,20 @@ fn fit_model(
             workers: options.workers,
             x_tolerance: 2e-3,
             f_tolerance: 1e-4,
-            stall: 12,
             ..FitOptions::default()
         };
-        let m = minimize(
-            &mut evaluate,
-            &best_u,
-            best_f,
-            budget.saturating_sub(spent),
-            fit_options,
-        );
-        if m.f < best_f {
-            best_u = m.x;
+        if let Some(r) = best_r {
+            let m = levenberg_marquardt(
+                &mut evaluate,
+                &best_u,
+                r,
+                budget.saturating_sub(spent),
+                fit_options,
+                JACOBIAN_STEP,
+            );
+            if m.f < best_f {
+                best_u = m.x;
+            }
         }
         best_u
     };

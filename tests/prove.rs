@@ -20,15 +20,39 @@ fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
     }
     assert!(cases.iter().filter(|c| c.effects.is_empty()).count() >= 3);
     assert!(cases.iter().any(|c| c.effects.len() == 2));
-    // The truth is never the nominal scene: another mesh, another modulus.
-    let nominal = prove::nominal();
+    // The truth is never the nominal scene: a finer mesh, another modulus.
     for c in &cases {
-        assert_ne!(c.truth_scene.object.edge_length, nominal.object.edge_length);
+        assert!(c.truth_scene.object.edge_length < c.nominal.object.edge_length);
         assert_ne!(
             c.truth_scene.object.young_modulus,
-            nominal.object.young_modulus
+            c.nominal.object.young_modulus
+        );
+        // Each experiment has a control of its own.
+        let shape = std::mem::discriminant(&c.nominal.fingers[0].shape);
+        assert!(
+            cases.iter().any(|k| k.effects.is_empty()
+                && std::mem::discriminant(&k.nominal.fingers[0].shape) == shape),
+            "{}: no control for its experiment",
+            c.name
         );
     }
+}
+
+/// Every hidden effect moves some marker by more than the noise (0.1 mm),
+/// or the suite would ask the impossible.
+#[test]
+fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
+    let dir = std::env::temp_dir().join(format!("softgrip-prove-moved-{}", std::process::id()));
+    for c in prove::cases().iter().filter(|c| c.effects.len() == 1) {
+        let moved = prove::moved_by_effect(c, &dir.join(&c.name)).expect("simulated");
+        let (marker, most) = moved.first().cloned().expect("markers");
+        assert!(
+            most > 2.0 * prove::NOISE,
+            "{}: {marker} moves {most}",
+            c.name
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A case's recording: 8 markers and the finger, x and z only, the data
@@ -57,7 +81,11 @@ fn a_case_is_written_as_the_thesis_experiment_saw_it() {
         );
     }
     // The diagnosis is given the nominal scene, not the truth.
-    assert_eq!(rec.scene.object.edge_length, 0.008);
+    assert_eq!(
+        rec.scene.object.edge_length,
+        prove::nominal().object.edge_length
+    );
+    assert!(case.truth_scene.object.edge_length < rec.scene.object.edge_length);
     assert_eq!(rec.scene.fingers[0].guide_friction, 0.0);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,6 +6,7 @@
 //! A lab recording (`recording`) is replayed and fitted on threads of its
 //! own, and shown in the 3-D view in place of the live frame.
 
+pub mod diagnosis;
 pub mod recording;
 
 use std::path::PathBuf;

@@ -37,27 +37,30 @@ const ERROR_RED: egui::Color32 = egui::Color32::from_rgb(200, 40, 40);
 
 /// What a job's thread reports while it runs.
 #[derive(Debug, Default)]
-struct Progress {
-    /// Samples replayed, or simulations of a fit.
-    done: AtomicUsize,
+pub(super) struct Progress {
+    /// Samples replayed, or simulations of a fit, or fits of a diagnosis.
+    pub(super) done: AtomicUsize,
     /// A fit's best NRMSE so far (`f64` bits; NaN before the first).
-    best: AtomicU64,
+    pub(super) best: AtomicU64,
+    /// What `done` counts up to when the job learns it as it goes (a
+    /// diagnosis's fits); 0: `Job::total`.
+    pub(super) planned: AtomicUsize,
 }
 
 /// A job on a background thread: its progress and, once, its result.
-struct Job<T> {
+pub(super) struct Job<T> {
     generation: u64,
-    progress: Arc<Progress>,
+    pub(super) progress: Arc<Progress>,
     /// What `done` counts up to (a fit's budget: it may stop earlier).
-    total: usize,
+    pub(super) total: usize,
     result: Receiver<(u64, Result<T, String>)>,
-    started: Instant,
+    pub(super) started: Instant,
 }
 
 impl<T: Send + 'static> Job<T> {
     /// Runs `work` on a thread named `name`; its result is tagged with
     /// `generation`.
-    fn spawn(
+    pub(super) fn spawn(
         name: &str,
         generation: u64,
         total: usize,
@@ -66,6 +69,7 @@ impl<T: Send + 'static> Job<T> {
         let progress = Arc::new(Progress {
             done: AtomicUsize::new(0),
             best: AtomicU64::new(f64::NAN.to_bits()),
+            planned: AtomicUsize::new(0),
         });
         let shared = Arc::clone(&progress);
         // One slot: the thread sends once and never waits.
@@ -87,7 +91,7 @@ impl<T: Send + 'static> Job<T> {
 
     /// The result, once the thread has sent it; `Err` if the thread
     /// ended without one (it panicked).
-    fn poll(&self) -> Option<(u64, Result<T, String>)> {
+    pub(super) fn poll(&self) -> Option<(u64, Result<T, String>)> {
         match self.result.try_recv() {
             Ok(r) => Some(r),
             Err(TryRecvError::Empty) => None,
@@ -98,7 +102,7 @@ impl<T: Send + 'static> Job<T> {
         }
     }
 
-    fn done(&self) -> usize {
+    pub(super) fn done(&self) -> usize {
         self.progress.done.load(Ordering::Relaxed)
     }
 
@@ -244,6 +248,8 @@ pub struct RecordingPanel {
     fit_choice: [bool; 4],
     fit_job: Option<Job<Fitted>>,
     fitted: Option<Arc<Fitted>>,
+    /// The Diagnose section.
+    pub diagnosis: super::diagnosis::DiagnosisSection,
 }
 
 impl Default for RecordingPanel {
@@ -261,6 +267,7 @@ impl Default for RecordingPanel {
             fit_choice: [true, false, false, false],
             fit_job: None,
             fitted: None,
+            diagnosis: Default::default(),
         }
     }
 }
@@ -314,7 +321,7 @@ impl RecordingPanel {
 
     /// A replay or a fit is running (the UI redraws for its progress).
     pub fn busy(&self) -> bool {
-        self.replaying() || self.fitting()
+        self.replaying() || self.fitting() || self.diagnosis.running()
     }
 
     /// Chooses whether `FIT_PARAMS[k]` is fitted.
@@ -339,6 +346,7 @@ impl RecordingPanel {
         self.replayed = None;
         self.fit_job = None;
         self.fitted = None;
+        self.diagnosis.clear();
         self.sample = 0;
         let recording = Arc::new(recording);
         self.recording = Some(Arc::clone(&recording));
@@ -450,6 +458,7 @@ impl RecordingPanel {
                 }
             }
         }
+        self.diagnosis.poll(self.generation);
         if let Some((generation, result)) = self.fit_job.as_ref().and_then(Job::poll) {
             self.fit_job = None;
             if generation == self.generation {
@@ -552,6 +561,7 @@ impl RecordingPanel {
                     if let Some(a) = self.fit_section(ui) {
                         action = Some(a);
                     }
+                    self.diagnosis_section(ui);
                 }
             });
         action
@@ -714,6 +724,28 @@ impl RecordingPanel {
             }
         });
         action
+    }
+
+    /// The Diagnose section, and what it asks for.
+    fn diagnosis_section(&mut self, ui: &mut egui::Ui) {
+        use super::diagnosis::SectionAction;
+        let reveal = self.diagnosis.take_reveal();
+        let asked = egui::CollapsingHeader::new("Diagnose...")
+            .open(reveal.then_some(true))
+            .show(ui, |ui| {
+                self.diagnosis
+                    .ui(ui, self.recording.is_some() && self.replay_job.is_none())
+            })
+            .body_returned;
+        match asked {
+            Some(SectionAction::Start) => {
+                if let Some(recording) = self.recording.clone() {
+                    self.diagnosis.start(recording, self.generation);
+                }
+            }
+            Some(SectionAction::Replay(scene)) => self.replay_on(*scene),
+            Some(SectionAction::None) | None => {}
+        }
     }
 
     /// Replays with the fit's values set in the recording's scene.
