@@ -459,7 +459,14 @@ pub fn report(outcomes: &[Outcome]) -> String {
                             .params
                             .iter()
                             .find(|(n, _)| n == name)
-                            .map_or("-".to_string(), |(_, g)| format!("{g:.3}"));
+                            .map(|(_, g)| *g)
+                            // An effect accepted in an earlier round keeps
+                            // its value in the scene.
+                            .or_else(|| {
+                                let get = |s: &Scene| crate::params::get(s, name).ok().flatten();
+                                get(&d.final_fit.scene).filter(|g| Some(*g) != get(&o.case.nominal))
+                            })
+                            .map_or("-".to_string(), |g| format!("{g:.3}"));
                         format!("{name} {got} ({v})")
                     })
                     .collect();
