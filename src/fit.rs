@@ -786,16 +786,43 @@ pub fn levenberg_marquardt(
         let jtr: Vec<f64> = (0..n)
             .map(|i| jac[i].iter().zip(&r).map(|(a, b)| a * b).sum())
             .collect();
+        // A parameter that does nothing where it stands (a relaxation
+        // time while the relaxing share is 0) has a zero column: it is
+        // held for this step instead of making the system singular, and
+        // the others move. The system is scaled to its largest diagonal.
+        let scale = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
         let step_for = |lambda: f64| -> Option<Vec<f64>> {
-            let mut a = jtj.clone();
+            if scale <= 0.0 || !scale.is_finite() {
+                return None;
+            }
+            let mut a: Vec<Vec<f64>> = jtj
+                .iter()
+                .map(|row| row.iter().map(|v| v / scale).collect())
+                .collect();
             for (i, row) in a.iter_mut().enumerate() {
-                row[i] += lambda * jtj[i][i].max(1e-12);
+                if row[i] <= 1e-12 {
+                    row.iter_mut().for_each(|v| *v = 0.0);
+                    row[i] = 1.0;
+                } else {
+                    row[i] *= 1.0 + lambda;
+                }
+            }
+            for i in 0..n {
+                if jtj[i][i] / scale <= 1e-12 {
+                    for row in a.iter_mut() {
+                        row[i] = 0.0;
+                    }
+                    a[i][i] = 1.0;
+                }
             }
             let inv = invert(a)?;
             Some(
                 (0..n)
                     .map(|i| {
-                        let d: f64 = (0..n).map(|j| -inv[i][j] * jtr[j]).sum();
+                        let d: f64 = (0..n)
+                            .filter(|&j| jtj[j][j] / scale > 1e-12)
+                            .map(|j| -inv[i][j] * jtr[j] / scale)
+                            .sum();
                         (x[i] + d).clamp(0.0, 1.0)
                     })
                     .collect(),
@@ -1005,6 +1032,35 @@ mod tests {
         assert!((m.x[0] - 0.3).abs() < 1e-4, "{:?}", m.x);
         assert!((m.x[1] - 0.6).abs() < 1e-4, "{:?}", m.x);
         assert!(m.evaluations <= 200);
+    }
+
+    /// A parameter with no effect at the start (the time constant of an
+    /// amplitude that starts at 0) neither stalls the search nor stops
+    /// the other: the amplitude moves first, then the time constant.
+    #[test]
+    fn levenberg_marquardt_moves_past_a_parameter_that_starts_inert() {
+        let ts: Vec<f64> = (1..30).map(|k| 0.1 * k as f64).collect();
+        let model = |u: &[f64]| -> Vec<f64> {
+            let (a, tau) = (2.0 * u[0], 0.2 + 2.0 * u[1]);
+            ts.iter().map(|t| a * (-t / tau).exp()).collect()
+        };
+        let truth = model(&[0.6, 0.3]);
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            points
+                .iter()
+                .map(|u| Some(model(u).iter().zip(&truth).map(|(m, d)| m - d).collect()))
+                .collect()
+        };
+        let x0 = [0.0, 0.5];
+        let r0 = f(&[x0.to_vec()]).remove(0).unwrap_or_default();
+        let options = FitOptions {
+            x_tolerance: 1e-9,
+            f_tolerance: 1e-12,
+            ..FitOptions::default()
+        };
+        let m = levenberg_marquardt(&mut f, &x0, r0, 300, options, 1e-6);
+        assert!((m.x[0] - 0.6).abs() < 1e-3, "{:?}", m.x);
+        assert!((m.x[1] - 0.3).abs() < 1e-3, "{:?}", m.x);
     }
 
     /// The optimum outside the box: the search ends on the bound.
