@@ -791,36 +791,29 @@ pub fn levenberg_marquardt(
         // held for this step instead of making the system singular, and
         // the others move. The system is scaled to its largest diagonal.
         let scale = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
+        let inert: Vec<bool> = (0..n).map(|i| jtj[i][i] <= 1e-12 * scale).collect();
         let step_for = |lambda: f64| -> Option<Vec<f64>> {
             if scale <= 0.0 || !scale.is_finite() {
                 return None;
             }
-            let mut a: Vec<Vec<f64>> = jtj
-                .iter()
-                .map(|row| row.iter().map(|v| v / scale).collect())
+            let a: Vec<Vec<f64>> = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| match (inert[i] || inert[j], i == j) {
+                            (true, true) => 1.0,
+                            (true, false) => 0.0,
+                            (false, true) => jtj[i][i] / scale * (1.0 + lambda),
+                            (false, false) => jtj[i][j] / scale,
+                        })
+                        .collect()
+                })
                 .collect();
-            for (i, row) in a.iter_mut().enumerate() {
-                if row[i] <= 1e-12 {
-                    row.iter_mut().for_each(|v| *v = 0.0);
-                    row[i] = 1.0;
-                } else {
-                    row[i] *= 1.0 + lambda;
-                }
-            }
-            for i in 0..n {
-                if jtj[i][i] / scale <= 1e-12 {
-                    for row in a.iter_mut() {
-                        row[i] = 0.0;
-                    }
-                    a[i][i] = 1.0;
-                }
-            }
             let inv = invert(a)?;
             Some(
                 (0..n)
                     .map(|i| {
                         let d: f64 = (0..n)
-                            .filter(|&j| jtj[j][j] / scale > 1e-12)
+                            .filter(|&j| !inert[j])
                             .map(|j| -inv[i][j] * jtr[j] / scale)
                             .sum();
                         (x[i] + d).clamp(0.0, 1.0)
