@@ -37,7 +37,7 @@ pub struct Case {
 }
 
 /// The scene the diagnosis is given: the thesis cuboid through a light
-/// guide, lattice model, 8 mm edges.
+/// guide, lattice model, 5 mm edges, 2 ms steps to rest.
 pub fn nominal() -> Scene {
     nominal_from(
         include_str!("../assets/scenes/thesis_cuboid_light_guide.toml"),
@@ -86,8 +86,8 @@ pub fn truth_base() -> Scene {
 }
 
 /// The suite. The truth differs from the nominal scene everywhere the
-/// diagnosis may not look: 6 mm edges instead of 8, E 10 % higher, the
-/// spring limits elsewhere.
+/// diagnosis may not look: 4 mm edges instead of 5, 1 ms steps instead
+/// of 2, E 10 % higher, the spring limits elsewhere.
 pub fn cases() -> Vec<Case> {
     let base = truth_base();
     let right_half = |e: f64| Region {
@@ -545,7 +545,7 @@ pub fn report(outcomes: &[Outcome]) -> String {
         }
         s.push('\n');
     }
-    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 30 % of the weighted residual) and the share removed.\n\n");
+    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect is 2 or more), the share removed and z.\n\n");
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
         let mut line = format!("- **{}**: ", o.case.name);
@@ -567,10 +567,11 @@ pub fn report(outcomes: &[Outcome]) -> String {
                     format!("{} ({})", h.effect, h.variant)
                 };
                 format!(
-                    "r{} {name} {:+.0} / {:.0} %",
+                    "r{} {name} {:+.0} / {:.0} %{}",
                     h.round + 1,
                     h.score,
-                    100.0 * h.explained
+                    100.0 * h.explained,
+                    h.vuong.map(|z| format!(" / z {z:+.1}")).unwrap_or_default()
                 )
             })
             .collect();

@@ -887,7 +887,7 @@ pub fn diagnosis(
         };
         md += "## Candidates\n\n";
         md += &out.image("ranking.png", &plot::bars_png(&bars)?, "candidates ranked")?;
-        md += "| round | candidate | BIC change | residual removed | NRMSE, fingers included | fitted |\n|---|---|---|---|---|---|\n";
+        md += "| round | candidate | BIC change | residual removed | Vuong z against the best other effect | NRMSE, fingers included | fitted |\n|---|---|---|---|---|---|---|\n";
         let mut all: Vec<&crate::diagnose::Hypothesis> = d.hypotheses.iter().collect();
         all.sort_by(|a, b| {
             (a.round, a.score)
@@ -899,17 +899,18 @@ pub fn diagnosis(
                 Ok(f) => {
                     let _ = writeln!(
                         md,
-                        "| {} | {} | {:+.1} | {:.0} % | {:.5} | {} |",
+                        "| {} | {} | {:+.1} | {:.0} % | {} | {:.5} | {} |",
                         h.round + 1,
                         name(h),
                         h.score,
                         100.0 * h.explained,
+                        h.vuong.map_or("-".into(), |z| format!("{z:+.2}")),
                         f.errors.nrmse_all,
                         params(&f.params)
                     );
                 }
                 Err(e) => {
-                    let _ = writeln!(md, "| {} | {} | failed | | | {e} |", h.round + 1, name(h));
+                    let _ = writeln!(md, "| {} | {} | failed | | | | {e} |", h.round + 1, name(h));
                 }
             }
         }

@@ -199,3 +199,30 @@ fn the_noise_estimate_is_not_fooled_by_a_load_reversal() {
         "split at the turn: {split:e} m, true {sigma:e} m"
     );
 }
+
+/// Vuong's statistic: two models equally far from the truth score near 0,
+/// one closer scores beyond 2 (standard normal under the null), and it is
+/// antisymmetric.
+#[test]
+fn vuong_tells_the_closer_of_two_models() {
+    let mut g = Gaussian::new(3);
+    let n = 400;
+    let noise: Vec<f64> = (0..n).map(|_| g.sample()).collect();
+    // a: the truth's residual (noise only); b: noise plus a smooth bias of
+    // half a noise level; c: another draw of the same size as a.
+    let a = noise.clone();
+    let b: Vec<f64> = noise
+        .iter()
+        .enumerate()
+        .map(|(i, e)| e + 0.5 * (i as f64 / n as f64 * 6.0).sin())
+        .collect();
+    let z = diagnose::vuong(&a, &b).expect("paired");
+    assert!(z > 2.0, "the truth against a biased model: z = {z}");
+    let back = diagnose::vuong(&b, &a).expect("paired");
+    assert!((z + back).abs() < 1e-12, "antisymmetric: {z} and {back}");
+    // Two models off by independent noise of the same level: no winner.
+    let c: Vec<f64> = (0..n).map(|_| g.sample()).collect();
+    let tie = diagnose::vuong(&a, &c).expect("paired");
+    assert!(tie.abs() < 2.0, "equally close: z = {tie}");
+    assert_eq!(diagnose::vuong(&a, &a[1..]), None, "unpaired");
+}

@@ -89,3 +89,50 @@ fn a_case_is_written_as_the_thesis_experiment_saw_it() {
     assert_eq!(rec.scene.fingers[0].guide_friction, 0.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every hidden value lies inside the range the diagnosis searches for its
+/// effect, with the modulus anywhere from 20 % below to 25 % above the
+/// truth's (where the baseline fit may leave it): a candidate whose bounds
+/// stop short of the truth could only be found at its bound.
+#[test]
+fn the_candidates_search_ranges_cover_every_hidden_value() {
+    use softgrip::diagnose;
+    use softgrip::recording::{Mode, Recording};
+    let template = Recording::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
+    )))
+    .expect("recording");
+    for c in prove::cases() {
+        let mut rec = template.clone();
+        rec.mode = c.mode;
+        for (s, load) in rec.samples.iter_mut().zip(&c.loads) {
+            s.load = *load;
+        }
+        if c.mode == Mode::TimeSeries {
+            for s in &mut rec.samples {
+                s.load = 9.0;
+            }
+        }
+        for scale in [0.8, 1.25] {
+            let mut scene = c.nominal.clone();
+            scene.object.young_modulus = c.truth_scene.object.young_modulus * scale;
+            let catalogue = diagnose::catalogue(&rec, &scene);
+            for (name, value) in &c.truth {
+                let covered = catalogue
+                    .iter()
+                    .filter(|k| c.effects.contains(&k.effect))
+                    .any(|k| {
+                        k.params.iter().any(|p| {
+                            p.param.name == *name && p.lower <= *value && *value <= p.upper
+                        })
+                    });
+                assert!(
+                    covered,
+                    "{}: {name} = {value} lies outside the range of every candidate for {:?} (modulus x{scale})",
+                    c.name, c.effects
+                );
+            }
+        }
+    }
+}

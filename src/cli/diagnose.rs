@@ -55,8 +55,10 @@ pub fn diagnose(
         d.noise.finger_m * 1e3
     );
     println!("mismatch: {}", d.location.description);
-    println!("| candidate | BIC change | residual removed | NRMSE all | parameters |");
-    println!("|---|---|---|---|---|");
+    println!(
+        "| round | candidate | BIC change | residual removed | Vuong z against the best other effect | NRMSE all | parameters |"
+    );
+    println!("|---|---|---|---|---|---|---|");
     let mut ranked: Vec<&diagnose::Hypothesis> = d.hypotheses.iter().collect();
     ranked.sort_by(|a, b| {
         (a.round, a.score)
@@ -71,13 +73,15 @@ pub fn diagnose(
         };
         match &h.fit {
             Ok(f) => println!(
-                "| {name} | {:+.1} | {:.0} % | {:.4} | {} |",
+                "| {} | {name} | {:+.1} | {:.0} % | {} | {:.4} | {} |",
+                h.round + 1,
                 h.score,
                 100.0 * h.explained,
+                h.vuong.map_or("-".into(), |z| format!("{z:+.2}")),
                 f.errors.nrmse_all,
                 params(&f.params)
             ),
-            Err(e) => println!("| {name} | failed | | | {e} |"),
+            Err(e) => println!("| {} | {name} | failed | | | | {e} |", h.round + 1),
         }
     }
     println!("verdict: {}", d.verdict());
@@ -93,6 +97,7 @@ pub fn diagnose(
         );
     }
     println!("evidence: {}", d.evidence);
+    println!("{} simulations", d.simulations);
     if let Some(dir) = report.dir("diagnose", recording_path) {
         let written = softgrip::report::diagnosis(&dir, &recording, &d)?;
         println!("report: {}", written.markdown.display());

@@ -294,6 +294,11 @@ enum Command {
         /// friction, self-collision, neo-Hookean, ...) on in turn.
         #[arg(long)]
         options: bool,
+        /// Instead: time the full diagnosis of these `softgrip prove` cases
+        /// (comma-separated names, e.g. load-loss-weak,control-1): each is a
+        /// 7-load, 9-marker recording; writing it is not timed.
+        #[arg(long, value_delimiter = ',')]
+        diagnosis: Vec<String>,
     },
 }
 
@@ -577,8 +582,11 @@ pub fn main() -> ExitCode {
             seconds,
             threads,
             options,
+            diagnosis,
         }) => {
-            if options {
+            if !diagnosis.is_empty() {
+                bench_diagnosis(&diagnosis)
+            } else if options {
                 bench_options(edges.first().copied().unwrap_or(4.0), seconds, threads)
             } else {
                 bench(&edges, seconds, threads)
@@ -977,6 +985,69 @@ fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
             r.cg_iterations as f64 / r.steps as f64,
             ms / reference
         );
+    }
+    Ok(())
+}
+
+/// Wall time of the whole diagnosis of `softgrip prove` cases.
+fn bench_diagnosis(names: &[String]) -> Result<()> {
+    use softgrip::diagnose::{DiagnoseOptions, diagnose};
+    let cases = softgrip::prove::cases();
+    println!("{}", softgrip::bench::machine_description());
+    println!(
+        "| case | distinct loads | samples | markers (object + finger) | simulations | seconds | named | peak memory (MiB) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for name in names {
+        let Some((i, case)) = cases.iter().enumerate().find(|(_, c)| &c.name == name) else {
+            anyhow::bail!(
+                "no prove case {name}; the cases are: {}",
+                cases
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        };
+        let dir =
+            std::env::temp_dir().join(format!("softgrip-bench-{}-{name}", std::process::id()));
+        // The seed `softgrip prove` gives the case: the same recording.
+        let recording =
+            softgrip::prove::write_case(case, &dir, 100 + i as u64).map_err(anyhow::Error::msg)?;
+        let bar = progress_bar(1, "fits");
+        let started = std::time::Instant::now();
+        let d = diagnose(
+            &recording,
+            &DiagnoseOptions::default(),
+            &|done, total, what| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+                bar.set_message(what.to_string());
+            },
+        )
+        .map_err(anyhow::Error::msg)?;
+        let seconds = started.elapsed().as_secs_f64();
+        bar.finish_and_clear();
+        let simulations = d.simulations;
+        let mut loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
+        loads.sort_by(f64::total_cmp);
+        loads.dedup();
+        let named = if d.effects.is_empty() {
+            d.verdict()
+        } else {
+            d.effects.join(" + ")
+        };
+        println!(
+            "| {name} | {} | {} | {} + {} | {simulations} | {seconds:.0} | {named} | {} |",
+            loads.len(),
+            recording.samples.len(),
+            recording.markers.len(),
+            recording.scene.fingers.len(),
+            softgrip::bench::peak_memory_mib()
+                .map(|m| format!("{m:.1}"))
+                .unwrap_or_else(|| "n/a".into())
+        );
+        std::fs::remove_dir_all(&dir).ok();
     }
     Ok(())
 }
