@@ -1021,19 +1021,29 @@ pub fn diagnose(
                     vuong: None,
                 });
             }
-            for i in start..hypotheses.len() {
-                let rival = (start..hypotheses.len())
-                    .filter(|&j| hypotheses[j].effect != hypotheses[i].effect)
-                    .filter(|&j| hypotheses[j].fit.is_ok())
-                    .min_by(|&a, &b| hypotheses[a].score.total_cmp(&hypotheses[b].score));
-                let v = match (rival.map(|j| &hypotheses[j].fit), &hypotheses[i].fit) {
-                    (Some(Ok(other)), Ok(this)) => vuong(
-                        &weighted_residuals(&this.replay.residuals, &noise),
-                        &weighted_residuals(&other.replay.residuals, &noise),
-                    ),
+            // Each candidate against the best-scoring fit of another effect.
+            let weighted: Vec<Option<Vec<f64>>> = hypotheses[start..]
+                .iter()
+                .map(|h| {
+                    h.fit
+                        .as_ref()
+                        .ok()
+                        .map(|f| weighted_residuals(&f.replay.residuals, &noise))
+                })
+                .collect();
+            for i in 0..weighted.len() {
+                let rival = (0..weighted.len())
+                    .filter(|&j| hypotheses[start + j].effect != hypotheses[start + i].effect)
+                    .filter(|&j| weighted[j].is_some())
+                    .min_by(|&a, &b| {
+                        hypotheses[start + a]
+                            .score
+                            .total_cmp(&hypotheses[start + b].score)
+                    });
+                hypotheses[start + i].vuong = match (&weighted[i], rival.map(|j| &weighted[j])) {
+                    (Some(this), Some(Some(other))) => vuong(this, other),
                     _ => None,
                 };
-                hypotheses[i].vuong = v;
             }
             for (i, h) in hypotheses.iter().enumerate().skip(start) {
                 if best.is_none_or(|b| h.score < hypotheses[b].score) {
@@ -1200,7 +1210,7 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                 "effect": h.effect,
                 "score": h.score,
                 "explained": h.explained,
-            "vuong_z": h.vuong,
+                "vuong_z": h.vuong,
                 "round": h.round,
             });
             if !h.variant.is_empty() {

@@ -295,8 +295,9 @@ enum Command {
         #[arg(long)]
         options: bool,
         /// Instead: time the full diagnosis of these `softgrip prove` cases
-        /// (comma-separated names, e.g. load-loss-weak,control-1): each is a
-        /// 7-load, 9-marker recording; writing it is not timed.
+        /// (comma-separated names, e.g. load-loss-weak,control-1): 8 load
+        /// steps, 8 markers and the finger, x and z; writing the recording
+        /// is not timed.
         #[arg(long, value_delimiter = ',')]
         diagnosis: Vec<String>,
     },
@@ -993,6 +994,16 @@ fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
 fn bench_diagnosis(names: &[String]) -> Result<()> {
     use softgrip::diagnose::{DiagnoseOptions, diagnose};
     let cases = softgrip::prove::cases();
+    if let Some(unknown) = names.iter().find(|n| !cases.iter().any(|c| &c.name == *n)) {
+        anyhow::bail!(
+            "no prove case {unknown}; the cases are: {}",
+            cases
+                .iter()
+                .map(|c| c.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     println!("{}", softgrip::bench::machine_description());
     println!(
         "| case | distinct loads | samples | markers (object + finger) | simulations | seconds | named | peak memory (MiB) |"
@@ -1000,14 +1011,7 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
     println!("|---|---|---|---|---|---|---|---|");
     for name in names {
         let Some((i, case)) = cases.iter().enumerate().find(|(_, c)| &c.name == name) else {
-            anyhow::bail!(
-                "no prove case {name}; the cases are: {}",
-                cases
-                    .iter()
-                    .map(|c| c.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
+            continue; // checked above
         };
         let dir =
             std::env::temp_dir().join(format!("softgrip-bench-{}-{name}", std::process::id()));
@@ -1024,11 +1028,11 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
                 bar.set_position(done as u64);
                 bar.set_message(what.to_string());
             },
-        )
-        .map_err(anyhow::Error::msg)?;
+        );
         let seconds = started.elapsed().as_secs_f64();
         bar.finish_and_clear();
-        let simulations = d.simulations;
+        std::fs::remove_dir_all(&dir).ok();
+        let d = d.map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         let mut loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
         loads.sort_by(f64::total_cmp);
         loads.dedup();
@@ -1038,16 +1042,16 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
             d.effects.join(" + ")
         };
         println!(
-            "| {name} | {} | {} | {} + {} | {simulations} | {seconds:.0} | {named} | {} |",
+            "| {name} | {} | {} | {} + {} | {} | {seconds:.0} | {named} | {} |",
             loads.len(),
             recording.samples.len(),
             recording.markers.len(),
             recording.scene.fingers.len(),
+            d.simulations,
             softgrip::bench::peak_memory_mib()
                 .map(|m| format!("{m:.1}"))
                 .unwrap_or_else(|| "n/a".into())
         );
-        std::fs::remove_dir_all(&dir).ok();
     }
     Ok(())
 }
