@@ -571,6 +571,9 @@ fn param(name: &str, lower: f64, upper: f64, log: bool) -> Option<FitParam> {
     })
 }
 
+/// The relaxing share the creep candidate's fit starts from.
+const CREEP_START_G: f64 = 0.2;
+
 /// The catalogue of candidate effects for `scene` (already carrying the
 /// current fit) and `recording`: those that apply.
 pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
@@ -616,7 +619,16 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
         out.push(Candidate {
             effect: "viscoelastic-creep",
             variant: String::new(),
-            scene: with(&|s| s.model.prony_tau = 1.0),
+            // Started inside the range, not at g = 0: with no relaxing
+            // share the relaxation time moves nothing and the fit cannot
+            // find its way out (creep-weak stayed at g 0.004, tau 1.0).
+            // The baseline fitted the material as if fully relaxed, so the
+            // start keeps that long-term modulus, E (1 - g), where it was.
+            scene: with(&|s| {
+                s.model.prony_g = CREEP_START_G;
+                s.model.prony_tau = 1.0;
+                s.object.young_modulus = e / (1.0 - CREEP_START_G);
+            }),
             params: with_modulus(vec![
                 param("prony_g", 0.0, 0.9, false),
                 param("prony_tau", 0.05, 20.0, true),

@@ -166,6 +166,21 @@ fn the_catalogue_offers_what_applies() {
     let mut timed = rec.clone();
     timed.mode = Mode::TimeSeries;
     assert!(names(&diagnose::catalogue(&timed, &rec.scene)).contains(&"viscoelastic-creep"));
+    // Creep starts with a relaxing share (at g = 0 its time constant moves
+    // nothing and the fit cannot leave), and with the long-term modulus
+    // E (1 - g) the baseline fitted, so the start changes only how fast.
+    let creep = diagnose::catalogue(&timed, &rec.scene)
+        .into_iter()
+        .find(|c| c.effect == "viscoelastic-creep")
+        .expect("creep offered");
+    let (g, e) = (creep.scene.model.prony_g, creep.scene.object.young_modulus);
+    assert!(g > 0.0 && g < 0.9, "g starts at {g}");
+    let relaxed = e * (1.0 - g);
+    assert!(
+        (relaxed - rec.scene.object.young_modulus).abs() < 1e-9 * relaxed,
+        "long-term modulus {relaxed} against the baseline's {}",
+        rec.scene.object.young_modulus
+    );
     let mut free = rec.scene.clone();
     free.support.kind = softgrip::scene::SupportKind::None;
     assert!(!names(&diagnose::catalogue(&rec, &free)).contains(&"table-friction"));
