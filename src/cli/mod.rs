@@ -994,25 +994,27 @@ fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
 fn bench_diagnosis(names: &[String]) -> Result<()> {
     use softgrip::diagnose::{DiagnoseOptions, diagnose};
     let cases = softgrip::prove::cases();
-    if let Some(unknown) = names.iter().find(|n| !cases.iter().any(|c| &c.name == *n)) {
-        anyhow::bail!(
-            "no prove case {unknown}; the cases are: {}",
-            cases
-                .iter()
-                .map(|c| c.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+    // Every name checked before the first (long) diagnosis starts.
+    let mut chosen = Vec::new();
+    for name in names {
+        let Some(found) = cases.iter().enumerate().find(|(_, c)| &c.name == name) else {
+            anyhow::bail!(
+                "no prove case {name}; the cases are: {}",
+                cases
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        };
+        chosen.push((name, found));
     }
     println!("{}", softgrip::bench::machine_description());
     println!(
         "| case | distinct loads | samples | markers (object + finger) | simulations | seconds | named | peak memory (MiB) |"
     );
     println!("|---|---|---|---|---|---|---|---|");
-    for name in names {
-        let Some((i, case)) = cases.iter().enumerate().find(|(_, c)| &c.name == name) else {
-            continue; // checked above
-        };
+    for (name, (i, case)) in chosen {
         let dir =
             std::env::temp_dir().join(format!("softgrip-bench-{}-{name}", std::process::id()));
         // The seed `softgrip prove` gives the case: the same recording.
