@@ -688,6 +688,17 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
     out
 }
 
+/// Two effects fitted together because Vuong's test could not tell them
+/// apart: what leaving each out of the pair costs in BIC.
+#[derive(Debug, Clone)]
+struct Tie {
+    first: (&'static str, String),
+    second: (&'static str, String),
+    /// BIC cost and share of the pair's residual removed.
+    needs_first: (f64, f64),
+    needs_second: (f64, f64),
+}
+
 /// One fitted model.
 #[derive(Debug, Clone)]
 pub struct ModelFit {
@@ -986,6 +997,7 @@ pub fn diagnose(
     let mut current = baseline.clone();
     let mut done = 2;
     let mut unexplained = false;
+    let mut tie: Option<Tie> = None;
     if location.significant {
         let mut tried: Vec<&'static str> = Vec::new();
         for round in 0..options.max_effects {
@@ -1063,6 +1075,86 @@ pub fn diagnose(
                 }
             }
             let Some(b) = best else { break };
+            // Two effects that both pass BIC and the share but cannot be
+            // told apart by Vuong's test are either two effects at once or
+            // one form error seen by both: fitted together, each is named
+            // when the pair still needs it (a nested comparison, BIC of the
+            // pair against the other alone).
+            let passes = |h: &Hypothesis| h.score < -BIC_THRESHOLD && h.explained >= MIN_EXPLAINED;
+            let rival = (start..hypotheses.len())
+                .filter(|&j| hypotheses[j].effect != hypotheses[b].effect)
+                .min_by(|&x, &y| hypotheses[x].score.total_cmp(&hypotheses[y].score));
+            if !accepted(&hypotheses[b])
+                && passes(&hypotheses[b])
+                && let Some(r) = rival
+                && passes(&hypotheses[r])
+                && let (Ok(hf), Ok(rf)) = (hypotheses[b].fit.clone(), hypotheses[r].fit.clone())
+            {
+                let find = |scene: &Scene, h: &Hypothesis| {
+                    catalogue(recording, scene)
+                        .into_iter()
+                        .find(|c| c.effect == h.effect && c.variant == h.variant)
+                };
+                let (Some(hc), Some(rc)) = (
+                    find(&current.scene, &hypotheses[b]),
+                    find(&hf.scene, &hypotheses[r]),
+                ) else {
+                    break;
+                };
+                let mut params = rc.params.clone();
+                params.extend(hc.params.iter().skip(1).cloned());
+                let k = current.k + hc.params.len() - 1 + rc.params.len() - 1;
+                let budget = options.candidate_evaluations_per_param * params.len();
+                progress(done, planned, "the two closest effects together");
+                let pair = fit_model(
+                    recording, &rc.scene, &params, &noise, k, options, true, budget,
+                );
+                let Ok(pair) = pair else { break };
+                // The pair needs an effect when leaving it out costs what
+                // naming one costs: the BIC gain and the share of the
+                // residual it removes.
+                let needs = |without: &ModelFit| {
+                    without.bic - pair.bic > BIC_THRESHOLD
+                        && 1.0 - pair.rss / without.rss >= MIN_EXPLAINED
+                };
+                let (needs_h, needs_r) = (needs(&rf), needs(&hf));
+                let (he, hv) = (hypotheses[b].effect, hypotheses[b].variant.clone());
+                let (re, rv) = (hypotheses[r].effect, hypotheses[r].variant.clone());
+                hypotheses.push(Hypothesis {
+                    effect: re,
+                    variant: rv.clone(),
+                    score: pair.bic - hf.bic,
+                    explained: 1.0 - pair.rss / hf.rss,
+                    fit: Ok(pair.clone()),
+                    round: round + 1,
+                    vuong: None,
+                });
+                tie = Some(Tie {
+                    first: (he, hv),
+                    second: (re, rv),
+                    needs_first: (rf.bic - pair.bic, 1.0 - pair.rss / rf.rss),
+                    needs_second: (hf.bic - pair.bic, 1.0 - pair.rss / hf.rss),
+                });
+                match (needs_h, needs_r) {
+                    (true, true) => {
+                        effects.extend([he, re]);
+                        current = pair;
+                    }
+                    (true, false) => {
+                        effects.push(he);
+                        current = hf;
+                    }
+                    (false, true) => {
+                        effects.push(re);
+                        current = rf;
+                    }
+                    (false, false) => {
+                        let ratio = (location.chi2 / location.dof.max(1) as f64).sqrt();
+                        unexplained = effects.is_empty() && ratio > UNEXPLAINED_RATIO;
+                    }
+                }
+                break;
+            }
             let h = &hypotheses[b];
             if accepted(h) {
                 effects.push(h.effect);
@@ -1079,7 +1171,7 @@ pub fn diagnose(
         }
     }
     let remaining = locate(recording, &current.replay, &noise);
-    let evidence = evidence_text(
+    let mut evidence = evidence_text(
         &location,
         &hypotheses,
         &effects,
@@ -1087,6 +1179,27 @@ pub fn diagnose(
         &baseline,
         &current,
     );
+    if let Some(t) = &tie {
+        let name = |(e, v): &(&str, String)| {
+            if v.is_empty() {
+                e.to_string()
+            } else {
+                format!("{e} ({v})")
+            }
+        };
+        evidence += &format!(
+            ". {} and {} could not be told apart alone, so they were fitted together: leaving out {} costs {:+.1} in BIC and {:.0} % of the residual, leaving out {} {:+.1} and {:.0} % (needed: over {BIC_THRESHOLD} and {:.0} %)",
+            name(&t.first),
+            name(&t.second),
+            name(&t.first),
+            t.needs_first.0,
+            100.0 * t.needs_first.1,
+            name(&t.second),
+            t.needs_second.0,
+            100.0 * t.needs_second.1,
+            100.0 * MIN_EXPLAINED
+        );
+    }
     progress(planned, planned, "done");
     let simulations = first.evaluations
         + baseline.evaluations
