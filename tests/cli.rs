@@ -342,6 +342,25 @@ fn sweep_refuses_a_bad_grid_clearly() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("a curve (one) or a grid (two)"));
 }
 
+/// `--report` names a directory: a file name is refused before any work,
+/// with the directory to use instead, and nothing is made.
+#[test]
+fn a_report_named_like_a_file_is_refused_at_once() {
+    let rec = recording("beam_ds10/gravity_a/recording.toml");
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-report-{}", std::process::id()));
+    let md = dir.join("diagnosis.md");
+    let o = softgrip(&["diagnose", &rec, "--report", md.to_str().expect("path")]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--report takes a directory"), "{err}");
+    assert!(err.contains("not a .md file"), "{err}");
+    assert!(
+        err.contains(&dir.join("diagnosis").display().to_string()),
+        "{err}"
+    );
+    assert!(!md.exists(), "nothing is made");
+}
+
 /// A scene on an .stl surface: without TetGen, one clear error (said
 /// once, not repeated by the error chain); the tetrahedralization itself
 /// is tested with the feature (tests/surface_meshes.rs).

@@ -18,11 +18,27 @@ use super::progress_bar;
 pub struct ReportArgs {
     /// Write the report (Markdown and PNG plots) in this directory
     /// [default: report-COMMAND-RECORDING in the current directory].
-    #[arg(long)]
+    #[arg(long, value_parser = report_dir)]
     report: Option<PathBuf>,
     /// Write no report.
     #[arg(long, conflicts_with = "report")]
     no_report: bool,
+}
+
+/// `--report` names a directory: a file name (`report.md`) is refused at
+/// once, before the work, rather than made into a directory after it.
+fn report_dir(s: &str) -> Result<PathBuf, String> {
+    let p = PathBuf::from(s);
+    let ext = p
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some(e @ ("md" | "html" | "txt" | "png" | "svg" | "json" | "csv" | "pdf")) => Err(format!(
+            "--report takes a directory (the report is written there as Markdown with its PNG plots), not a .{e} file: try --report {}",
+            p.with_extension("").display()
+        )),
+        _ => Ok(p),
+    }
 }
 
 impl ReportArgs {
