@@ -689,14 +689,99 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
 }
 
 /// Two effects fitted together because Vuong's test could not tell them
-/// apart: what leaving each out of the pair costs in BIC.
+/// apart alone (both lowered BIC and removed the share, neither beat the
+/// other by z 2): each is named when the pair still needs it.
 #[derive(Debug, Clone)]
-struct Tie {
-    first: (&'static str, String),
-    second: (&'static str, String),
-    /// BIC cost and share of the pair's residual removed.
-    needs_first: (f64, f64),
-    needs_second: (f64, f64),
+pub struct PairTest {
+    /// The two effects and their variants, the better-scoring first.
+    pub effects: [(&'static str, String); 2],
+    /// The two fitted together.
+    pub fit: ModelFit,
+    /// What leaving each effect out of the pair costs, in the order of
+    /// `effects`.
+    pub without: [PairNeed; 2],
+}
+
+/// What leaving one effect out of a fitted pair costs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairNeed {
+    /// BIC of the pair without it, minus the pair's (positive: needed).
+    pub bic: f64,
+    /// Share of the residual without it that the pair removes.
+    pub explained: f64,
+    /// Vuong's statistic of the pair against the pair without it, over
+    /// every coordinate (positive: the pair fits closer).
+    pub vuong: Option<f64>,
+    /// The same, with the coordinates of each sample summed first, so that
+    /// residuals correlated within a sample (one load, one instant) count
+    /// once: a t statistic on the samples.
+    pub vuong_by_sample: Option<f64>,
+    /// Named: BIC, share and z all pass the thresholds used for one effect.
+    pub needed: bool,
+}
+
+impl PairNeed {
+    fn new(pair: &ModelFit, without: &ModelFit, noise: &Noise) -> Self {
+        let p = weighted_residuals(&pair.replay.residuals, noise);
+        let w = weighted_residuals(&without.replay.residuals, noise);
+        let z = vuong(&p, &w);
+        let bic = without.bic - pair.bic;
+        let explained = 1.0 - pair.rss / without.rss;
+        Self {
+            bic,
+            explained,
+            vuong: z,
+            vuong_by_sample: vuong_by_sample(
+                &pair.replay.residuals,
+                &without.replay.residuals,
+                noise,
+            ),
+            needed: bic > BIC_THRESHOLD
+                && explained >= MIN_EXPLAINED
+                && z.is_some_and(|z| z >= VUONG_Z),
+        }
+    }
+}
+
+/// Vuong's statistic with the squared-residual differences summed per
+/// sample first: `sqrt(m) mean(D) / sd(D)` over the m samples. Positive
+/// when `a` fits closer; None with fewer than 3 samples or residuals that
+/// do not pair up.
+pub fn vuong_by_sample(a: &[Residual], b: &[Residual], noise: &Noise) -> Option<f64> {
+    if a.len() != b.len() {
+        return None;
+    }
+    let mut per: std::collections::BTreeMap<usize, f64> = std::collections::BTreeMap::new();
+    for (ra, rb) in a.iter().zip(b) {
+        if ra.sample != rb.sample || ra.marker != rb.marker {
+            return None;
+        }
+        let s = noise.sigma(ra.marker);
+        let mut d = 0.0;
+        for k in 0..3 {
+            if let Some(x) = ra.recorded[k] {
+                let ea = (ra.simulated[k] - x) / s;
+                let eb = (rb.simulated[k] - x) / s;
+                d += eb * eb - ea * ea;
+            }
+        }
+        *per.entry(ra.sample).or_insert(0.0) += d;
+    }
+    let d: Vec<f64> = per.into_values().collect();
+    if d.len() < 3 {
+        return None;
+    }
+    let m = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / m;
+    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (m - 1.0);
+    if var <= 0.0 {
+        return Some(if mean == 0.0 {
+            0.0
+        } else {
+            mean.signum() * f64::INFINITY
+        });
+    }
+    Some(m.sqrt() * mean / var.sqrt())
 }
 
 /// One fitted model.
@@ -746,6 +831,8 @@ pub struct Diagnosis {
     /// Location of what is left after the effects.
     pub remaining: Location,
     pub evidence: String,
+    /// The pair fitted when the best two effects tied, if they did.
+    pub pair: Option<PairTest>,
     /// Simulations run in all (both baseline fits and every candidate's).
     pub simulations: usize,
 }
@@ -997,7 +1084,7 @@ pub fn diagnose(
     let mut current = baseline.clone();
     let mut done = 2;
     let mut unexplained = false;
-    let mut tie: Option<Tie> = None;
+    let mut pair_test: Option<PairTest> = None;
     if location.significant {
         let mut tried: Vec<&'static str> = Vec::new();
         for round in 0..options.max_effects {
@@ -1111,34 +1198,22 @@ pub fn diagnose(
                 );
                 let Ok(pair) = pair else { break };
                 // The pair needs an effect when leaving it out costs what
-                // naming one costs: the BIC gain and the share of the
-                // residual it removes.
-                let needs = |without: &ModelFit| {
-                    without.bic - pair.bic > BIC_THRESHOLD
-                        && 1.0 - pair.rss / without.rss >= MIN_EXPLAINED
-                };
-                let (needs_h, needs_r) = (needs(&rf), needs(&hf));
+                // naming one costs: the BIC gain, the share of the residual
+                // and Vuong's z, with the same thresholds.
                 let (he, hv) = (hypotheses[b].effect, hypotheses[b].variant.clone());
                 let (re, rv) = (hypotheses[r].effect, hypotheses[r].variant.clone());
-                hypotheses.push(Hypothesis {
-                    effect: re,
-                    variant: rv.clone(),
-                    score: pair.bic - hf.bic,
-                    explained: 1.0 - pair.rss / hf.rss,
-                    fit: Ok(pair.clone()),
-                    round: round + 1,
-                    vuong: None,
-                });
-                tie = Some(Tie {
-                    first: (he, hv),
-                    second: (re, rv),
-                    needs_first: (rf.bic - pair.bic, 1.0 - pair.rss / rf.rss),
-                    needs_second: (hf.bic - pair.bic, 1.0 - pair.rss / hf.rss),
-                });
-                match (needs_h, needs_r) {
+                let test = PairTest {
+                    effects: [(he, hv), (re, rv)],
+                    without: [
+                        PairNeed::new(&pair, &rf, &noise),
+                        PairNeed::new(&pair, &hf, &noise),
+                    ],
+                    fit: pair,
+                };
+                match (test.without[0].needed, test.without[1].needed) {
                     (true, true) => {
                         effects.extend([he, re]);
-                        current = pair;
+                        current = test.fit.clone();
                     }
                     (true, false) => {
                         effects.push(he);
@@ -1153,6 +1228,7 @@ pub fn diagnose(
                         unexplained = effects.is_empty() && ratio > UNEXPLAINED_RATIO;
                     }
                 }
+                pair_test = Some(test);
                 break;
             }
             let h = &hypotheses[b];
@@ -1179,26 +1255,8 @@ pub fn diagnose(
         &baseline,
         &current,
     );
-    if let Some(t) = &tie {
-        let name = |(e, v): &(&str, String)| {
-            if v.is_empty() {
-                e.to_string()
-            } else {
-                format!("{e} ({v})")
-            }
-        };
-        evidence += &format!(
-            ". {} and {} could not be told apart alone, so they were fitted together: leaving out {} costs {:+.1} in BIC and {:.0} % of the residual, leaving out {} {:+.1} and {:.0} % (needed: over {BIC_THRESHOLD} and {:.0} %)",
-            name(&t.first),
-            name(&t.second),
-            name(&t.first),
-            t.needs_first.0,
-            100.0 * t.needs_first.1,
-            name(&t.second),
-            t.needs_second.0,
-            100.0 * t.needs_second.1,
-            100.0 * MIN_EXPLAINED
-        );
+    if let Some(t) = &pair_test {
+        evidence += &pair_text(t);
     }
     progress(planned, planned, "done");
     let simulations = first.evaluations
@@ -1207,7 +1265,8 @@ pub fn diagnose(
             .iter()
             .filter_map(|h| h.fit.as_ref().ok())
             .map(|f| f.evaluations)
-            .sum::<usize>();
+            .sum::<usize>()
+        + pair_test.as_ref().map_or(0, |t| t.fit.evaluations);
     Ok(Diagnosis {
         baseline,
         noise,
@@ -1218,8 +1277,41 @@ pub fn diagnose(
         final_fit: current,
         remaining,
         evidence,
+        pair: pair_test,
         simulations,
     })
+}
+
+/// The pair test in words, for the evidence.
+fn pair_text(t: &PairTest) -> String {
+    let name = |(e, v): &(&str, String)| {
+        if v.is_empty() {
+            e.to_string()
+        } else {
+            format!("{e} ({v})")
+        }
+    };
+    let z = |z: Option<f64>| z.map_or("-".to_string(), |z| format!("{z:+.1}"));
+    let cost = |i: usize| {
+        let w = &t.without[i];
+        format!(
+            "leaving out {} costs {:+.1} in BIC, {:.0} % of the residual, z {} ({} by sample): {}",
+            name(&t.effects[i]),
+            w.bic,
+            100.0 * w.explained,
+            z(w.vuong),
+            z(w.vuong_by_sample),
+            if w.needed { "needed" } else { "not needed" }
+        )
+    };
+    format!(
+        ". {} and {} could not be told apart alone, so they were fitted together; {}; {} (needed: BIC over {BIC_THRESHOLD}, {:.0} % and z {VUONG_Z})",
+        name(&t.effects[0]),
+        name(&t.effects[1]),
+        cost(0),
+        cost(1),
+        100.0 * MIN_EXPLAINED
+    )
 }
 
 fn evidence_text(
@@ -1353,7 +1445,29 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
         })
         .collect();
     let _ = recording;
+    let pair = d.pair.as_ref().map(|t| {
+        let effect = |(e, v): &(&str, String)| {
+            if v.is_empty() {
+                serde_json::json!({"effect": e})
+            } else {
+                serde_json::json!({"effect": e, "variant": v})
+            }
+        };
+        serde_json::json!({
+            "effects": [effect(&t.effects[0]), effect(&t.effects[1])],
+            "params": params(&t.fit),
+            "nrmse_all": t.fit.errors.nrmse_all,
+            "without": t.without.iter().map(|w| serde_json::json!({
+                "bic": w.bic,
+                "explained": w.explained,
+                "vuong_z": w.vuong,
+                "vuong_z_by_sample": w.vuong_by_sample,
+                "needed": w.needed,
+            })).collect::<Vec<_>>(),
+        })
+    });
     serde_json::json!({
+        "pair": pair,
         "baseline": {
             "nrmse": d.baseline.errors.nrmse,
             "nrmse_all": d.baseline.errors.nrmse_all,

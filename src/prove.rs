@@ -545,7 +545,7 @@ pub fn report(outcomes: &[Outcome]) -> String {
         }
         s.push('\n');
     }
-    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect is 2 or more), the share removed and z.\n\n");
+    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it).\n\n");
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
         let mut line = format!("- **{}**: ", o.case.name);
@@ -576,6 +576,32 @@ pub fn report(outcomes: &[Outcome]) -> String {
             })
             .collect();
         line.push_str(&parts.join("; "));
+        if let Some(t) = &d.pair {
+            let name = |(e, v): &(&str, String)| {
+                if v.is_empty() {
+                    e.to_string()
+                } else {
+                    format!("{e} ({v})")
+                }
+            };
+            let z = |z: Option<f64>| z.map_or("-".into(), |z| format!("{z:+.1}"));
+            let _ = write!(
+                line,
+                "; tied, fitted together: without {} {:+.0} / {:.0} % / z {} ({} by sample){}, without {} {:+.0} / {:.0} % / z {} ({} by sample){}",
+                name(&t.effects[0]),
+                t.without[0].bic,
+                100.0 * t.without[0].explained,
+                z(t.without[0].vuong),
+                z(t.without[0].vuong_by_sample),
+                if t.without[0].needed { ", needed" } else { "" },
+                name(&t.effects[1]),
+                t.without[1].bic,
+                100.0 * t.without[1].explained,
+                z(t.without[1].vuong),
+                z(t.without[1].vuong_by_sample),
+                if t.without[1].needed { ", needed" } else { "" },
+            );
+        }
         let _ = writeln!(s, "{line}");
     }
     s

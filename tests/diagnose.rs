@@ -241,3 +241,48 @@ fn vuong_tells_the_closer_of_two_models() {
     assert!(tie.abs() < 2.0, "equally close: z = {tie}");
     assert_eq!(diagnose::vuong(&a, &a[1..]), None, "unpaired");
 }
+
+/// Summed per sample first, Vuong's statistic does not count an
+/// improvement confined to one sample as systematic, which the statistic
+/// over every coordinate does; a bias in every sample it still sees.
+#[test]
+fn vuong_by_sample_counts_each_sample_once() {
+    let sigma = 1e-4;
+    let truth = residuals(9, 8, sigma, |_, _| 0.0);
+    let noise = Noise {
+        object_m: sigma,
+        finger_m: sigma,
+        object_count: 0,
+        finger_count: 0,
+    };
+    let shifted = |by: &dyn Fn(usize) -> f64| -> Vec<Residual> {
+        truth
+            .iter()
+            .map(|r| Residual {
+                simulated: r.simulated + DVec3::new(by(r.sample), 0.0, by(r.sample)),
+                ..*r
+            })
+            .collect()
+    };
+    // Off by three noise levels in one sample of eight.
+    let one = shifted(&|s| if s == 3 { 3.0 * sigma } else { 0.0 });
+    let w = |r: &[Residual]| diagnose::weighted_residuals(r, &noise);
+    let plain = diagnose::vuong(&w(&truth), &w(&one)).expect("paired");
+    let by = diagnose::vuong_by_sample(&truth, &one, &noise).expect("paired");
+    assert!(
+        plain > 2.0,
+        "over every coordinate it looks significant: {plain}"
+    );
+    assert!(by.abs() < 2.0, "one sample is one observation: {by}");
+    // Off by one noise level in every sample.
+    let every = shifted(&|_| sigma);
+    let by = diagnose::vuong_by_sample(&truth, &every, &noise).expect("paired");
+    assert!(by > 2.0, "a bias in every sample: {by}");
+    let back = diagnose::vuong_by_sample(&every, &truth, &noise).expect("paired");
+    assert!((by + back).abs() < 1e-12, "antisymmetric: {by} and {back}");
+    assert_eq!(
+        diagnose::vuong_by_sample(&truth, &every[1..], &noise),
+        None,
+        "unpaired"
+    );
+}

@@ -84,6 +84,22 @@ pub fn diagnose(
             Err(e) => println!("| {} | {name} | failed | | | | {e} |", h.round + 1),
         }
     }
+    if let Some(t) = &d.pair {
+        let name = |(e, v): &(&str, String)| {
+            if v.is_empty() {
+                e.to_string()
+            } else {
+                format!("{e} ({v})")
+            }
+        };
+        println!(
+            "| tie | {} + {}, together | | | | {:.4} | {} |",
+            name(&t.effects[0]),
+            name(&t.effects[1]),
+            t.fit.errors.nrmse_all,
+            params(&t.fit.params)
+        );
+    }
     println!("verdict: {}", d.verdict());
     if !d.effects.is_empty() {
         println!("effects: {}", d.effects.join(" + "));
