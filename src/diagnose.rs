@@ -1210,7 +1210,18 @@ pub fn diagnose(
                     ],
                     fit: pair,
                 };
-                match (test.without[0].needed, test.without[1].needed) {
+                // One place left for an effect: the pair names the one it
+                // needs more.
+                let room = options.max_effects.saturating_sub(effects.len());
+                let mut needed = (test.without[0].needed, test.without[1].needed);
+                if needed == (true, true) && room < 2 {
+                    needed = if test.without[0].bic >= test.without[1].bic {
+                        (true, false)
+                    } else {
+                        (false, true)
+                    };
+                }
+                match needed {
                     (true, true) => {
                         effects.extend([he, re]);
                         current = test.fit.clone();

@@ -54,6 +54,16 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
     ] {
         assert!(v["verdict"].get(key).is_some(), "verdict.{key}");
     }
+    // One effect at most, even when a tie is fitted as a pair.
+    let named = v["verdict"]["effects"].as_array().expect("effects");
+    assert!(named.len() <= 1, "max_effects 1: {named:?}");
+    // softgrip's extension: the pair fitted when the best two tied, null
+    // when they did not.
+    let pair = &v["pair"];
+    assert!(
+        pair.is_null() || pair["without"].as_array().is_some_and(|w| w.len() == 2),
+        "{pair}"
+    );
     let effect = v["verdict"]["effect"].as_str().expect("effect");
     let names = [
         "none",
