@@ -254,17 +254,23 @@ pub fn vuong(a: &[f64], b: &[f64]) -> Option<f64> {
         return None;
     }
     let d: Vec<f64> = a.iter().zip(b).map(|(a, b)| b * b - a * a).collect();
+    Some(mean_over_error(&d))
+}
+
+/// `sqrt(n) mean(d) / sd(d)`: infinite with the sign of the mean when
+/// every `d` is alike, 0 when they are all 0.
+fn mean_over_error(d: &[f64]) -> f64 {
     let n = d.len() as f64;
     let mean = d.iter().sum::<f64>() / n;
     let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
     if var <= 0.0 {
-        return Some(if mean == 0.0 {
+        return if mean == 0.0 {
             0.0
         } else {
             mean.signum() * f64::INFINITY
-        });
+        };
     }
-    Some(n.sqrt() * mean / var.sqrt())
+    n.sqrt() * mean / var.sqrt()
 }
 
 /// Is a chi-square of `chi2` on `dof` degrees of freedom beyond three of
@@ -702,6 +708,23 @@ pub struct PairTest {
     pub without: [PairNeed; 2],
 }
 
+impl PairTest {
+    /// Effect `i` of the pair, with its variant: "heterogeneous-stiffness
+    /// (bottom half)".
+    pub fn label(&self, i: usize) -> String {
+        effect_label(self.effects[i].0, &self.effects[i].1)
+    }
+}
+
+/// An effect with its variant, as the reports print it.
+pub fn effect_label(effect: &str, variant: &str) -> String {
+    if variant.is_empty() {
+        effect.to_string()
+    } else {
+        format!("{effect} ({variant})")
+    }
+}
+
 /// What leaving one effect out of a fitted pair costs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairNeed {
@@ -768,20 +791,7 @@ pub fn vuong_by_sample(a: &[Residual], b: &[Residual], noise: &Noise) -> Option<
         *per.entry(ra.sample).or_insert(0.0) += d;
     }
     let d: Vec<f64> = per.into_values().collect();
-    if d.len() < 3 {
-        return None;
-    }
-    let m = d.len() as f64;
-    let mean = d.iter().sum::<f64>() / m;
-    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (m - 1.0);
-    if var <= 0.0 {
-        return Some(if mean == 0.0 {
-            0.0
-        } else {
-            mean.signum() * f64::INFINITY
-        });
-    }
-    Some(m.sqrt() * mean / var.sqrt())
+    (d.len() >= 3).then(|| mean_over_error(&d))
 }
 
 /// One fitted model.
@@ -1295,19 +1305,12 @@ pub fn diagnose(
 
 /// The pair test in words, for the evidence.
 fn pair_text(t: &PairTest) -> String {
-    let name = |(e, v): &(&str, String)| {
-        if v.is_empty() {
-            e.to_string()
-        } else {
-            format!("{e} ({v})")
-        }
-    };
     let z = |z: Option<f64>| z.map_or("-".to_string(), |z| format!("{z:+.1}"));
     let cost = |i: usize| {
         let w = &t.without[i];
         format!(
             "leaving out {} costs {:+.1} in BIC, {:.0} % of the residual, z {} ({} by sample): {}",
-            name(&t.effects[i]),
+            t.label(i),
             w.bic,
             100.0 * w.explained,
             z(w.vuong),
@@ -1317,8 +1320,8 @@ fn pair_text(t: &PairTest) -> String {
     };
     format!(
         ". {} and {} could not be told apart alone, so they were fitted together; {}; {} (needed: BIC over {BIC_THRESHOLD}, {:.0} % and z {VUONG_Z})",
-        name(&t.effects[0]),
-        name(&t.effects[1]),
+        t.label(0),
+        t.label(1),
         cost(0),
         cost(1),
         100.0 * MIN_EXPLAINED
@@ -1344,13 +1347,7 @@ fn evidence_text(
         v.sort_by(|a, b| a.score.total_cmp(&b.score));
         v
     };
-    let name = |h: &Hypothesis| {
-        if h.variant.is_empty() {
-            h.effect.to_string()
-        } else {
-            format!("{} ({})", h.effect, h.variant)
-        }
-    };
+    let name = |h: &Hypothesis| effect_label(h.effect, &h.variant);
     if effects.is_empty() {
         let r = ranked(0);
         let best = r

@@ -561,11 +561,7 @@ pub fn report(outcomes: &[Outcome]) -> String {
         let parts: Vec<String> = ranked
             .iter()
             .map(|h| {
-                let name = if h.variant.is_empty() {
-                    h.effect.to_string()
-                } else {
-                    format!("{} ({})", h.effect, h.variant)
-                };
+                let name = diagnose::effect_label(h.effect, &h.variant);
                 format!(
                     "r{} {name} {:+.0} / {:.0} %{}",
                     h.round + 1,
@@ -577,30 +573,22 @@ pub fn report(outcomes: &[Outcome]) -> String {
             .collect();
         line.push_str(&parts.join("; "));
         if let Some(t) = &d.pair {
-            let name = |(e, v): &(&str, String)| {
-                if v.is_empty() {
-                    e.to_string()
-                } else {
-                    format!("{e} ({v})")
-                }
-            };
             let z = |z: Option<f64>| z.map_or("-".into(), |z| format!("{z:+.1}"));
-            let _ = write!(
-                line,
-                "; tied, fitted together: without {} {:+.0} / {:.0} % / z {} ({} by sample){}, without {} {:+.0} / {:.0} % / z {} ({} by sample){}",
-                name(&t.effects[0]),
-                t.without[0].bic,
-                100.0 * t.without[0].explained,
-                z(t.without[0].vuong),
-                z(t.without[0].vuong_by_sample),
-                if t.without[0].needed { ", needed" } else { "" },
-                name(&t.effects[1]),
-                t.without[1].bic,
-                100.0 * t.without[1].explained,
-                z(t.without[1].vuong),
-                z(t.without[1].vuong_by_sample),
-                if t.without[1].needed { ", needed" } else { "" },
-            );
+            let without: Vec<String> = (0..2)
+                .map(|i| {
+                    let w = &t.without[i];
+                    format!(
+                        "without {} {:+.0} / {:.0} % / z {} ({} by sample){}",
+                        t.label(i),
+                        w.bic,
+                        100.0 * w.explained,
+                        z(w.vuong),
+                        z(w.vuong_by_sample),
+                        if w.needed { ", needed" } else { "" }
+                    )
+                })
+                .collect();
+            let _ = write!(line, "; tied, fitted together: {}", without.join(", "));
         }
         let _ = writeln!(s, "{line}");
     }

@@ -66,11 +66,7 @@ pub fn diagnose(
             .unwrap_or(std::cmp::Ordering::Equal)
     });
     for h in ranked {
-        let name = if h.variant.is_empty() {
-            h.effect.to_string()
-        } else {
-            format!("{} ({})", h.effect, h.variant)
-        };
+        let name = diagnose::effect_label(h.effect, &h.variant);
         match &h.fit {
             Ok(f) => println!(
                 "| {} | {name} | {:+.1} | {:.0} % | {} | {:.4} | {} |",
@@ -85,17 +81,10 @@ pub fn diagnose(
         }
     }
     if let Some(t) = &d.pair {
-        let name = |(e, v): &(&str, String)| {
-            if v.is_empty() {
-                e.to_string()
-            } else {
-                format!("{e} ({v})")
-            }
-        };
         println!(
             "| tie | {} + {}, together | | | | {:.4} | {} |",
-            name(&t.effects[0]),
-            name(&t.effects[1]),
+            t.label(0),
+            t.label(1),
             t.fit.errors.nrmse_all,
             params(&t.fit.params)
         );
