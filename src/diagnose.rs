@@ -20,7 +20,9 @@
 //!    unloading, late at constant load).
 //! 4. **Explain.** A catalogue of candidate effects, each a model
 //!    extension of issue 6 with its own parameters, is fitted (its
-//!    parameters plus the modulus, from the current fit). Candidates are
+//!    parameters plus the modulus, from the current fit). Besides the
+//!    spec's six, time series get `damping` (the springs' damping ratio):
+//!    a swing that dies faster or slower than the model's. Candidates are
 //!    compared by the Bayesian information criterion of a Gaussian
 //!    likelihood with the noise level free, `n ln(RSS / n) + k ln n` (RSS
 //!    the noise-weighted residual sum of squares): it needs no refits
@@ -45,6 +47,7 @@
 //!    candidate explains).
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::DVec3;
 
@@ -641,6 +644,19 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             ]),
         });
     }
+    if recording.mode == Mode::TimeSeries {
+        // Dissipation: the springs are damped at a ratio of their critical
+        // damping (1 as the thesis sets it); a real material can lose more
+        // or less energy per swing. Quasi-static samples are at rest, where
+        // damping changes nothing, so it is offered for time series only.
+        let d = scene.model.damping_ratio.max(0.01);
+        out.push(Candidate {
+            effect: "damping",
+            variant: String::new(),
+            scene: scene.clone(),
+            params: with_modulus(vec![param("damping_ratio", d / 10.0, d * 30.0, true)]),
+        });
+    }
     if !scene.fingers.is_empty() {
         out.push(Candidate {
             effect: "finger-friction",
@@ -871,8 +887,10 @@ fn fit_model(
     noise: &Noise,
     k_total: usize,
     options: &DiagnoseOptions,
-    design: bool,
+    design_points: bool,
     budget: usize,
+    threads: usize,
+    starts: &[Vec<f64>],
 ) -> Result<ModelFit, String> {
     let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
         let mut s = scene.clone();
@@ -909,7 +927,9 @@ fn fit_model(
                 .filter(|u| !cache.contains_key(&key(u)))
                 .cloned()
                 .collect();
-            let threads = if todo.len() == 1 { 0 } else { 1 };
+            // A lone simulation takes the helper thread (unless told one
+            // thread); several at once take a core each.
+            let threads = if todo.len() == 1 { threads } else { 1 };
             let results = parallel_map(
                 &todo,
                 options.workers,
@@ -936,19 +956,20 @@ fn fit_model(
         let r0 = evaluate(std::slice::from_ref(&start)).remove(0);
         let f0 = cost(&r0);
         if !f0.is_finite() {
-            return Err(run(&value_at(&start), 0)
+            return Err(run(&value_at(&start), threads)
                 .err()
                 .unwrap_or_else(|| "the start failed".into()));
         }
         // A small space-filling design (2 points per parameter) against
         // local minima, then Levenberg-Marquardt from the best.
-        let design: Vec<Vec<f64>> = if design {
-            (1..=2 * params.len())
-                .map(|k| crate::fit::halton(k, params.len()))
-                .collect()
-        } else {
-            Vec::new()
-        };
+        // Other starts the caller knows of (values, not unit), first.
+        let mut design: Vec<Vec<f64>> = starts
+            .iter()
+            .map(|v| params.iter().zip(v).map(|(p, x)| p.unit(*x)).collect())
+            .collect();
+        if design_points {
+            design.extend((1..=2 * params.len()).map(|k| crate::fit::halton(k, params.len())));
+        }
         let (mut best_u, mut best_r, mut best_f) = (start.clone(), r0, f0);
         for (u, r) in design.iter().zip(evaluate(&design)) {
             let f = cost(&r);
@@ -980,7 +1001,7 @@ fn fit_model(
         best_u
     };
     let values = value_at(&best_u);
-    let replay = run(&values, 0)?;
+    let replay = run(&values, threads)?;
     let (rss, n) = weighted_rss(&replay.residuals, noise);
     let mut fitted_scene = scene.clone();
     for (p, v) in params.iter().zip(&values) {
@@ -1070,6 +1091,8 @@ pub fn diagnose(
         options,
         true,
         options.max_evaluations,
+        0,
+        &[],
     )?;
     let loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
     let breaks: Vec<usize> = (1..loads.len().saturating_sub(1))
@@ -1087,6 +1110,8 @@ pub fn diagnose(
         options,
         false, // from the first fit's optimum: the weights changed a little
         options.max_evaluations / 2,
+        0,
+        &[],
     )?;
     let location = locate(recording, &baseline.replay, &noise);
     let mut hypotheses = Vec::new();
@@ -1120,14 +1145,48 @@ pub fn diagnose(
             }
             let mut best: Option<usize> = None;
             let start = hypotheses.len();
-            for c in cands {
-                progress(done, planned, c.effect);
-                let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
-                let budget = options.candidate_evaluations_per_param * c.params.len();
-                let fit = fit_model(
-                    recording, &c.scene, &c.params, &noise, k, options, true, budget,
-                );
-                done += 1;
+            // The candidates are fitted side by side, one per core, each
+            // simulation on one thread: a fit's own steps are partly serial
+            // (each trial of the local search is one simulation), so this
+            // keeps both cores busier than one fit at a time with the
+            // helper thread. The results do not depend on it (one and two
+            // threads give the same sums bit for bit).
+            let (outer, inner) = if cands.len() > 1 {
+                (options.workers, 1)
+            } else {
+                (1, 0)
+            };
+            let single = DiagnoseOptions {
+                workers: if cands.len() > 1 { 1 } else { options.workers },
+                ..options.clone()
+            };
+            let finished = AtomicUsize::new(done);
+            let fits = parallel_map(
+                &cands,
+                outer,
+                |c| {
+                    progress(finished.load(Ordering::Relaxed), planned, c.effect);
+                    let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
+                    let budget = options.candidate_evaluations_per_param * c.params.len();
+                    let fit = fit_model(
+                        recording,
+                        &c.scene,
+                        &c.params,
+                        &noise,
+                        k,
+                        &single,
+                        true,
+                        budget,
+                        inner,
+                        &[],
+                    );
+                    finished.fetch_add(1, Ordering::Relaxed);
+                    fit
+                },
+                &|_| {},
+            );
+            done += cands.len();
+            for (c, fit) in cands.into_iter().zip(fits) {
                 let (score, explained) = match &fit {
                     Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
                     Err(_) => (f64::INFINITY, 0.0),
@@ -1203,8 +1262,35 @@ pub fn diagnose(
                 let k = current.k + hc.params.len() - 1 + rc.params.len() - 1;
                 let budget = options.candidate_evaluations_per_param * params.len();
                 progress(done, planned, "the two closest effects together");
+                // The pair starts where the better one ended, the other
+                // at its catalogue start (no effect, or for table friction
+                // a frictionless table, which is not the fixed bottom the
+                // better one was fitted on), and also from both effects at
+                // their own optima, with either one's modulus: otherwise
+                // the pair could end worse than the better one alone.
+                let at = |f: &ModelFit, name: &str| {
+                    f.params.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
+                };
+                let starts: Vec<Vec<f64>> = [&hf, &rf]
+                    .iter()
+                    .map(|modulus| {
+                        params
+                            .iter()
+                            .map(|p| {
+                                let name = p.param.name;
+                                if name == "young_modulus" {
+                                    at(modulus, name)
+                                } else {
+                                    at(&rf, name).or_else(|| at(&hf, name))
+                                }
+                                .or_else(|| params::get(&rc.scene, name).ok().flatten())
+                                .unwrap_or(p.lower)
+                            })
+                            .collect()
+                    })
+                    .collect();
                 let pair = fit_model(
-                    recording, &rc.scene, &params, &noise, k, options, true, budget,
+                    recording, &rc.scene, &params, &noise, k, options, true, budget, 0, &starts,
                 );
                 let Ok(pair) = pair else { break };
                 // The pair needs an effect when leaving it out costs what

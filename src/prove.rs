@@ -511,6 +511,7 @@ pub fn report(outcomes: &[Outcome]) -> String {
         "finger-friction",
         "heterogeneous-stiffness",
         "load-loss",
+        "damping",
         "unexplained",
     ];
     s.push_str("\n## Confusion matrix\n\nRows: what was hidden; columns: what the diagnosis named (a two-effect case counts once per effect hidden, under each effect named).\n\n| hidden \\ named |");

@@ -860,13 +860,8 @@ pub fn diagnosis(
         d.hypotheses.iter().filter(|h| h.round == 0).collect();
     first.sort_by(|a, b| a.score.total_cmp(&b.score));
     if !first.is_empty() {
-        let name = |h: &crate::diagnose::Hypothesis| {
-            if h.variant.is_empty() {
-                h.effect.to_string()
-            } else {
-                format!("{} ({})", h.effect, h.variant)
-            }
-        };
+        let name =
+            |h: &crate::diagnose::Hypothesis| crate::diagnose::effect_label(h.effect, &h.variant);
         let bars = plot::Bars {
             title: "Candidates: BIC gain over the baseline (higher is better; accepted in green)"
                 .into(),

@@ -165,7 +165,20 @@ fn the_catalogue_offers_what_applies() {
     );
     let mut timed = rec.clone();
     timed.mode = Mode::TimeSeries;
-    assert!(names(&diagnose::catalogue(&timed, &rec.scene)).contains(&"viscoelastic-creep"));
+    let timed_names = names(&diagnose::catalogue(&timed, &rec.scene));
+    assert!(timed_names.contains(&"viscoelastic-creep"));
+    // Damping changes nothing at rest: offered for time series only, with
+    // the scene's ratio inside its range.
+    assert!(timed_names.contains(&"damping"));
+    assert!(!names(&all).contains(&"damping"));
+    let damping = diagnose::catalogue(&timed, &rec.scene)
+        .into_iter()
+        .find(|c| c.effect == "damping")
+        .expect("damping offered");
+    let ratio = &damping.params[1];
+    assert_eq!(ratio.param.name, "damping_ratio");
+    let d = rec.scene.model.damping_ratio;
+    assert!(ratio.lower < d && d < ratio.upper && ratio.log);
     // Creep starts with a relaxing share (at g = 0 its time constant moves
     // nothing and the fit cannot leave), and with the long-term modulus
     // E (1 - g) the baseline fitted, so the start changes only how fast.

@@ -74,6 +74,7 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         "finger-friction",
         "heterogeneous-stiffness",
         "load-loss",
+        "damping",
     ];
     assert!(names.contains(&effect), "{effect}");
     let hypotheses = v["hypotheses"].as_array().expect("hypotheses");

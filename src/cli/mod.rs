@@ -164,7 +164,8 @@ enum Command {
     /// tau_c), locate what it still misses against the noise, fit a
     /// catalogue of candidate effects (table-friction, strain-stiffening,
     /// viscoelastic-creep, finger-friction, heterogeneous-stiffness,
-    /// load-loss) and name the one(s) that explain it, or "none".
+    /// load-loss; damping for time series) and name the one(s) that
+    /// explain it, or "none".
     Diagnose {
         recording: PathBuf,
         /// Baseline parameters to keep at the scene's values (e.g. alpha).

@@ -226,11 +226,12 @@ fn ranking(ui: &mut egui::Ui, d: &Diagnosis) {
     let label_width = 0.58 * width;
     for (i, h) in rows.iter().enumerate() {
         let top = rect.top() + i as f32 * row_height;
-        let name = if h.variant.is_empty() {
-            format!("{}{}", if h.round > 0 { "+ " } else { "" }, h.effect)
-        } else {
-            format!("{} ({})", h.effect, h.variant)
-        };
+        // A later round's candidate was fitted beside the effects found.
+        let name = format!(
+            "{}{}",
+            if h.round > 0 { "+ " } else { "" },
+            diagnose::effect_label(h.effect, &h.variant)
+        );
         painter.text(
             egui::pos2(rect.left(), top + 0.5 * row_height),
             egui::Align2::LEFT_CENTER,
