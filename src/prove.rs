@@ -369,6 +369,19 @@ pub fn moved_by_effect(c: &Case, dir: &Path) -> Result<Vec<(String, f64)>, Strin
     Ok(out)
 }
 
+/// The cases whose names contain `filter` (all for ""), each with its
+/// noise seed: by its place in the whole suite, so that `--only` (and
+/// `softgrip bench --diagnosis`) make the very recording the full run
+/// makes.
+pub fn seeded(filter: &str) -> Vec<(u64, Case)> {
+    cases()
+        .into_iter()
+        .enumerate()
+        .filter(|(_, c)| c.name.contains(filter))
+        .map(|(i, c)| (100 + i as u64, c))
+        .collect()
+}
+
 /// Runs the cases whose names contain `filter` (all for ""), writing the
 /// recordings under `dir`; `progress` gets (case index, cases, name).
 pub fn run(
@@ -377,19 +390,16 @@ pub fn run(
     options: &DiagnoseOptions,
     progress: &dyn Fn(usize, usize, &str),
 ) -> Vec<Outcome> {
-    let chosen: Vec<Case> = cases()
-        .into_iter()
-        .filter(|c| c.name.contains(filter))
-        .collect();
+    let chosen = seeded(filter);
     let total = chosen.len();
     chosen
         .into_iter()
         .enumerate()
-        .map(|(i, case)| {
+        .map(|(i, (seed, case))| {
             progress(i, total, &case.name);
             let started = std::time::Instant::now();
             let case_dir: PathBuf = dir.join(&case.name);
-            let diagnosis = write_case(&case, &case_dir, 100 + i as u64)
+            let diagnosis = write_case(&case, &case_dir, seed)
                 .and_then(|rec| diagnose::diagnose(&rec, options, &|_, _, _| {}));
             let seconds = started.elapsed().as_secs_f64();
             let moved = moved_by_effect(&case, &case_dir).unwrap_or_default();

@@ -136,3 +136,29 @@ fn the_candidates_search_ranges_cover_every_hidden_value() {
         }
     }
 }
+
+/// `--only` and `softgrip bench --diagnosis` make the recording the full
+/// run makes: a case's noise seed is its place in the whole suite, not in
+/// the selection.
+#[test]
+fn a_case_has_its_seed_whatever_else_is_run() {
+    let all = prove::seeded("");
+    assert_eq!(all.len(), prove::cases().len());
+    let mut seeds: Vec<u64> = all.iter().map(|(s, _)| *s).collect();
+    seeds.dedup();
+    assert_eq!(seeds.len(), all.len(), "one seed per case");
+    for (seed, case) in &all {
+        let alone = prove::seeded(&case.name);
+        let mine = alone
+            .iter()
+            .find(|(_, c)| c.name == case.name)
+            .expect("the case selects itself");
+        assert_eq!(mine.0, *seed, "{}", case.name);
+    }
+    // A selection of several keeps each one's seed.
+    let some = prove::seeded("load-loss");
+    assert!(some.len() >= 3);
+    for (seed, case) in &some {
+        assert!(all.iter().any(|(s, c)| s == seed && c.name == case.name));
+    }
+}

@@ -994,16 +994,16 @@ fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
 /// Wall time of the whole diagnosis of `softgrip prove` cases.
 fn bench_diagnosis(names: &[String]) -> Result<()> {
     use softgrip::diagnose::{DiagnoseOptions, diagnose};
-    let cases = softgrip::prove::cases();
+    let cases = softgrip::prove::seeded("");
     // Every name checked before the first (long) diagnosis starts.
     let mut chosen = Vec::new();
     for name in names {
-        let Some(found) = cases.iter().enumerate().find(|(_, c)| &c.name == name) else {
+        let Some(found) = cases.iter().find(|(_, c)| &c.name == name) else {
             anyhow::bail!(
                 "no prove case {name}; the cases are: {}",
                 cases
                     .iter()
-                    .map(|c| c.name.as_str())
+                    .map(|(_, c)| c.name.as_str())
                     .collect::<Vec<_>>()
                     .join(", ")
             );
@@ -1015,12 +1015,12 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
         "| case | distinct loads | samples | markers (object + finger) | simulations | seconds | named | peak memory (MiB) |"
     );
     println!("|---|---|---|---|---|---|---|---|");
-    for (name, (i, case)) in chosen {
+    for (name, (seed, case)) in chosen {
         let dir =
             std::env::temp_dir().join(format!("softgrip-bench-{}-{name}", std::process::id()));
         // The seed `softgrip prove` gives the case: the same recording.
         let recording =
-            softgrip::prove::write_case(case, &dir, 100 + i as u64).map_err(anyhow::Error::msg)?;
+            softgrip::prove::write_case(case, &dir, *seed).map_err(anyhow::Error::msg)?;
         let bar = progress_bar(1, "fits");
         let started = std::time::Instant::now();
         let d = diagnose(
