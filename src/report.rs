@@ -829,11 +829,10 @@ pub fn diagnosis(
     };
     let _ = writeln!(
         md,
-        "\n- baseline fit: {}\n- with the effects: {}\n- noise, estimated from the data (second differences of the residual along the samples, per marker and axis): {:.3} mm on object markers, {:.3} mm on fingers\n",
+        "\n- baseline fit: {}\n- with the effects: {}\n- noise, estimated from the data (second differences of the residual along the samples, per marker and axis): {}\n",
         params(&d.baseline.params),
         params(&d.final_fit.params),
-        1e3 * d.noise.object_m,
-        1e3 * d.noise.finger_m
+        d.noise.describe()
     );
     let l = &d.location;
     let _ = writeln!(

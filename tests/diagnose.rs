@@ -299,3 +299,28 @@ fn vuong_by_sample_counts_each_sample_once() {
         "unpaired"
     );
 }
+
+/// A recording without a finger has no finger noise of its own: the level
+/// it borrowed from the object is not reported as measured.
+#[test]
+fn noise_not_measured_is_not_reported_as_measured() {
+    let both = diagnose::Noise {
+        object_m: 0.084e-3,
+        finger_m: 0.098e-3,
+        object_count: 40,
+        finger_count: 12,
+    };
+    assert_eq!(
+        both.describe(),
+        "0.084 mm on object markers, 0.098 mm on fingers"
+    );
+    let no_finger = diagnose::Noise {
+        finger_m: 0.084e-3,
+        finger_count: 0,
+        ..both
+    };
+    assert_eq!(
+        no_finger.describe(),
+        "0.084 mm on object markers, none measured on fingers"
+    );
+}

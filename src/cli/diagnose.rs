@@ -49,11 +49,7 @@ pub fn diagnose(
         d.baseline.errors.nrmse,
         d.baseline.errors.nrmse_all
     );
-    println!(
-        "noise (from the data): {:.3} mm on object markers, {:.3} mm on fingers",
-        d.noise.object_m * 1e3,
-        d.noise.finger_m * 1e3
-    );
+    println!("noise (from the data): {}", d.noise.describe());
     println!("mismatch: {}", d.location.description);
     println!(
         "| round | candidate | BIC change | residual removed | Vuong z against the best other effect | NRMSE all | parameters |"
