@@ -47,7 +47,6 @@
 //!    candidate explains).
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::DVec3;
 
@@ -907,7 +906,6 @@ fn fit_model(
     options: &DiagnoseOptions,
     design_points: bool,
     budget: usize,
-    threads: usize,
     starts: &[Vec<f64>],
 ) -> Result<ModelFit, String> {
     let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
@@ -945,9 +943,7 @@ fn fit_model(
                 .filter(|u| !cache.contains_key(&key(u)))
                 .cloned()
                 .collect();
-            // A lone simulation takes the helper thread (unless told one
-            // thread); several at once take a core each.
-            let threads = if todo.len() == 1 { threads } else { 1 };
+            let threads = if todo.len() == 1 { 0 } else { 1 };
             let results = parallel_map(
                 &todo,
                 options.workers,
@@ -974,7 +970,7 @@ fn fit_model(
         let r0 = evaluate(std::slice::from_ref(&start)).remove(0);
         let f0 = cost(&r0);
         if !f0.is_finite() {
-            return Err(run(&value_at(&start), threads)
+            return Err(run(&value_at(&start), 0)
                 .err()
                 .unwrap_or_else(|| "the start failed".into()));
         }
@@ -1019,7 +1015,7 @@ fn fit_model(
         best_u
     };
     let values = value_at(&best_u);
-    let replay = run(&values, threads)?;
+    let replay = run(&values, 0)?;
     let (rss, n) = weighted_rss(&replay.residuals, noise);
     let mut fitted_scene = scene.clone();
     for (p, v) in params.iter().zip(&values) {
@@ -1109,7 +1105,6 @@ pub fn diagnose(
         options,
         true,
         options.max_evaluations,
-        0,
         &[],
     )?;
     let loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
@@ -1128,7 +1123,6 @@ pub fn diagnose(
         options,
         false, // from the first fit's optimum: the weights changed a little
         options.max_evaluations / 2,
-        0,
         &[],
     )?;
     let location = locate(recording, &baseline.replay, &noise);
@@ -1163,48 +1157,22 @@ pub fn diagnose(
             }
             let mut best: Option<usize> = None;
             let start = hypotheses.len();
-            // The candidates are fitted side by side, one per core, each
-            // simulation on one thread: a fit's own steps are partly serial
-            // (each trial of the local search is one simulation), so this
-            // keeps both cores busier than one fit at a time with the
-            // helper thread. The results do not depend on it (one and two
-            // threads give the same sums bit for bit).
-            let (outer, inner) = if cands.len() > 1 {
-                (options.workers, 1)
-            } else {
-                (1, 0)
-            };
-            let single = DiagnoseOptions {
-                workers: if cands.len() > 1 { 1 } else { options.workers },
-                ..options.clone()
-            };
-            let finished = AtomicUsize::new(done);
-            let fits = parallel_map(
-                &cands,
-                outer,
-                |c| {
-                    progress(finished.load(Ordering::Relaxed), planned, c.effect);
-                    let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
-                    let budget = options.candidate_evaluations_per_param * c.params.len();
-                    let fit = fit_model(
-                        recording,
-                        &c.scene,
-                        &c.params,
-                        &noise,
-                        k,
-                        &single,
-                        true,
-                        budget,
-                        inner,
-                        &[],
-                    );
-                    finished.fetch_add(1, Ordering::Relaxed);
-                    fit
-                },
-                &|_| {},
-            );
-            done += cands.len();
-            for (c, fit) in cands.into_iter().zip(fits) {
+            for c in cands {
+                progress(done, planned, c.effect);
+                let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
+                let budget = options.candidate_evaluations_per_param * c.params.len();
+                let fit = fit_model(
+                    recording,
+                    &c.scene,
+                    &c.params,
+                    &noise,
+                    k,
+                    options,
+                    true,
+                    budget,
+                    &[],
+                );
+                done += 1;
                 let (score, explained) = match &fit {
                     Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
                     Err(_) => (f64::INFINITY, 0.0),
@@ -1308,7 +1276,7 @@ pub fn diagnose(
                     })
                     .collect();
                 let pair = fit_model(
-                    recording, &rc.scene, &params, &noise, k, options, true, budget, 0, &starts,
+                    recording, &rc.scene, &params, &noise, k, options, true, budget, &starts,
                 );
                 let Ok(pair) = pair else { break };
                 // The pair needs an effect when leaving it out costs what
