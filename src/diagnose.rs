@@ -1252,8 +1252,10 @@ pub fn diagnose(
                 // at its catalogue start (no effect, or for table friction
                 // a frictionless table, which is not the fixed bottom the
                 // better one was fitted on), and also from both effects at
-                // their own optima, with either one's modulus: otherwise
-                // the pair could end worse than the better one alone.
+                // their own optima, with either one's modulus. (The pair can
+                // still end worse than the better one alone when the two are
+                // not nested: a table under the object is no fixed bottom at
+                // any friction, as on control-3.)
                 let at = |f: &ModelFit, name: &str| {
                     f.params.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
                 };
