@@ -831,7 +831,7 @@ pub fn diagnosis(
         md,
         "\n- baseline fit: {}\n- with the effects: {}\n- noise, estimated from the data (second differences of the residual along the samples, per marker and axis): {}\n",
         params(&d.baseline.params),
-        params(&d.final_fit.params),
+        params(&d.fitted_params()),
         d.noise.describe()
     );
     let l = &d.location;

@@ -324,3 +324,60 @@ fn noise_not_measured_is_not_reported_as_measured() {
         "0.084 mm on object markers, none measured on fingers"
     );
 }
+
+/// A heterogeneous-stiffness candidate starts with its region at the
+/// object's own material, which must be the current model exactly: the
+/// diagnosis reuses the current model's replay for that start
+/// (`diagnose::same_model`). Stepped side by side, the two stay
+/// bit-identical; a region of another material, or a neutral one that
+/// overrides another region, is not the same model.
+#[test]
+fn a_region_of_the_objects_material_changes_nothing() {
+    use softgrip::step::Simulation;
+    let rec = Recording::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
+    )))
+    .expect("recording");
+    let halves: Vec<diagnose::Candidate> = diagnose::catalogue(&rec, &rec.scene)
+        .into_iter()
+        .filter(|c| c.effect == "heterogeneous-stiffness")
+        .collect();
+    assert_eq!(halves.len(), 4);
+    for c in &halves {
+        assert!(
+            diagnose::same_model(&c.scene, &rec.scene),
+            "{} at its start",
+            c.variant
+        );
+    }
+    let top = &halves[3].scene;
+    let mut plain = Simulation::new(&rec.scene).expect("scene");
+    let mut with_region = Simulation::new(top).expect("scene with a region");
+    for sim in [&mut plain, &mut with_region] {
+        let k = sim.load_finger().expect("a force-controlled finger");
+        sim.set_load(k, 9.73);
+    }
+    for _ in 0..150 {
+        plain.step().expect("step");
+        with_region.step().expect("step");
+    }
+    assert!(
+        !plain.state.contacts.is_empty(),
+        "the finger presses within 150 steps"
+    );
+    assert_eq!(plain.state.positions, with_region.state.positions);
+    assert_eq!(
+        plain.state.fingers[0].position,
+        with_region.state.fingers[0].position
+    );
+    // Another material is another model ...
+    let mut soft = top.clone();
+    soft.regions[0].young_modulus *= 0.5;
+    assert!(!diagnose::same_model(&soft, &rec.scene));
+    // ... and so is a neutral region over a soft one (the last wins).
+    let mut over = soft.clone();
+    over.regions.push(top.regions[0].clone());
+    assert!(!diagnose::same_model(&over, &soft));
+    assert!(!diagnose::same_model(&over, &rec.scene));
+}

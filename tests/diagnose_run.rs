@@ -83,6 +83,37 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         assert!(names.contains(&h["effect"].as_str().expect("effect")));
         assert!(h["score"].is_number());
     }
+    // The final fit's replay is its scene's (a fit keeps the replays it
+    // ran and does not run its best point again): replayed afresh, the same.
+    let fresh = softgrip::replay::replay(
+        &rec,
+        &d.final_fit.scene,
+        softgrip::replay::ReplayOptions::default(),
+        |_| {},
+    )
+    .expect("replay");
+    let simulated =
+        |r: &softgrip::replay::Replay| r.residuals.iter().map(|x| x.simulated).collect::<Vec<_>>();
+    assert_eq!(simulated(&fresh), simulated(&d.final_fit.replay));
+    // verdict.params: the final model's parameters, each named effect's
+    // among them, at the final scene's values.
+    let fitted = &v["verdict"]["params"];
+    assert!(fitted["young_modulus"].is_number(), "{fitted}");
+    // (load-loss-strong names an effect even on this budget, so the loop
+    // below has one to check.)
+    assert!(!d.effects.is_empty(), "verdict {}", d.verdict());
+    for h in d
+        .hypotheses
+        .iter()
+        .filter(|h| d.effects.contains(&h.effect))
+    {
+        for (name, _) in &h.fit.as_ref().expect("a named effect was fitted").params {
+            let value = softgrip::params::get(&d.final_fit.scene, name)
+                .expect("known")
+                .expect("set");
+            assert_eq!(fitted[name].as_f64(), Some(value), "{name}");
+        }
+    }
     let written = softgrip::report::diagnosis(&dir.join("report"), &rec, &d).expect("report");
     let md = std::fs::read_to_string(&written.markdown).expect("markdown");
     assert!(md.contains("## Verdict"), "{md}");

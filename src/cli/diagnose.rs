@@ -88,7 +88,7 @@ pub fn diagnose(
     println!("verdict: {}", d.verdict());
     if !d.effects.is_empty() {
         println!("effects: {}", d.effects.join(" + "));
-        println!("fitted: {}", params(&d.final_fit.params));
+        println!("fitted: {}", params(&d.fitted_params()));
         println!(
             "NRMSE {:.4} -> {:.4}; over all markers {:.4} -> {:.4}",
             d.baseline.errors.nrmse,
@@ -98,7 +98,24 @@ pub fn diagnose(
         );
     }
     println!("evidence: {}", d.evidence);
-    println!("{} simulations", d.simulations);
+    let fits: Vec<usize> = d
+        .hypotheses
+        .iter()
+        .filter_map(|h| h.fit.as_ref().ok())
+        .map(|f| f.evaluations)
+        .collect();
+    let pair = d.pair.as_ref().map_or(0, |t| t.fit.evaluations);
+    let candidates: usize = fits.iter().sum();
+    println!(
+        "{} simulations: baseline {} unweighted + {} weighted by the noise, {} candidate fits {}, pair {}",
+        d.simulations,
+        d.simulations
+            .saturating_sub(d.baseline.evaluations + candidates + pair),
+        d.baseline.evaluations,
+        fits.len(),
+        candidates,
+        pair
+    );
     if let Some(dir) = report.dir("diagnose", recording_path) {
         let written = softgrip::report::diagnosis(&dir, &recording, &d)?;
         println!("report: {}", written.markdown.display());

@@ -163,8 +163,7 @@ impl DiagnosisSection {
         ));
         if !d.effects.is_empty() {
             let fitted: Vec<String> = d
-                .final_fit
-                .params
+                .fitted_params()
                 .iter()
                 .map(|(n, v)| format!("{n} {}", super::recording::fitted_value(*v)))
                 .collect();
