@@ -831,6 +831,18 @@ pub fn levenberg_marquardt(
             if trials.is_empty() {
                 break;
             }
+            // Steps within the tolerance are not worth a run: where the
+            // model says to move less than `x_tolerance`, this is the
+            // minimum (a step that small would end the search anyway).
+            let moves = |t: &Vec<f64>| {
+                t.iter()
+                    .zip(&x)
+                    .any(|(a, b)| (a - b).abs() > options.x_tolerance)
+            };
+            if !trials.iter().any(moves) {
+                converged = true;
+                break;
+            }
             let results = f(&trials);
             evaluations += trials.len();
             let best = trials
@@ -1025,6 +1037,56 @@ mod tests {
         assert!((m.x[0] - 0.3).abs() < 1e-4, "{:?}", m.x);
         assert!((m.x[1] - 0.6).abs() < 1e-4, "{:?}", m.x);
         assert!(m.evaluations <= 200);
+    }
+
+    /// Started at the minimum of a noisy fit (the residual does not
+    /// vanish), the search spends the Jacobian and stops: the steps it
+    /// would try are within the tolerance, and are not run. Started away
+    /// from it, it gets there.
+    #[test]
+    fn levenberg_marquardt_does_not_run_steps_within_the_tolerance() {
+        let ts: Vec<f64> = (0..20).map(|k| 0.1 * k as f64).collect();
+        // A straight line fitted to a sine: a minimum with a residual.
+        let data: Vec<f64> = ts.iter().map(|t| (3.0 * t).sin()).collect();
+        let model = |u: &[f64]| -> Vec<f64> {
+            let (a, b) = (-2.0 + 4.0 * u[0], -2.0 + 4.0 * u[1]);
+            ts.iter().map(|t| a + b * t).collect()
+        };
+        // The least-squares line, in closed form.
+        let n = ts.len() as f64;
+        let (st, sy) = (ts.iter().sum::<f64>(), data.iter().sum::<f64>());
+        let stt = ts.iter().map(|t| t * t).sum::<f64>();
+        let sty = ts.iter().zip(&data).map(|(t, y)| t * y).sum::<f64>();
+        let b = (n * sty - st * sy) / (n * stt - st * st);
+        let a = (sy - b * st) / n;
+        let best = [(a + 2.0) / 4.0, (b + 2.0) / 4.0];
+        let runs = std::cell::Cell::new(0usize);
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            runs.set(runs.get() + points.len());
+            points
+                .iter()
+                .map(|u| Some(model(u).iter().zip(&data).map(|(m, d)| m - d).collect()))
+                .collect()
+        };
+        let options = FitOptions {
+            x_tolerance: 2e-3,
+            f_tolerance: 1e-4,
+            ..FitOptions::default()
+        };
+        let r0 = f(&[best.to_vec()]).remove(0).unwrap_or_default();
+        runs.set(0);
+        let m = levenberg_marquardt(&mut f, &best, r0, 100, options, 1e-2);
+        assert!(m.converged);
+        assert_eq!(m.evaluations, 2, "the Jacobian's two columns only");
+        assert_eq!(runs.get(), 2);
+        assert_eq!(m.x, best.to_vec());
+        let start = [0.9, 0.1];
+        let r0 = f(&[start.to_vec()]).remove(0).unwrap_or_default();
+        let m = levenberg_marquardt(&mut f, &start, r0, 100, options, 1e-2);
+        assert!(m.converged);
+        for (x, b) in m.x.iter().zip(best) {
+            assert!((x - b).abs() < 2e-3, "{:?} against {best:?}", m.x);
+        }
     }
 
     /// A parameter with no effect at the start (the time constant of an

@@ -194,6 +194,14 @@ fn the_catalogue_offers_what_applies() {
         "long-term modulus {relaxed} against the baseline's {}",
         rec.scene.object.young_modulus
     );
+    // Its other start is no creep at all: the model it is added to.
+    assert_eq!(creep.starts.len(), 1);
+    let mut off = creep.scene.clone();
+    for (p, v) in creep.params.iter().zip(&creep.starts[0]) {
+        off = softgrip::params::set(&off, p.param.name, *v).expect("in range");
+    }
+    assert!(diagnose::same_model(&off, &rec.scene));
+    assert!(!diagnose::same_model(&creep.scene, &rec.scene));
     let mut free = rec.scene.clone();
     free.support.kind = softgrip::scene::SupportKind::None;
     assert!(!names(&diagnose::catalogue(&rec, &free)).contains(&"table-friction"));
