@@ -586,9 +586,11 @@ pub struct Candidate {
     /// The scene with the effect added (at its parameters' start values).
     pub scene: Scene,
     pub params: Vec<FitParam>,
-    /// More starts for the fit (values of `params`), beside the scene's
-    /// own: for an effect that starts switched on, the values at which it
-    /// is off, so its fit ends no worse than the model it is added to.
+    /// More points for the fit (values of `params`), beside the scene's
+    /// own start: for an effect that starts switched on, the values at
+    /// which it is off. Being the model the effect is added to, such a
+    /// point is a floor (the fit ends no worse), not a start to search
+    /// from.
     pub starts: Vec<Vec<f64>>,
 }
 
@@ -665,10 +667,10 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
                 param("prony_g", 0.0, 0.9, false),
                 param("prony_tau", 0.05, 20.0, true),
             ]),
-            // And from no creep at all, the model it is added to (E, g 0,
-            // its relaxation time), so it ends no worse than that model:
-            // after damping on the beam's load52_a, the start above alone
-            // left it 9 % worse.
+            // And no creep at all, the model it is added to (E, g 0, its
+            // relaxation time), a floor for the fit (see `fit_model`): it
+            // ends no worse than that model. After damping on the beam's
+            // load52_a, the start above alone left it 9 % worse.
             starts: vec![vec![e, 0.0, scene.model.prony_tau.clamp(0.05, 20.0)]],
         });
     }
@@ -1003,6 +1005,13 @@ fn fit_model(
     let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
     // A start that is the model a fit already ran (a candidate whose effect
     // starts switched off, on the current fit) has that fit's replay.
+    // Those of the other starts (the effect switched off, as creep's g 0)
+    // are floors, not places to search from: where the effect is off its
+    // own parameters do nothing (creep's time at g 0), and a search from
+    // there stays near it (weak creep: 2 % of the residual from there,
+    // 10 % from the catalogue's start). The fit ends at the floor when
+    // the search ends worse.
+    let mut floors: Vec<Vec<f64>> = Vec::new();
     if let Some(k) = known {
         let at = |u: &[f64]| -> Option<Scene> {
             let mut s = scene.clone();
@@ -1011,10 +1020,16 @@ fn fit_model(
             }
             Some(s)
         };
-        for u in std::iter::once(&start).chain(others.iter().map(|(u, _)| u)) {
+        for (i, u) in std::iter::once(&start)
+            .chain(others.iter().map(|(u, _)| u))
+            .enumerate()
+        {
             if at(u).is_some_and(|s| same_model(&k.scene, &s)) {
                 let r = weighted_residuals(&k.replay.residuals, noise);
                 cache.insert(key(u), Some((r, k.replay.clone())));
+                if i > 0 {
+                    floors.push(u.clone());
+                }
             }
         }
     }
@@ -1071,13 +1086,18 @@ fn fit_model(
             design.extend((1..=2 * params.len()).map(|k| crate::fit::halton(k, params.len())));
         }
         let (mut best_u, mut best_r, mut best_f) = (start.clone(), r0, f0);
+        let mut floor: Option<(Vec<f64>, f64)> = None;
         for (u, r) in design.iter().zip(evaluate(&design)) {
             let f = cost(&r);
-            if f < best_f {
+            if floors.contains(u) {
+                if floor.as_ref().is_none_or(|(_, g)| f < *g) {
+                    floor = Some((u.clone(), f));
+                }
+            } else if f < best_f {
                 (best_u, best_r, best_f) = (u.clone(), r, f);
             }
         }
-        let spent = 1 + design.len();
+        let spent = 1 + design.len() - floors.len();
         let fit_options = FitOptions {
             max_evaluations: budget,
             workers: options.workers,
@@ -1095,10 +1115,13 @@ fn fit_model(
                 JACOBIAN_STEP,
             );
             if m.f < best_f {
-                best_u = m.x;
+                (best_u, best_f) = (m.x, m.f);
             }
         }
-        best_u
+        match floor {
+            Some((u, f)) if f < best_f => u,
+            _ => best_u,
+        }
     };
     let values = value_at(&best_u);
     let replay = match cache.remove(&key(&best_u)).flatten() {
