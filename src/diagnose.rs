@@ -1008,9 +1008,9 @@ fn fit_model(
     // Those of the other starts (the effect switched off, as creep's g 0)
     // are floors, not places to search from: where the effect is off its
     // own parameters do nothing (creep's time at g 0), and a search from
-    // there stays near it (weak creep: 2 % of the residual from there,
-    // 10 % from the catalogue's start). The fit ends at the floor when
-    // the search ends worse.
+    // there stays near it (on the suite's weak creep at `b42c5be`: 2 % of
+    // the residual from there, 6 % with it as a floor). The fit ends at
+    // the floor when the search ends worse.
     let mut floors: Vec<Vec<f64>> = Vec::new();
     if let Some(k) = known {
         let at = |u: &[f64]| -> Option<Scene> {
