@@ -586,12 +586,11 @@ pub struct Candidate {
     /// The scene with the effect added (at its parameters' start values).
     pub scene: Scene,
     pub params: Vec<FitParam>,
-    /// More points for the fit (values of `params`), beside the scene's
-    /// own start: for an effect that starts switched on, the values at
-    /// which it is off. Being the model the effect is added to, such a
-    /// point is a floor (the fit ends no worse), not a start to search
-    /// from.
-    pub starts: Vec<Vec<f64>>,
+    /// For an effect whose start has it switched on: the values of
+    /// `params` at which it is off, i.e. the model it is added to. The fit
+    /// takes that point as a floor (it ends no worse), not as a start to
+    /// search from.
+    pub off: Option<Vec<f64>>,
 }
 
 fn param(name: &str, lower: f64, upper: f64, log: bool) -> Option<FitParam> {
@@ -639,7 +638,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
                 s.support.friction = 0.0;
             }),
             params: with_modulus(vec![param("table_friction", 0.0, 2.0, false)]),
-            starts: Vec::new(),
+            off: None,
         });
     }
     out.push(Candidate {
@@ -647,7 +646,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
         variant: String::new(),
         scene: scene.clone(),
         params: with_modulus(vec![param("stiffening", 0.0, 1e4, false)]),
-        starts: Vec::new(),
+        off: None,
     });
     if recording.mode == Mode::TimeSeries {
         out.push(Candidate {
@@ -671,7 +670,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             // relaxation time), a floor for the fit (see `fit_model`): it
             // ends no worse than that model. After damping on the beam's
             // load52_a, the start above alone left it 9 % worse.
-            starts: vec![vec![e, 0.0, scene.model.prony_tau.clamp(0.05, 20.0)]],
+            off: Some(vec![e, 0.0, scene.model.prony_tau.clamp(0.05, 20.0)]),
         });
     }
     if recording.mode == Mode::TimeSeries {
@@ -685,7 +684,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             variant: String::new(),
             scene: scene.clone(),
             params: with_modulus(vec![param("damping_ratio", d / 10.0, d * 30.0, true)]),
-            starts: Vec::new(),
+            off: None,
         });
     }
     if !scene.fingers.is_empty() {
@@ -694,7 +693,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             variant: String::new(),
             scene: scene.clone(),
             params: with_modulus(vec![param("friction", 0.0, 2.0, false)]),
-            starts: Vec::new(),
+            off: None,
         });
     }
     if let Ok(mesh) = crate::model::Model::mesh_of(scene) {
@@ -726,7 +725,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
                     e * 30.0,
                     true,
                 )]),
-                starts: Vec::new(),
+                off: None,
             });
         }
     }
@@ -738,7 +737,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             variant: String::new(),
             scene: scene.clone(),
             params: with_modulus(vec![param("guide_friction", 0.0, 0.5 * loads, false)]),
-            starts: Vec::new(),
+            off: None,
         });
     }
     out
@@ -950,6 +949,7 @@ fn fit_model(
     design_points: bool,
     budget: usize,
     starts: &[Vec<f64>],
+    floor: Option<&[f64]>,
     known: Option<&ModelFit>,
 ) -> Result<ModelFit, String> {
     let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
@@ -977,14 +977,18 @@ fn fit_model(
         .zip(&own)
         .map(|(p, v)| v.map_or(0.5, |v| p.unit(v)))
         .collect();
-    // The other starts, in the unit scale, with their values.
-    let others: Vec<(Vec<f64>, &Vec<f64>)> = starts
+    // The other starts and the floor, in the unit scale, with their values.
+    let unit = |v: &[f64]| -> Vec<f64> { params.iter().zip(v).map(|(p, x)| p.unit(*x)).collect() };
+    let floor_u: Option<Vec<f64>> = floor.map(unit);
+    let others: Vec<(Vec<f64>, &[f64])> = starts
         .iter()
-        .map(|v| (params.iter().zip(v).map(|(p, x)| p.unit(*x)).collect(), v))
+        .map(|v| v.as_slice())
+        .chain(floor)
+        .map(|v| (unit(v), v))
         .collect();
     // The start is the scene's own values exactly (not their round trip
     // through the unit scale), so it is the scene as given; so are the
-    // other starts' values.
+    // other starts' and the floor's values.
     let value_at = |u: &[f64]| -> Vec<f64> {
         if let Some((_, v)) = others.iter().find(|(o, _)| o == u) {
             return v.to_vec();
@@ -1003,15 +1007,9 @@ fn fit_model(
     // them, so its replay is not run again.
     let mut cache: HashMap<Vec<u64>, Option<(Vec<f64>, Replay)>> = HashMap::new();
     let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
-    // A start that is the model a fit already ran (a candidate whose effect
-    // starts switched off, on the current fit) has that fit's replay.
-    // Those of the other starts (the effect switched off, as creep's g 0)
-    // are floors, not places to search from: where the effect is off its
-    // own parameters do nothing (creep's time at g 0), and a search from
-    // there stays near it (on the suite's weak creep at `b42c5be`: 2 % of
-    // the residual from there, 6 % with it as a floor). The fit ends at
-    // the floor when the search ends worse.
-    let mut floors: Vec<Vec<f64>> = Vec::new();
+    // A point that is the model a fit already ran (a candidate whose
+    // effect starts switched off, or the floor, on the current fit) has
+    // that fit's replay.
     if let Some(k) = known {
         let at = |u: &[f64]| -> Option<Scene> {
             let mut s = scene.clone();
@@ -1020,16 +1018,10 @@ fn fit_model(
             }
             Some(s)
         };
-        for (i, u) in std::iter::once(&start)
-            .chain(others.iter().map(|(u, _)| u))
-            .enumerate()
-        {
+        for u in std::iter::once(&start).chain(others.iter().map(|(u, _)| u)) {
             if at(u).is_some_and(|s| same_model(&k.scene, &s)) {
                 let r = weighted_residuals(&k.replay.residuals, noise);
                 cache.insert(key(u), Some((r, k.replay.clone())));
-                if i > 0 {
-                    floors.push(u.clone());
-                }
             }
         }
     }
@@ -1080,24 +1072,27 @@ fn fit_model(
         }
         // A small space-filling design (2 points per parameter) against
         // local minima, then Levenberg-Marquardt from the best.
-        // Other starts the caller knows of (values, not unit), first.
+        // Other starts the caller knows of (values, not unit), first, and
+        // the floor. The floor is not a place to search from: where the
+        // effect is off its own parameters do nothing (creep's time at
+        // g 0), and a search from there stays near it (on the suite's weak
+        // creep at `b42c5be`: 2 % of the residual from there, 6 % with it
+        // as a floor). The fit ends at the floor when the search ends worse.
         let mut design: Vec<Vec<f64>> = others.iter().map(|(u, _)| u.clone()).collect();
         if design_points {
             design.extend((1..=2 * params.len()).map(|k| crate::fit::halton(k, params.len())));
         }
         let (mut best_u, mut best_r, mut best_f) = (start.clone(), r0, f0);
-        let mut floor: Option<(Vec<f64>, f64)> = None;
+        let mut floor_f = f64::INFINITY;
         for (u, r) in design.iter().zip(evaluate(&design)) {
             let f = cost(&r);
-            if floors.contains(u) {
-                if floor.as_ref().is_none_or(|(_, g)| f < *g) {
-                    floor = Some((u.clone(), f));
-                }
+            if floor_u.as_ref() == Some(u) {
+                floor_f = f;
             } else if f < best_f {
                 (best_u, best_r, best_f) = (u.clone(), r, f);
             }
         }
-        let spent = 1 + design.len() - floors.len();
+        let spent = 1 + design.len() - usize::from(floor_u.is_some());
         let fit_options = FitOptions {
             max_evaluations: budget,
             workers: options.workers,
@@ -1118,8 +1113,8 @@ fn fit_model(
                 (best_u, best_f) = (m.x, m.f);
             }
         }
-        match floor {
-            Some((u, f)) if f < best_f => u,
+        match floor_u {
+            Some(u) if floor_f < best_f => u,
             _ => best_u,
         }
     };
@@ -1245,6 +1240,7 @@ pub fn diagnose(
         options.max_evaluations,
         &[],
         None,
+        None,
     )?;
     let loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
     let breaks: Vec<usize> = (1..loads.len().saturating_sub(1))
@@ -1263,6 +1259,7 @@ pub fn diagnose(
         false, // from the first fit's optimum: the weights changed a little
         options.max_evaluations / 2,
         &[],
+        None,
         Some(&first),
     )?;
     let location = locate(recording, &baseline.replay, &noise);
@@ -1310,7 +1307,8 @@ pub fn diagnose(
                     options,
                     true,
                     budget,
-                    &c.starts,
+                    &[],
+                    c.off.as_deref(),
                     Some(&current),
                 );
                 done += 1;
@@ -1420,6 +1418,7 @@ pub fn diagnose(
                     .collect();
                 let pair = fit_model(
                     recording, &rc.scene, &params, &noise, k, options, true, budget, &starts, None,
+                    None,
                 );
                 let Ok(pair) = pair else { break };
                 // The pair needs an effect when leaving it out costs what
