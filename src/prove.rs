@@ -144,7 +144,7 @@ pub fn cases() -> Vec<Case> {
             &|s: &mut Scene| s.object.young_modulus *= young,
         ));
     }
-    for (strength, mu) in [("weak", 0.3), ("strong", 0.1)] {
+    for (strength, mu) in [("weak", 0.2), ("strong", 0.05)] {
         out.push(case(
             &format!("table-friction-{strength}"),
             vec!["table-friction"],
@@ -156,7 +156,7 @@ pub fn cases() -> Vec<Case> {
             },
         ));
     }
-    for (strength, beta) in [("weak", 1000.0), ("strong", 3000.0)] {
+    for (strength, beta) in [("weak", 5000.0), ("strong", 10000.0)] {
         out.push(case(
             &format!("strain-stiffening-{strength}"),
             vec!["strain-stiffening"],
@@ -165,7 +165,7 @@ pub fn cases() -> Vec<Case> {
             &|s: &mut Scene| s.model.stiffening = beta,
         ));
     }
-    for (strength, g) in [("weak", 0.3), ("strong", 0.5)] {
+    for (strength, g) in [("weak", 0.6), ("strong", 0.8)] {
         out.push(case(
             &format!("viscoelastic-creep-{strength}"),
             vec!["viscoelastic-creep"],
@@ -185,7 +185,7 @@ pub fn cases() -> Vec<Case> {
         qs,
         &|_: &mut Scene| {},
     ));
-    for (strength, mu) in [("weak", 0.15), ("strong", 0.0)] {
+    for (strength, mu) in [("weak", 0.1), ("strong", 0.0)] {
         out.push(case_on(
             true,
             &format!("finger-friction-{strength}"),
@@ -195,7 +195,7 @@ pub fn cases() -> Vec<Case> {
             &|s: &mut Scene| s.fingers[0].friction = mu,
         ));
     }
-    for (strength, ratio) in [("weak", 5.0), ("strong", 10.0)] {
+    for (strength, ratio) in [("weak", 1.0 / 3.0), ("strong", 0.1)] {
         out.push(case(
             &format!("heterogeneous-stiffness-{strength}"),
             vec!["heterogeneous-stiffness"],
@@ -204,7 +204,7 @@ pub fn cases() -> Vec<Case> {
             &|s: &mut Scene| s.regions.push(right_half(ratio * e)),
         ));
     }
-    for (strength, f) in [("weak", 1.5), ("strong", 2.5)] {
+    for (strength, f) in [("weak", 2.0), ("strong", 3.0)] {
         out.push(case(
             &format!("load-loss-{strength}"),
             vec!["load-loss"],
