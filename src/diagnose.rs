@@ -1095,7 +1095,8 @@ fn fit_model(
                 .unwrap_or_else(|| "the start failed".into()));
         }
         // A small space-filling design (2 points per parameter) against
-        // local minima, then Levenberg-Marquardt from the best.
+        // local minima, then Levenberg-Marquardt (below: from the best
+        // point, and where `search` says from the next best too).
         // Other starts the caller knows of (values, not unit), first, and
         // the floor. The floor is not a place to search from: where the
         // effect is off its own parameters do nothing (creep's time at
