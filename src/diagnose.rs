@@ -665,11 +665,21 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             off: None,
         });
     }
+    // A spring's beta multiplies its own strain squared (a few percent in a
+    // grasp); an element's, `max(I1 - 3, 0) / 3`, which is about 1 at the
+    // 67 % compression of the Ecoflex recordings (incompressible, `I1 =
+    // l^2 + 2 / l`): there beta 30 already multiplies the shear modulus by
+    // 31.
+    let stiffening_max = if scene.model.elasticity == crate::scene::Elasticity::NeoHookean {
+        30.0
+    } else {
+        3e4
+    };
     out.push(Candidate {
         effect: "strain-stiffening",
         variant: String::new(),
         scene: scene.clone(),
-        params: with_modulus(vec![param("stiffening", 0.0, 3e4, false)]),
+        params: with_modulus(vec![param("stiffening", 0.0, stiffening_max, false)]),
         off: None,
     });
     if recording.mode == Mode::TimeSeries {

@@ -77,7 +77,7 @@ pub const PARAMS: &[Param] = &[
         name: "stiffening",
         unit: "",
         log: false,
-        about: "[model] stiffening, strain stiffening of the springs (softgrip)",
+        about: "[model] stiffening, strain stiffening of the springs or the neo-Hookean elements (softgrip)",
     },
     Param {
         name: "compression_ratio",

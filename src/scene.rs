@@ -274,8 +274,10 @@ pub struct ModelParams {
     /// (a softgrip extension; `None` = exactly `constraint_iterations`
     /// sweeps, as the thesis).
     pub constraint_tolerance: Option<f64>,
-    /// Strain stiffening of the springs, beta: `F = k dl (1 + beta e^2)`
-    /// with `e = dl / l0`; 0 = the thesis's linear spring (softgrip).
+    /// Strain stiffening, beta: each spring's `F = k dl (1 + beta e^2)`
+    /// with `e = dl / l0`, or for neo-Hookean elements the energy's
+    /// `mu beta / 12 max(I1 - 3, 0)^2` (the same share at small uniaxial
+    /// strain, `forces::fem`); 0 = the thesis's linear spring (softgrip).
     pub stiffening: f64,
     /// A spring's stiffness in compression over its stiffness in tension;
     /// 1 = symmetric, the thesis (softgrip).
@@ -1080,8 +1082,8 @@ impl<'a> Resolver<'a> {
             at("model", "stiffening"),
             m.stiffening,
             0.0,
-            |x| (0.0..=1e4).contains(&x),
-            "must be in [0, 1e4] (F = k dl (1 + stiffening (dl / l0)^2); 0 = the linear spring)",
+            |x| (0.0..=1e5).contains(&x),
+            "must be in [0, 1e5] (a spring's F = k dl (1 + stiffening (dl / l0)^2), an element's energy mu stiffening / 12 max(I1 - 3, 0)^2 more; 0 = none)",
         )?;
         let compression_ratio = self.number(
             at("model", "compression_ratio"),

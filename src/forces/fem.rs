@@ -19,6 +19,19 @@
 //! so conjugate gradients apply. The forces are exact; only the implicit
 //! step's linearisation is approximate.
 //!
+//! Strain stiffening (`[model] stiffening`, beta, as for the springs) adds
+//! a second-order term in `I1 = |F|^2` (Yeoh's C20 form, on `I1` rather
+//! than its isochoric part, as the energy above):
+//!
+//! `Psi_s = mu beta / 12 max(I1 - 3, 0)^2`, `P_s = mu beta / 3 max(I1 - 3, 0) F`,
+//!
+//! so the shear modulus grows to `mu (1 + beta max(I1 - 3, 0) / 3)`. In an
+//! incompressible solid under a small uniaxial strain e, `I1 - 3 = 3 e^2`,
+//! and the energy grows by the same share `beta e^2 / 2` as a spring's
+//! `k dl (1 + beta e^2)`. The `max` keeps it off under a volume change
+//! alone (`I1 < 3`), where it would soften the shear. Its Jacobian adds
+//! `V0 (2 mu beta / 3) (F b_a)(F b_b)^T`, positive semi-definite.
+//!
 //! The model shares everything else with the springs: masses, contact,
 //! supports, the implicit integrator, and the springs' dampers (each edge's
 //! `zeta 2 sqrt(k mu)` damps it, as for the springs). The lattice's own
@@ -89,14 +102,39 @@ pub fn deformation_gradient(b: &[DVec3; 4], p: [DVec3; 4]) -> DMat3 {
     outer(p[0], b[0]) + outer(p[1], b[1]) + outer(p[2], b[2]) + outer(p[3], b[3])
 }
 
-/// First Piola-Kirchhoff stress of the energy at `F` (Pa).
-pub fn stress(mu: f64, lambda: f64, f: DMat3) -> DMat3 {
+/// `max(I1 - 3, 0)`, `I1 = |F|^2`: what the stiffening term acts on.
+#[inline]
+fn stretch_invariant(f: DMat3) -> f64 {
+    let i1 = f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared();
+    (i1 - 3.0).max(0.0)
+}
+
+/// The shear modulus with the stiffening term, `mu (1 + beta s / 3)`.
+#[inline]
+fn shear_modulus(mu: f64, stiffening: f64, s: f64) -> f64 {
+    mu * (1.0 + stiffening * s / 3.0)
+}
+
+/// First Piola-Kirchhoff stress of the energy at `F` (Pa), with the
+/// stiffening beta (0: the plain energy).
+pub fn stress(mu: f64, lambda: f64, stiffening: f64, f: DMat3) -> DMat3 {
     let j = f.determinant();
     let alpha = 1.0 + mu / lambda;
     // cof F = J F^-T, written with cross products so it exists at J = 0.
     let (c0, c1, c2) = (f.x_axis, f.y_axis, f.z_axis);
     let cof = DMat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
-    f * mu + cof * (lambda * (j - alpha))
+    f * shear_modulus(mu, stiffening, stretch_invariant(f)) + cof * (lambda * (j - alpha))
+}
+
+/// The energy per unit rest volume at `F` (Pa), zero at rest.
+pub fn energy_density(mu: f64, lambda: f64, stiffening: f64, f: DMat3) -> f64 {
+    let alpha = 1.0 + mu / lambda;
+    let j = f.determinant();
+    let norm2 = f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared();
+    let s = stretch_invariant(f);
+    0.5 * mu * (norm2 - 3.0)
+        + mu * stiffening / 12.0 * s * s
+        + 0.5 * lambda * ((j - alpha).powi(2) - (1.0 - alpha).powi(2))
 }
 
 /// Adds the elastic forces and Jacobian blocks of the elements in
@@ -111,6 +149,7 @@ pub fn accumulate_elements(
 ) {
     let dt2 = system.dt() * system.dt();
     let (x, v) = (&state.positions, &state.velocities);
+    let beta = model.spring_law.stiffening;
     for e in elements {
         let tet = model.tets[e];
         let idx = tet.map(|i| i as usize);
@@ -123,31 +162,60 @@ pub fn accumulate_elements(
         let j = g[3].dot(p[3] - p[0]) / v0; // V / V0 = det F
         let alpha = 1.0 + mu / lambda;
         let volumetric = lambda * (j - alpha);
+        let s = if beta > 0.0 {
+            stretch_invariant(f)
+        } else {
+            0.0
+        };
+        // The stiffened shear modulus, and the weight of the stiffening's
+        // Jacobian term (0 where it is off).
+        let (mu_s, stiff) = if s > 0.0 {
+            (shear_modulus(mu, beta, s), v0 * 2.0 * mu * beta / 3.0)
+        } else {
+            (mu, 0.0)
+        };
+        let fb = b.map(|ba| f * ba);
         for a in 0..4 {
-            force[idx[a]] -= (f * b[a]) * (v0 * mu) + g[a] * volumetric;
+            force[idx[a]] -= fb[a] * (v0 * mu_s) + g[a] * volumetric;
         }
         // Blocks weighted by dt^2 as they enter A.
         let c = lambda / v0;
         let rate =
             g[0].dot(v[idx[0]]) + g[1].dot(v[idx[1]]) + g[2].dot(v[idx[2]]) + g[3].dot(v[idx[3]]);
+        // The stiffening's rate, sum_b (F b_b) . v_b.
+        let stretch_rate = if stiff > 0.0 {
+            (0..4).map(|bb| fb[bb].dot(v[idx[bb]])).sum::<f64>()
+        } else {
+            0.0
+        };
         for a in 0..4 {
-            let shear = v0 * mu * b[a].dot(b[a]);
-            system.diag[idx[a]] +=
+            let shear = v0 * mu_s * b[a].dot(b[a]);
+            let mut block =
                 DMat3::from_diagonal(DVec3::splat(shear * dt2)) + outer(g[a], g[a] * (c * dt2));
-            // Kp v: the shear part sum_b V0 mu (b_a . b_b) v_b, the volumetric c G_a (G . v).
+            // Kp v: the shear part sum_b V0 mu (b_a . b_b) v_b, the volumetric c G_a (G . v),
+            // the stiffening's F b_a (sum_b F b_b . v_b).
             let mut kv = g[a] * (c * rate);
             for (bb, &ib) in b.iter().zip(&idx) {
-                kv += v[ib] * (v0 * mu * b[a].dot(*bb));
+                kv += v[ib] * (v0 * mu_s * b[a].dot(*bb));
             }
+            if stiff > 0.0 {
+                block += outer(fb[a], fb[a] * (stiff * dt2));
+                kv += fb[a] * (stiff * stretch_rate);
+            }
+            system.diag[idx[a]] += block;
             system.kv[idx[a]] += kv;
         }
         let slots = model.tet_springs[e];
         for (m, [a, bb]) in TET_EDGES.into_iter().enumerate() {
             // Block (spring.i, spring.j), spring.i < spring.j.
             let (i, k) = if idx[a] < idx[bb] { (a, bb) } else { (bb, a) };
-            let shear = v0 * mu * b[i].dot(b[k]) * dt2;
-            system.off[slots[m] as usize] +=
+            let shear = v0 * mu_s * b[i].dot(b[k]) * dt2;
+            let mut block =
                 DMat3::from_diagonal(DVec3::splat(shear)) + outer(g[i], g[k] * (c * dt2));
+            if stiff > 0.0 {
+                block += outer(fb[i], fb[k] * (stiff * dt2));
+            }
+            system.off[slots[m] as usize] += block;
         }
     }
 }
@@ -155,18 +223,12 @@ pub fn accumulate_elements(
 /// The elastic energy of the elements (J), zero at rest.
 pub fn energy(model: &Model, fem: &FemModel, state: &State) -> f64 {
     let x = &state.positions;
+    let beta = model.spring_law.stiffening;
     let mut total = 0.0;
     for (e, tet) in model.tets.iter().enumerate() {
         let p = tet.map(|i| x[i as usize]);
         let f = deformation_gradient(&fem.gradients[e], p);
-        let (mu, lambda) = (fem.mu[e], fem.lambda[e]);
-        let alpha = 1.0 + mu / lambda;
-        let j = f.determinant();
-        let norm2 =
-            f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared();
-        let psi =
-            0.5 * mu * (norm2 - 3.0) + 0.5 * lambda * ((j - alpha).powi(2) - (1.0 - alpha).powi(2));
-        total += model.rest_volume[e] * psi;
+        total += model.rest_volume[e] * energy_density(fem.mu[e], fem.lambda[e], beta, f);
     }
     total
 }
@@ -175,8 +237,8 @@ pub fn energy(model: &Model, fem: &FemModel, state: &State) -> f64 {
 mod tests {
     use super::*;
 
-    /// The forces are the energy's gradient (central differences), and the
-    /// stress vanishes at rest.
+    /// The forces are the energy's gradient (central differences), with
+    /// and without stiffening, and the stress vanishes at rest.
     #[test]
     fn forces_are_the_gradient_of_the_energy() {
         let nodes = vec![
@@ -187,45 +249,89 @@ mod tests {
         ];
         let tets = vec![[0u32, 1, 2, 3]];
         let fem = FemModel::new(&nodes, &tets, &[60e3], 0.45);
-        assert!(stress(fem.mu[0], fem.lambda[0], DMat3::IDENTITY).abs_diff_eq(DMat3::ZERO, 1e-9));
-        let deformed = vec![
+        let (mu, lambda) = (fem.mu[0], fem.lambda[0]);
+        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
+        let f_at = |pos: &[DVec3]| {
+            deformation_gradient(&fem.gradients[0], [pos[0], pos[1], pos[2], pos[3]])
+        };
+        let i1 = |f: DMat3| {
+            f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared()
+        };
+        // One element squeezed (I1 < 3: the stiffening is off), one
+        // stretched (I1 > 3: on).
+        let squeezed = vec![
             DVec3::new(0.0001, -0.0002, 0.0),
             DVec3::new(0.0093, 0.0004, 0.0002),
             DVec3::new(0.0003, 0.0127, -0.0005),
             DVec3::new(0.0025, 0.0006, 0.0081),
         ];
-        let energy_at = |pos: &[DVec3]| {
-            let b = &fem.gradients[0];
-            let f = deformation_gradient(b, [pos[0], pos[1], pos[2], pos[3]]);
-            let (mu, lambda) = (fem.mu[0], fem.lambda[0]);
-            let alpha = 1.0 + mu / lambda;
-            let norm2 =
-                f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared();
-            let v0 = 0.01 * 0.012 * 0.009 / 6.0;
-            v0 * (0.5 * mu * (norm2 - 3.0) + 0.5 * lambda * (f.determinant() - alpha).powi(2))
-        };
-        // f_a = -V0 P b_a
-        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
-        let f = deformation_gradient(
-            &fem.gradients[0],
-            [deformed[0], deformed[1], deformed[2], deformed[3]],
-        );
-        let p = stress(fem.mu[0], fem.lambda[0], f);
-        for a in 0..4 {
-            let analytic = -(p * fem.gradients[0][a]) * v0;
-            for k in 0..3 {
-                let h = 1e-9;
-                let mut plus = deformed.clone();
-                plus[a][k] += h;
-                let mut minus = deformed.clone();
-                minus[a][k] -= h;
-                let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
-                assert!(
-                    (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
-                    "node {a} axis {k}: {numeric} against {}",
-                    analytic[k]
-                );
+        let stretched = vec![
+            DVec3::new(0.0001, -0.0002, 0.0),
+            DVec3::new(0.0112, 0.0004, 0.0002),
+            DVec3::new(0.0003, 0.0117, -0.0005),
+            DVec3::new(0.0025, 0.0006, 0.0093),
+        ];
+        assert!(i1(f_at(&squeezed)) < 3.0 && i1(f_at(&stretched)) > 3.0);
+        for deformed in [squeezed, stretched] {
+            assert!(f_at(&deformed).determinant() > 0.0);
+            for beta in [0.0, 50.0] {
+                assert!(stress(mu, lambda, beta, DMat3::IDENTITY).abs_diff_eq(DMat3::ZERO, 1e-9));
+                // The energy written out here, not through `energy_density`.
+                let energy_at = |pos: &[DVec3]| {
+                    let f = f_at(pos);
+                    let alpha = 1.0 + mu / lambda;
+                    let s = (i1(f) - 3.0).max(0.0);
+                    v0 * (0.5 * mu * (i1(f) - 3.0)
+                        + mu * beta / 12.0 * s * s
+                        + 0.5 * lambda * (f.determinant() - alpha).powi(2))
+                };
+                // f_a = -V0 P b_a
+                let p = stress(mu, lambda, beta, f_at(&deformed));
+                for a in 0..4 {
+                    let analytic = -(p * fem.gradients[0][a]) * v0;
+                    for k in 0..3 {
+                        let h = 1e-9;
+                        let mut plus = deformed.clone();
+                        plus[a][k] += h;
+                        let mut minus = deformed.clone();
+                        minus[a][k] -= h;
+                        let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
+                        assert!(
+                            (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
+                            "beta {beta}, node {a} axis {k}: {numeric} against {}",
+                            analytic[k]
+                        );
+                    }
+                }
             }
         }
+    }
+
+    /// Under a small isochoric uniaxial strain e the stiffening adds the
+    /// share `beta e^2 / 2` to the energy, as it does to a spring's
+    /// (`k l0^2 (e^2 / 2 + beta e^4 / 4)`); under a volume change alone
+    /// (`I1 < 3`) it adds nothing.
+    #[test]
+    fn stiffening_adds_the_springs_share_and_nothing_under_compression_alone() {
+        let (mu, lambda) = (20e3, 200e3);
+        let beta = 100.0;
+        for e in [0.005f64, 0.01, -0.01] {
+            let l = 1.0 + e;
+            let f = DMat3::from_diagonal(DVec3::new(l, l.powf(-0.5), l.powf(-0.5)));
+            let share =
+                energy_density(mu, lambda, beta, f) / energy_density(mu, lambda, 0.0, f) - 1.0;
+            let expected = beta * e * e / 2.0;
+            // The next order is e^3 relative to e^2: |e| of the share.
+            assert!(
+                (share - expected).abs() < 3.0 * e.abs() * expected,
+                "e {e}: share {share}, beta e^2 / 2 = {expected}"
+            );
+        }
+        let f = DMat3::from_diagonal(DVec3::splat(0.97));
+        assert_eq!(stress(mu, lambda, beta, f), stress(mu, lambda, 0.0, f));
+        assert_eq!(
+            energy_density(mu, lambda, beta, f),
+            energy_density(mu, lambda, 0.0, f)
+        );
     }
 }
