@@ -78,3 +78,55 @@ fn the_ecoflex_recordings_give_the_database_moduli() {
         assert!(fit.r_squared > 0.99);
     }
 }
+
+/// What `docs/reports/README.md` reads in the Ecoflex diagnoses: against
+/// an incompressible neo-Hookean solid of the database's small-strain
+/// modulus in uniaxial stress (nominal stress `mu (l - 1 / l^2)`, `mu = E /
+/// 3`), each recording's nominal stress falls below it through the middle
+/// levels and rises far above it at the last: it softens, then stiffens,
+/// which no one-term stiffening (it only grows with strain) follows.
+/// `cargo test --test modulus ecoflex -- --nocapture` prints the ratios.
+#[test]
+fn the_ecoflex_curves_soften_then_stiffen_against_neo_hookean() {
+    // The cylinders: D 50 mm, H 30 mm; the plate's z is 30 mm less the
+    // compression. The published small-strain moduli (README, Recordings).
+    for (name, modulus) in [("EF30_0T_A1", 103.46e3), ("EF10_0T_A1", 56.27e3)] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
+            "assets/recordings/ecoflex_compression/{name}/diagnosis/recording.toml"
+        ));
+        let r = Recording::load(&path).expect("recording");
+        let area = std::f64::consts::PI * 0.025 * 0.025;
+        let mu = modulus / 3.0;
+        let ratios: Vec<(f64, f64)> = r
+            .samples
+            .iter()
+            .map(|s| {
+                let z = s.observations[0].position[2].expect("the plate's z");
+                let l = z / 0.03;
+                (1.0 - l, (s.load / area) / (mu * (1.0 / (l * l) - l)))
+            })
+            .collect();
+        eprintln!(
+            "{name}: strain and stress over neo-Hookean {:?}",
+            ratios
+                .iter()
+                .map(|(e, q)| format!("{:.0} % {q:.2}", 100.0 * e))
+                .collect::<Vec<_>>()
+        );
+        let (at, lowest) = ratios
+            .iter()
+            .enumerate()
+            .map(|(i, (_, q))| (i, *q))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("levels");
+        let last = ratios.last().expect("levels").1;
+        assert!(
+            at > 0 && at + 1 < ratios.len() && lowest < 0.9,
+            "{name}: the lowest ratio {lowest:.2} is at level {at}, not below 0.9 in the middle"
+        );
+        assert!(
+            last > 1.2,
+            "{name}: the last level's ratio is {last:.2}, not above 1.2"
+        );
+    }
+}

@@ -640,7 +640,7 @@ impl Panels {
                     0.0..=1e5,
                     "limit stiffness (x)",
                 );
-                changed |= log_slider(ui, &mut s.model.stiffening, 0.0..=1e4, "stiffening");
+                changed |= log_slider(ui, &mut s.model.stiffening, 0.0..=1e5, "stiffening");
                 changed |= log_slider(
                     ui,
                     &mut s.model.compression_ratio,
