@@ -53,6 +53,7 @@ use glam::DVec3;
 use crate::compare::{Errors, Residual};
 use crate::fit::{FitOptions, FitParam, levenberg_marquardt};
 use crate::params;
+use crate::quasi_static::RestTolerance;
 use crate::recording::{MarkerRef, Mode, Recording};
 use crate::replay::{Replay, ReplayOptions, replay};
 use crate::scene::{AaBox, Region, Scene, SupportKind};
@@ -986,7 +987,9 @@ fn fit_model(
     floor: Option<&[f64]>,
     known: Option<&ModelFit>,
 ) -> Result<ModelFit, String> {
-    let run = |values: &[f64], threads: usize| -> Result<Replay, String> {
+    // On the default thread count: one simulation per core while a batch
+    // has several, both cores for the last one left (`Simulation::set_threads`).
+    let run = |values: &[f64]| -> Result<Replay, String> {
         let mut s = scene.clone();
         for (p, v) in params.iter().zip(values) {
             s = params::set(&s, p.param.name, *v)?;
@@ -995,7 +998,7 @@ fn fit_model(
             recording,
             &s,
             ReplayOptions {
-                threads,
+                rest: RestTolerance::for_fits(),
                 ..ReplayOptions::default()
             },
             |_| {},
@@ -1068,12 +1071,11 @@ fn fit_model(
                     todo.push(u.clone());
                 }
             }
-            let threads = if todo.len() == 1 { 0 } else { 1 };
             let results = parallel_map(
                 &todo,
                 options.workers,
                 |u| {
-                    run(&value_at(u), threads)
+                    run(&value_at(u))
                         .ok()
                         .map(|r| (weighted_residuals(&r.residuals, noise), r))
                 },
@@ -1100,7 +1102,7 @@ fn fit_model(
         let r0 = evaluate(std::slice::from_ref(&start)).remove(0);
         let f0 = cost(&r0);
         if !f0.is_finite() {
-            return Err(run(&value_at(&start), 0)
+            return Err(run(&value_at(&start))
                 .err()
                 .unwrap_or_else(|| "the start failed".into()));
         }
@@ -1188,7 +1190,7 @@ fn fit_model(
         Some((_, r)) => r,
         None => {
             evaluations += 1;
-            run(&values, 0)?
+            run(&values)?
         }
     };
     let (rss, n) = weighted_rss(&replay.residuals, noise);

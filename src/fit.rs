@@ -39,6 +39,7 @@ use std::collections::HashMap;
 
 use crate::compare::{Errors, components};
 use crate::params::{self, Param};
+use crate::quasi_static::RestTolerance;
 use crate::recording::Recording;
 use crate::replay::{Replay, ReplayOptions, replay};
 use crate::scene::Scene;
@@ -334,9 +335,12 @@ pub fn scene_with(scene: &Scene, params: &[FitParam], values: &[f64]) -> Result<
     Ok(s)
 }
 
-fn run(recording: &Recording, scene: &Scene, threads: usize) -> Result<Replay, String> {
+/// A fit's replay, on the default thread count: one simulation per core
+/// while a batch has several, both cores for the last one left
+/// (`Simulation::set_threads`).
+fn run(recording: &Recording, scene: &Scene) -> Result<Replay, String> {
     let options = ReplayOptions {
-        threads,
+        rest: RestTolerance::for_fits(),
         ..ReplayOptions::default()
     };
     replay(recording, scene, options, |_| {}).map_err(|e| e.to_string())
@@ -362,10 +366,10 @@ pub fn fit(
             v.map_or_else(|| p.value(0.5), |v| p.value(p.unit(v)))
         })
         .collect();
-    let at_values = |values: &[f64], threads: usize| -> Result<Replay, String> {
-        run(recording, &scene_with(scene, params, values)?, threads)
+    let at_values = |values: &[f64]| -> Result<Replay, String> {
+        run(recording, &scene_with(scene, params, values)?)
     };
-    let first = at_values(&start, 0).map_err(FitError::Start)?;
+    let first = at_values(&start).map_err(FitError::Start)?;
     let before = first.errors;
     let mut trials = vec![Trial {
         values: start.clone(),
@@ -382,14 +386,13 @@ pub fn fit(
             .filter(|u| !cache.contains_key(&key(u)))
             .cloned()
             .collect();
-        let threads = if todo.len() == 1 { 0 } else { 1 };
         let done_before = trials.len();
         let results = parallel_map(
             &todo,
             options.workers,
             |u| {
                 let values: Vec<f64> = params.iter().zip(u).map(|(p, x)| p.value(*x)).collect();
-                let r = at_values(&values, threads).map(|r| r.errors.nrmse);
+                let r = at_values(&values).map(|r| r.errors.nrmse);
                 if let (Ok(f), Ok(mut b)) = (&r, best_so_far.lock()) {
                     *b = b.min(*f);
                 }
@@ -435,7 +438,7 @@ pub fn fit(
     (best_u, best_f, converged) = (first_search.x, first_search.f, first_search.converged);
     let value_at =
         |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
-    let mut fitted_replay = at_values(&value_at(&best_u), 0).map_err(FitError::Start)?;
+    let mut fitted_replay = at_values(&value_at(&best_u)).map_err(FitError::Start)?;
     // A spring limit above every strain of the fitted run acts nowhere, and
     // NRMSE is flat in it: the search may have settled there with the
     // modulus making up for it. Try again with such limits just below the
@@ -471,7 +474,7 @@ pub fn fit(
             break;
         }
         (best_u, best_f, converged) = (r.x, r.f, r.converged);
-        fitted_replay = at_values(&value_at(&best_u), 0).map_err(FitError::Start)?;
+        fitted_replay = at_values(&value_at(&best_u)).map_err(FitError::Start)?;
     }
     let fitted = value_at(&best_u);
     let at_bound = best_u
@@ -534,7 +537,7 @@ fn evidence(
     let runs = parallel_map(
         &points,
         options.workers,
-        |values| scene_with(&recording.scene, params, values).and_then(|s| run(recording, &s, 1)),
+        |values| scene_with(&recording.scene, params, values).and_then(|s| run(recording, &s)),
         &|_| {},
     );
     let mut jacobian: Vec<Option<Vec<f64>>> = Vec::with_capacity(p);

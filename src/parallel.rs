@@ -46,20 +46,38 @@ const IDLE_SPINS: u32 = 20_000;
 /// How long the helper spins for the next job before it parks.
 const SPIN_TIME: Duration = Duration::from_millis(5);
 
-/// Helper threads running in this process. Each spins while its simulation
-/// runs, so there are at most one fewer than the cores: more simulations at
-/// once (a sweep, parallel tests) run the others on their own thread, with
-/// the same results.
+/// Helper threads running in this process ...
 static HELPERS: AtomicUsize = AtomicUsize::new(0);
+/// ... and simulations with a work split (each one main thread, stepping or
+/// about to). A helper is started only while the two together leave a core
+/// free: more simulations at once (a sweep, a fit's probes, parallel tests)
+/// run on their own threads, with the same results.
+static RUNNING: AtomicUsize = AtomicUsize::new(0);
+
+fn cores() -> usize {
+    thread::available_parallelism().map_or(1, |n| n.get())
+}
 
 /// Takes one helper slot if the machine has a core to spare.
 fn reserve_helper() -> bool {
-    let cores = thread::available_parallelism().map_or(1, |n| n.get());
+    let running = RUNNING.load(Ordering::SeqCst);
     HELPERS
         .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |h| {
-            (h + 1 < cores).then_some(h + 1)
+            (h + running < cores()).then_some(h + 1)
         })
         .is_ok()
+}
+
+/// Whether a simulation without a helper would get one now ...
+pub fn helper_available() -> bool {
+    HELPERS.load(Ordering::SeqCst) + RUNNING.load(Ordering::SeqCst) < cores()
+}
+
+/// ... and whether one with a helper should give it up: the main threads
+/// and helpers running now are more than the cores (another simulation
+/// started since), and a helper then only competes for a core.
+pub fn oversubscribed() -> bool {
+    HELPERS.load(Ordering::SeqCst) + RUNNING.load(Ordering::SeqCst) > cores()
 }
 
 /// The helper's share of the force passes.
@@ -124,6 +142,7 @@ impl Parallel {
             assembly: Mutex::new(AssemblyShare::default()),
             product: Mutex::new(ProductShare::default()),
         });
+        RUNNING.fetch_add(1, Ordering::SeqCst);
         let helper = if threads >= 2 && reserve_helper() {
             let for_helper = Arc::clone(&shared);
             let spawned = thread::Builder::new()
@@ -282,6 +301,7 @@ impl Drop for Parallel {
             let _ = h.join();
             HELPERS.fetch_sub(1, Ordering::SeqCst);
         }
+        RUNNING.fetch_sub(1, Ordering::SeqCst);
     }
 }
 

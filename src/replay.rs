@@ -55,7 +55,8 @@ pub struct SampleState {
 pub struct ReplayOptions {
     pub rest: RestTolerance,
     /// Threads for the simulation (see `Simulation::set_threads`; 0 =
-    /// as many as the machine has, up to 2). Sweeps run one per core.
+    /// up to 2, as the machine has cores free: see
+    /// `Simulation::set_threads`).
     pub threads: usize,
     /// Keep each sample's positions in [`Replay::states`].
     pub keep_states: bool,

@@ -22,7 +22,8 @@ pub struct Scratch {
     force: Vec<DVec3>,
     /// The system matrix lives here, shared with the helper thread.
     parallel: Option<Parallel>,
-    /// Threads to use (1 or 2); 0 = as many as the machine has, up to 2.
+    /// Threads to use (1 or 2); 0 = 2 while a core is free (see
+    /// `Simulation::set_threads`).
     threads: usize,
     rhs: Vec<DVec3>,
     dv: Vec<DVec3>,
@@ -54,22 +55,42 @@ impl Clone for Scratch {
     }
 }
 
+/// How often (in steps) a simulation on the default thread count looks
+/// again at whether to take or give up a helper (see
+/// [`Scratch::ensure_parallel`]): a look is two atomic loads, a change a
+/// thread start or stop (~0.1 ms), a step ~1 ms.
+const HELPER_LOOK_STEPS: u64 = 32;
+
 impl Scratch {
     /// Starts the work split for `model` on first use, and again when the
-    /// model changes.
-    fn ensure_parallel(&mut self, model: &Arc<Model>) {
+    /// model changes. On the default thread count (0) the split follows
+    /// the machine: a simulation takes the helper when a core is free and
+    /// gives it up when another simulation wants the core (a fit's probes
+    /// run side by side, one per core, and the last one left takes both).
+    /// Results are the same bit for bit either way.
+    fn ensure_parallel(&mut self, model: &Arc<Model>, step: u64) {
         let stale = self
             .parallel
             .as_ref()
             .is_none_or(|p| !Arc::ptr_eq(p.model(), model));
-        if stale {
-            let threads = match self.threads {
-                0 => std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1)
-                    .min(2),
-                n => n,
-            };
+        let threads = match self.threads {
+            0 => std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1)
+                .min(2),
+            n => n,
+        };
+        let rethink = self.threads == 0
+            && threads >= 2
+            && step.is_multiple_of(HELPER_LOOK_STEPS)
+            && self.parallel.as_ref().is_some_and(|p| {
+                if p.is_threaded() {
+                    crate::parallel::oversubscribed()
+                } else {
+                    crate::parallel::helper_available()
+                }
+            });
+        if stale || rethink {
             self.parallel = None; // stop the old helper first
             self.parallel = Some(Parallel::new(Arc::clone(model), threads));
         }
@@ -209,8 +230,12 @@ impl Simulation {
     }
 
     /// Threads for the step: 1 (this thread only) or 2 (a helper takes
-    /// half the work); 0 = as many as the machine has, up to 2 (default).
-    /// The results are the same bit for bit whatever the count.
+    /// half the work); 0 (the default) = 2 while the machine has a core
+    /// free, 1 while other simulations in the process take the cores: a
+    /// running simulation looks again every few steps, so the last of a
+    /// batch run side by side takes the second core when the others end.
+    /// The results are the same bit for bit whatever the count, and
+    /// however it changes during a run.
     pub fn set_threads(&mut self, threads: usize) {
         self.scratch.threads = threads.min(2);
         self.scratch.parallel = None;
@@ -246,7 +271,7 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     s.force.clear();
     s.force.resize(total, DVec3::ZERO);
     integrate::drive_fingers(model, state);
-    s.ensure_parallel(model);
+    s.ensure_parallel(model, state.step);
     let Some(parallel) = s.parallel.as_ref() else {
         unreachable!("ensure_parallel sets it")
     };

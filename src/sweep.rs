@@ -69,7 +69,9 @@ pub fn evaluate(recording: &Recording, names: &[&str], values: &[f64]) -> Result
         scene = params::set(&scene, name, *v)?;
     }
     let options = ReplayOptions {
-        threads: 1,
+        // One per core while the sweep has points left, both for the last
+        // (`Simulation::set_threads`).
+        threads: 0,
         ..ReplayOptions::default()
     };
     replay(recording, &scene, options, |_| {})

@@ -29,6 +29,7 @@ friction = 0.0
         speed: 1e-6,
         consecutive_steps: 20,
         max_seconds: 3.0,
+        give_up_after: None,
     };
     let rest = sim.settle(tol, |_| {}).expect("comes to rest");
     assert!((sim.state.fingers[0].contact_force.z - 5.0).abs() < 0.01 * 5.0);
@@ -50,6 +51,7 @@ fn spring_limits_do_not_fight_the_finger_at_1n() {
         speed: 1e-5,
         consecutive_steps: 20,
         max_seconds: 3.0,
+        give_up_after: None,
     };
     sim.settle(tol, |_| {}).expect("comes to rest");
     let finger = sim.state.fingers[0];

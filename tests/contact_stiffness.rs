@@ -32,6 +32,7 @@ contact_stiffness_scale = {scale:?}
         speed: 1e-6,
         consecutive_steps: 20,
         max_seconds: 3.0,
+        give_up_after: None,
     };
     sim.settle(tol, |_| {}).expect("comes to rest");
     let f = sim.state.fingers[0];

@@ -19,6 +19,7 @@ fn rest() -> RestTolerance {
         speed: 1e-5,
         consecutive_steps: 20,
         max_seconds: 5.0,
+        give_up_after: None,
     }
 }
 

@@ -49,6 +49,7 @@ fn settle(sim: &mut Simulation) {
             speed: 1e-6,
             consecutive_steps: 50,
             max_seconds: 20.0,
+            give_up_after: None,
         },
         |_| {},
     )

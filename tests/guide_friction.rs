@@ -26,6 +26,7 @@ fn loop_path(sim: &mut Simulation, up: &[f64], down: &[f64]) -> (Vec<f64>, Vec<f
         speed: 1e-5,
         consecutive_steps: 20,
         max_seconds: 10.0,
+        give_up_after: None,
     };
     let mut at = |load: f64| {
         sim.set_load(0, load);

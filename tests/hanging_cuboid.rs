@@ -34,6 +34,7 @@ max = [1.0, 1.0, 1.0]
         speed: 1e-7,
         consecutive_steps: 20,
         max_seconds: 10.0,
+        give_up_after: None,
     };
     sim.settle(tol, |_| {}).expect("comes to rest");
     let bottom: Vec<usize> = (0..sim.model.particle_count())

@@ -37,6 +37,7 @@ force = [0.0, 0.0, -{}]
         speed: 1e-6,
         consecutive_steps: 20,
         max_seconds: 10.0,
+        give_up_after: None,
     };
     loads
         .iter()

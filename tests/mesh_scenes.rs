@@ -71,6 +71,7 @@ fn mesh_scenes_rest_with_the_support_carrying_weight_and_loads() {
                 speed: 1e-5,
                 consecutive_steps: 20,
                 max_seconds: 4.0,
+                give_up_after: None,
             },
             |_| {},
         )

@@ -162,3 +162,34 @@ fn a_case_has_its_seed_whatever_else_is_run() {
         assert!(all.iter().any(|(s, c)| s == seed && c.name == case.name));
     }
 }
+
+/// The "truth" columns of `DIAGNOSIS.md` measure a model against the
+/// noise-free recording of the truth: the truth itself scores zero there,
+/// and the nominal scene (which misses the hidden effect and the
+/// concealment) does not; against the noisy recording neither can go
+/// below the noise.
+#[test]
+fn the_truth_scores_zero_against_its_noise_free_recording() {
+    let dir = std::env::temp_dir().join(format!("softgrip-prove-truth-{}", std::process::id()));
+    let case = prove::cases()
+        .into_iter()
+        .find(|c| c.name == "load-loss-strong")
+        .expect("the case");
+    let clean = prove::noise_free(&case, &dir).expect("simulated");
+    let truth = prove::truth_error(&case.truth_scene, &clean).expect("replayed");
+    let nominal = prove::truth_error(&case.nominal, &clean).expect("replayed");
+    assert!(truth < 1e-9, "the truth against itself: {truth}");
+    // Load loss moves the finger by about 0.9 mm: far above zero.
+    assert!(nominal > 1e-3, "the nominal scene: {nominal}");
+    let noisy = prove::write_case(&case, &dir.join("noisy"), 1).expect("written");
+    let floor = prove::truth_error(&case.truth_scene, &noisy).expect("replayed");
+    println!(
+        "NRMSE all: truth {truth:e}, nominal {nominal:.5}, truth against the noisy recording {floor:.5}"
+    );
+    // 0.1 mm of noise on a 50 mm object.
+    assert!(
+        (0.001..0.005).contains(&floor),
+        "the truth against the noisy recording: {floor}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -50,6 +50,7 @@ fn sink_under_punch(punch_x: f64) -> f64 {
             speed: 1e-6,
             consecutive_steps: 20,
             max_seconds: 10.0,
+            give_up_after: None,
         },
         |_| {},
     )

@@ -84,6 +84,7 @@ fn built_in_scene_at_rest_balances_the_weight_and_keeps_the_finger_on_the_surfac
             speed: 1e-5,
             consecutive_steps: 20,
             max_seconds: 3.0,
+            give_up_after: None,
         };
         sim.settle(tol, |_| {}).expect("comes to rest");
         sim.state.fingers[0]

@@ -68,6 +68,7 @@ fn depths(sim: &mut Simulation, loads: &[f64]) -> Vec<f64> {
         speed: 1e-5,
         consecutive_steps: 20,
         max_seconds: 10.0,
+        give_up_after: None,
     };
     loads
         .iter()

@@ -34,6 +34,7 @@ fn thesis_scene_volume_error_falls_as_alpha_rises() {
                         speed: 1e-5,
                         consecutive_steps: 20,
                         max_seconds: 4.0,
+                        give_up_after: None,
                     };
                     sim.settle(tol, |_| {}).expect("comes to rest");
                     assert_eq!(sim.state.inverted_elements(&sim.model), 0);

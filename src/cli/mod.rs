@@ -881,6 +881,7 @@ fn ramp(scene_path: Option<&Path>, loads: &[f64], max_seconds: f64, rest_speed: 
         speed: rest_speed,
         consecutive_steps: 20,
         max_seconds,
+        give_up_after: None,
     };
     println!(
         "| load (N) | indentation (mm) | contact force (N) | penetration (mm) | volume error | inverted elements | steps to rest |"
