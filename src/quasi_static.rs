@@ -32,7 +32,8 @@ pub struct RestTolerance {
 /// See [`RestTolerance::give_up_after`].
 pub const HOPELESS_SPEED_RATIO: f64 = 100.0;
 /// See [`RestTolerance::give_up_after`]. From 100 times the rest speed, a
-/// decay this slow (e^-0.22 a second) takes more than 20 s to reach it.
+/// decay this slow (e^-0.22 a second) takes more than 20 s to reach it,
+/// more than the whole budget.
 pub const HOPELESS_DECAY: f64 = 0.8;
 
 impl Default for RestTolerance {
@@ -55,8 +56,10 @@ impl RestTolerance {
     /// of the loads that came to rest took 2.7 s; the 5 that did not were
     /// still moving at 2e-2 to 7e-2 m/s after 20 s (an oscillation that
     /// does not decay) and cost 10,000 steps each, 40 % of that
-    /// diagnosis's time. A load that is still calming down, however
-    /// slowly, gets the whole 20 s.
+    /// diagnosis's time. A load that calms down fast enough to come to
+    /// rest within the 20 s is not given up on (see [`HOPELESS_DECAY`]),
+    /// and a load that comes to rest does so exactly as without the rule
+    /// (`tests/rest.rs`).
     pub fn for_fits() -> Self {
         RestTolerance {
             give_up_after: Some(5.0),
