@@ -25,7 +25,7 @@
 //! for a scheduler time slice).
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, RwLock, RwLockReadGuard, RwLockWriteGuard};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock, RwLock, RwLockReadGuard, RwLockWriteGuard};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
@@ -54,8 +54,12 @@ static HELPERS: AtomicUsize = AtomicUsize::new(0);
 /// run on their own threads, with the same results.
 static RUNNING: AtomicUsize = AtomicUsize::new(0);
 
-fn cores() -> usize {
-    thread::available_parallelism().map_or(1, |n| n.get())
+/// The cores this process may use, read once: `available_parallelism`
+/// reads the affinity mask and cgroup files, which a simulation looking
+/// every few steps must not do again.
+pub fn cores() -> usize {
+    static CORES: OnceLock<usize> = OnceLock::new();
+    *CORES.get_or_init(|| thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 /// Takes one helper slot if the machine has a core to spare.

@@ -351,12 +351,11 @@ pub fn noise_free(c: &Case, dir: &Path) -> Result<Recording, String> {
 /// How far `c`'s hidden effects move each marker: the noise-free
 /// recording of the truth replayed on the truth without the effects.
 pub fn moved_by_effect(c: &Case, dir: &Path) -> Result<Vec<(String, f64)>, String> {
-    if c.effects.is_empty() {
-        return Ok(Vec::new());
-    }
     moved_in(c, &noise_free(c, dir)?)
 }
 
+/// [`moved_by_effect`] in the noise-free recording `clean` (empty for a
+/// control).
 fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, String> {
     if c.effects.is_empty() {
         return Ok(Vec::new());
@@ -406,6 +405,11 @@ pub fn truth_errors(d: &Diagnosis, clean: &Recording) -> Result<[f64; 2], String
         truth_error(&d.baseline.scene, clean)?,
         truth_error(&d.final_fit.scene, clean)?,
     ])
+}
+
+/// The case called `name`.
+pub fn case(name: &str) -> Option<Case> {
+    cases().into_iter().find(|c| c.name == name)
 }
 
 /// The cases whose names contain `filter` (all for ""), each with its

@@ -74,10 +74,7 @@ impl Scratch {
             .as_ref()
             .is_none_or(|p| !Arc::ptr_eq(p.model(), model));
         let threads = match self.threads {
-            0 => std::thread::available_parallelism()
-                .map(|n| n.get())
-                .unwrap_or(1)
-                .min(2),
+            0 => crate::parallel::cores().min(2),
             n => n,
         };
         let rethink = self.threads == 0

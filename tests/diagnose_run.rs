@@ -8,10 +8,7 @@ use softgrip::prove;
 #[test]
 fn a_diagnosis_writes_the_specs_json_and_its_report() {
     let dir = std::env::temp_dir().join(format!("softgrip-diag-{}", std::process::id()));
-    let case = prove::cases()
-        .into_iter()
-        .find(|c| c.name == "load-loss-strong")
-        .expect("case");
+    let case = prove::case("load-loss-strong").expect("case");
     let mut rec = prove::write_case(&case, &dir.join("rec"), 5).expect("recording");
     // The nominal scene on a coarser mesh: the same diagnosis, faster.
     rec.scene.object.edge_length = 0.008;

@@ -60,12 +60,8 @@ fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
 #[test]
 fn a_case_is_written_as_the_thesis_experiment_saw_it() {
     let dir = std::env::temp_dir().join(format!("softgrip-prove-{}", std::process::id()));
-    let cases = prove::cases();
-    let case = cases
-        .iter()
-        .find(|c| c.name == "load-loss-strong")
-        .expect("case");
-    let rec = prove::write_case(case, &dir, 1).expect("written");
+    let case = prove::case("load-loss-strong").expect("case");
+    let rec = prove::write_case(&case, &dir, 1).expect("written");
     assert_eq!(rec.markers.len(), 8);
     assert_eq!(rec.samples.len(), 8);
     for s in &rec.samples {
@@ -171,10 +167,7 @@ fn a_case_has_its_seed_whatever_else_is_run() {
 #[test]
 fn the_truth_scores_zero_against_its_noise_free_recording() {
     let dir = std::env::temp_dir().join(format!("softgrip-prove-truth-{}", std::process::id()));
-    let case = prove::cases()
-        .into_iter()
-        .find(|c| c.name == "load-loss-strong")
-        .expect("the case");
+    let case = prove::case("load-loss-strong").expect("the case");
     let clean = prove::noise_free(&case, &dir).expect("simulated");
     let truth = prove::truth_error(&case.truth_scene, &clean).expect("replayed");
     let nominal = prove::truth_error(&case.nominal, &clean).expect("replayed");
