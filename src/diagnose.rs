@@ -1308,7 +1308,9 @@ pub fn diagnose(
         &[],
         None,
         None,
-    )?;
+    )
+    .and_then(|f| check_cancel().map(|()| f))
+    .map_err(|e| check_cancel().err().unwrap_or(e))?;
     let loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
     let breaks: Vec<usize> = (1..loads.len().saturating_sub(1))
         .filter(|&i| (loads[i] - loads[i - 1]) * (loads[i + 1] - loads[i]) < 0.0)
@@ -1328,7 +1330,9 @@ pub fn diagnose(
         &[],
         None,
         Some(&first),
-    )?;
+    )
+    .and_then(|f| check_cancel().map(|()| f))
+    .map_err(|e| check_cancel().err().unwrap_or(e))?;
     let location = locate(recording, &baseline.replay, &noise);
     let mut hypotheses = Vec::new();
     let mut effects = Vec::new();
@@ -1378,6 +1382,7 @@ pub fn diagnose(
                     c.off.as_deref(),
                     Some(&current),
                 );
+                check_cancel()?;
                 done += 1;
                 let (score, explained) = match &fit {
                     Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
@@ -1496,6 +1501,7 @@ pub fn diagnose(
                     None,
                     None,
                 );
+                check_cancel()?;
                 let Ok(pair) = pair else { break };
                 // The pair needs an effect when leaving it out costs what
                 // naming one costs: the BIC gain, the share of the residual
@@ -1591,6 +1597,17 @@ pub fn diagnose(
         pair: pair_test,
         simulations,
     })
+}
+
+/// The cancel message once the diagnosis's token is set (`crate::cancel`):
+/// its simulations then fail at once, which must not read as candidates
+/// that explain nothing.
+fn check_cancel() -> Result<(), String> {
+    if crate::cancel::requested() {
+        Err(crate::cancel::CANCELLED.into())
+    } else {
+        Ok(())
+    }
 }
 
 /// The pair test in words, for the evidence.

@@ -84,4 +84,7 @@ pub enum SimError {
         max_speed: f64,
         tolerance: f64,
     },
+
+    #[error("cancelled")]
+    Cancelled,
 }

@@ -324,6 +324,24 @@ pub struct Fit {
 pub enum FitError {
     #[error("the starting point does not run: {0}")]
     Start(String),
+    /// Stopped through its `crate::cancel` token.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// `FitError::Cancelled` once the fit's cancel token is set (its
+/// simulations then fail at once, which must not read as bad points).
+fn check_cancel() -> Result<(), FitError> {
+    if crate::cancel::requested() {
+        Err(FitError::Cancelled)
+    } else {
+        Ok(())
+    }
+}
+
+/// A run's error as the fit's: cancelled, or the start's.
+fn start_error(e: String) -> FitError {
+    check_cancel().err().unwrap_or(FitError::Start(e))
 }
 
 /// `scene` with `params` set to `values`.
@@ -369,7 +387,7 @@ pub fn fit(
     let at_values = |values: &[f64]| -> Result<Replay, String> {
         run(recording, &scene_with(scene, params, values)?)
     };
-    let first = at_values(&start).map_err(FitError::Start)?;
+    let first = at_values(&start).map_err(start_error)?;
     let before = first.errors;
     let mut trials = vec![Trial {
         values: start.clone(),
@@ -438,7 +456,7 @@ pub fn fit(
     (best_u, best_f, converged) = (first_search.x, first_search.f, first_search.converged);
     let value_at =
         |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
-    let mut fitted_replay = at_values(&value_at(&best_u)).map_err(FitError::Start)?;
+    let mut fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
     // A spring limit above every strain of the fitted run acts nowhere, and
     // NRMSE is flat in it: the search may have settled there with the
     // modulus making up for it. Try again with such limits just below the
@@ -474,7 +492,7 @@ pub fn fit(
             break;
         }
         (best_u, best_f, converged) = (r.x, r.f, r.converged);
-        fitted_replay = at_values(&value_at(&best_u)).map_err(FitError::Start)?;
+        fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
     }
     let fitted = value_at(&best_u);
     let at_bound = best_u
@@ -482,7 +500,9 @@ pub fn fit(
         .map(|u| *u < 1e-3 || *u > 1.0 - 1e-3)
         .collect();
     let after = fitted_replay.errors;
+    check_cancel()?;
     let (uncertainty, sensitivity) = evidence(recording, params, &fitted, &fitted_replay, options);
+    check_cancel()?;
     Ok(Fit {
         params: params.to_vec(),
         start,

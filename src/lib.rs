@@ -23,6 +23,7 @@
 //! - [`params`], [`sweep`], [`fit`], [`synth`]: parameters by name, grids,
 //!   fitting with its evidence, recordings made by softgrip itself.
 //! - [`plot`], [`report`]: PNG plots and the Markdown reports around them.
+//! - [`cancel`]: stopping a fit, sweep or diagnosis from another thread.
 //! - [`live`]: a simulation on its own thread, driven by commands, publishing frames (the viewer's core).
 //! - `render`, `viewer` (feature `gui`): the 3-D renderer (also headless, for
 //!   `softgrip screenshot`) and the desktop viewer.
@@ -32,6 +33,7 @@
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bench;
+pub mod cancel;
 pub mod compare;
 pub mod constraints;
 pub mod contact;

@@ -62,6 +62,12 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
+/// Simulations with a work split alive in this process now (each one
+/// main thread, stepping or about to).
+pub fn running() -> usize {
+    RUNNING.load(Ordering::SeqCst)
+}
+
 /// Takes one helper slot if the machine has a core to spare.
 fn reserve_helper() -> bool {
     let running = RUNNING.load(Ordering::SeqCst);

@@ -105,7 +105,14 @@ impl Simulation {
         // whole one, and of the current one.
         let (mut before, mut last, mut current) = (f64::INFINITY, f64::INFINITY, 0.0f64);
         let mut second = 0u64;
+        let cancel = crate::cancel::current();
         loop {
+            if cancel
+                .as_ref()
+                .is_some_and(crate::cancel::Cancel::is_cancelled)
+            {
+                return Err(SimError::Cancelled);
+            }
             self.step()?;
             let finger_speed = self
                 .state

@@ -253,7 +253,14 @@ impl Simulation {
 
     /// Steps until `time` (s) is reached.
     pub fn run_until(&mut self, time: f64) -> Result<(), SimError> {
+        let cancel = crate::cancel::current();
         while self.state.time + 0.5 * self.model.dt < time {
+            if cancel
+                .as_ref()
+                .is_some_and(crate::cancel::Cancel::is_cancelled)
+            {
+                return Err(SimError::Cancelled);
+            }
             self.step()?;
         }
         Ok(())

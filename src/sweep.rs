@@ -97,20 +97,27 @@ pub fn parallel_map<T: Sync, R: Send>(
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<R>>> = Mutex::new((0..items.len()).map(|_| None).collect());
+    // The workers run under the caller's cancel token: once it is set,
+    // each item left ends at its simulation's first step with
+    // `SimError::Cancelled` (the results stay one per item).
+    let cancel = crate::cancel::current();
     std::thread::scope(|s| {
         for _ in 0..workers {
+            let cancel = cancel.clone();
             s.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(item) = items.get(i) else {
-                        break;
-                    };
-                    let r = f(item);
-                    if let Ok(mut all) = results.lock() {
-                        all[i] = Some(r);
+                crate::cancel::scope(cancel, || {
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else {
+                            break;
+                        };
+                        let r = f(item);
+                        if let Ok(mut all) = results.lock() {
+                            all[i] = Some(r);
+                        }
+                        progress(done.fetch_add(1, Ordering::Relaxed) + 1);
                     }
-                    progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-                }
+                })
             });
         }
     });

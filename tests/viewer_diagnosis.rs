@@ -162,6 +162,33 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
         after < 0.8 * before,
         "the overlay's residual falls: {before} -> {after}"
     );
+
+    // A diagnosis started from the section and stopped at its first
+    // probe: the job ends as stopped (run to its end, it gives a verdict
+    // some seconds later), and its simulations are gone (the solver's
+    // own stays).
+    let idle = softgrip::parallel::running();
+    harness.get_by_label("Run diagnosis").click();
+    step_until(
+        &mut harness,
+        PATIENCE,
+        "the diagnosis's first probe",
+        |_| softgrip::parallel::running() > idle,
+    );
+    assert!(harness.state().recording.diagnosis.running());
+    harness.get_by_label("Stop").click();
+    step_until(
+        &mut harness,
+        PATIENCE,
+        "the stopped diagnosis to end",
+        |p| !p.recording.diagnosis.running(),
+    );
+    assert_eq!(
+        harness.state().recording.diagnosis.error.as_deref(),
+        Some("the diagnosis: stopped")
+    );
+    harness.get_by_label("the diagnosis: stopped");
+    assert_eq!(softgrip::parallel::running(), idle);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

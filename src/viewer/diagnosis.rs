@@ -106,7 +106,7 @@ impl DiagnosisSection {
             if g == generation {
                 match result {
                     Ok(d) => self.set_result(d),
-                    Err(e) => self.error = Some(format!("the diagnosis failed: {e}")),
+                    Err(e) => self.error = Some(super::recording::job_error("the diagnosis", &e)),
                 }
             }
         }
@@ -132,14 +132,13 @@ impl DiagnosisSection {
                 n => n,
             };
             let stage = self.stage.lock().map(|s| s.clone()).unwrap_or_default();
-            ui.add(
-                egui::ProgressBar::new((done as f32 / planned.max(1) as f32).min(1.0)).text(
-                    format!(
-                        "diagnosing: {done} / {planned} fits ({stage}), {:.0} s",
-                        job.started.elapsed().as_secs_f64()
-                    ),
+            let bar = egui::ProgressBar::new((done as f32 / planned.max(1) as f32).min(1.0)).text(
+                format!(
+                    "diagnosing: {done} / {planned} fits ({stage}), {:.0} s",
+                    job.started.elapsed().as_secs_f64()
                 ),
             );
+            super::recording::progress_with_stop(ui, job, bar);
         }
         if let Some(e) = &self.error {
             ui.colored_label(egui::Color32::from_rgb(200, 40, 40), e);

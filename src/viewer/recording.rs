@@ -8,8 +8,12 @@
 //! (atomics) and polls its result (a channel of one). Every recording
 //! opened bumps a generation counter and each result carries the
 //! generation it was started in, so a replay or a fit of a recording
-//! that has since been replaced is ignored (it runs to its end: the core
-//! has no way to stop one).
+//! that has since been replaced is ignored. A job's Stop button cancels
+//! it through its `crate::cancel` token: its simulations stop at their
+//! next step, and the job shows "stopping" until its thread has ended
+//! (with the error "cancelled", shown as "stopped"). A job dropped
+//! (another recording opened, the viewer closed) is cancelled the same
+//! way, instead of keeping both cores busy for minutes.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -20,6 +24,7 @@ use std::time::Instant;
 use eframe::egui;
 use glam::DVec3;
 
+use crate::cancel::Cancel;
 use crate::compare::{marker_position, scored};
 use crate::fit::{Fit, FitOptions, FitParam, default_bounds, fit};
 use crate::model::Model;
@@ -55,6 +60,15 @@ pub(super) struct Job<T> {
     pub(super) total: usize,
     result: Receiver<(u64, Result<T, String>)>,
     pub(super) started: Instant,
+    /// Set by [`Job::stop`] and when the job is dropped: its simulations
+    /// stop at their next step.
+    cancel: Cancel,
+}
+
+impl<T> Drop for Job<T> {
+    fn drop(&mut self) {
+        self.cancel.cancel();
+    }
 }
 
 impl<T: Send + 'static> Job<T> {
@@ -72,12 +86,15 @@ impl<T: Send + 'static> Job<T> {
             planned: AtomicUsize::new(0),
         });
         let shared = Arc::clone(&progress);
+        let cancel = Cancel::new();
+        let token = cancel.clone();
         // One slot: the thread sends once and never waits.
         let (sender, result) = sync_channel(1);
         std::thread::Builder::new()
             .name(name.into())
             .spawn(move || {
-                let _ = sender.send((generation, work(&shared)));
+                let r = crate::cancel::scope(Some(token), || work(&shared));
+                let _ = sender.send((generation, r));
             })
             .map_err(|e| format!("could not start the {name} thread: {e}"))?;
         Ok(Job {
@@ -86,6 +103,7 @@ impl<T: Send + 'static> Job<T> {
             total,
             result,
             started: Instant::now(),
+            cancel,
         })
     }
 
@@ -102,12 +120,55 @@ impl<T: Send + 'static> Job<T> {
         }
     }
 
+    /// Asks the job to stop; its result ("cancelled") comes by `poll`.
+    pub(super) fn stop(&self) {
+        self.cancel.cancel();
+    }
+
+    pub(super) fn stopping(&self) -> bool {
+        self.cancel.is_cancelled()
+    }
+
     pub(super) fn done(&self) -> usize {
         self.progress.done.load(Ordering::Relaxed)
     }
 
     fn best(&self) -> f64 {
         f64::from_bits(self.progress.best.load(Ordering::Relaxed))
+    }
+}
+
+/// A job's progress bar with a Stop button beside it, which stops the
+/// job (the bar then says so until its thread has ended).
+pub(super) fn progress_with_stop<T: Send + 'static>(
+    ui: &mut egui::Ui,
+    job: &Job<T>,
+    bar: egui::ProgressBar,
+) {
+    ui.horizontal(|ui| {
+        let stopping = job.stopping();
+        if ui
+            .add_enabled(!stopping, egui::Button::new("Stop"))
+            .on_hover_text("cancel this job: its simulations stop at their next step")
+            .clicked()
+        {
+            job.stop();
+        }
+        if stopping {
+            ui.add(bar.text("stopping ..."));
+        } else {
+            ui.add(bar);
+        }
+    });
+}
+
+/// A job's error in words: "stopped" for a cancelled one, else `failed`
+/// and the error.
+pub(super) fn job_error(failed: &str, e: &str) -> String {
+    if e == crate::cancel::CANCELLED {
+        format!("{failed}: stopped")
+    } else {
+        format!("{failed}: {e}")
     }
 }
 
@@ -454,7 +515,7 @@ impl RecordingPanel {
                         self.sample = self.sample.min(n.saturating_sub(1));
                         self.replayed = Some(Arc::new(replayed));
                     }
-                    Err(e) => self.error = Some(format!("replaying the recording failed: {e}")),
+                    Err(e) => self.error = Some(job_error("replaying the recording", &e)),
                 }
             }
         }
@@ -464,7 +525,7 @@ impl RecordingPanel {
             if generation == self.generation {
                 match result {
                     Ok(fitted) => self.fitted = Some(Arc::new(fitted)),
-                    Err(e) => self.error = Some(format!("the fit failed: {e}")),
+                    Err(e) => self.error = Some(job_error("the fit", &e)),
                 }
             }
         }
@@ -535,14 +596,14 @@ impl RecordingPanel {
                 }
                 if let Some(job) = &self.replay_job {
                     let done = job.done();
-                    ui.add(
-                        egui::ProgressBar::new(done as f32 / job.total.max(1) as f32)
-                            .text(format!(
-                                "replaying: {done} / {} samples, {:.0} s",
-                                job.total,
-                                job.started.elapsed().as_secs_f64()
-                            )),
+                    let bar = egui::ProgressBar::new(done as f32 / job.total.max(1) as f32).text(
+                        format!(
+                            "replaying: {done} / {} samples, {:.0} s",
+                            job.total,
+                            job.started.elapsed().as_secs_f64()
+                        ),
                     );
+                    progress_with_stop(ui, job, bar);
                 }
                 if self.replayed.is_some() {
                     self.samples(ui);
@@ -653,15 +714,13 @@ impl RecordingPanel {
             }
             if let Some(job) = &self.fit_job {
                 let done = job.done();
-                ui.add(
-                    egui::ProgressBar::new((done as f32 / job.total.max(1) as f32).min(1.0)).text(
-                        format!(
-                            "fitting: {done} simulations, {:.0} s",
-                            job.started.elapsed().as_secs_f64()
-                        ),
-                    ),
-                );
+                let bar = egui::ProgressBar::new((done as f32 / job.total.max(1) as f32).min(1.0))
+                    .text(format!(
+                        "fitting: {done} simulations, {:.0} s",
+                        job.started.elapsed().as_secs_f64()
+                    ));
                 let best = job.best();
+                progress_with_stop(ui, job, bar);
                 if best.is_finite() {
                     ui.label(format!("best NRMSE so far {best:.4}"));
                 }
