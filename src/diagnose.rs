@@ -972,21 +972,55 @@ impl Diagnosis {
 /// Progress: (fits done, fits planned, what is being fitted).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize, &str) + Sync);
 
-/// Fits `params` of `scene` to `recording` minimising the noise-weighted
-/// residual sum of squares over every marker (fingers included).
+/// One fit of the diagnosis: the model, what is fitted and how.
+struct FitTask<'a> {
+    scene: &'a Scene,
+    params: &'a [FitParam],
+    /// Parameters counted by BIC: the model's in all (the modulus is
+    /// refitted, not added, by a candidate).
+    k_total: usize,
+    search: Search,
+    /// Simulations at most.
+    budget: usize,
+    /// Points (values) to start from beside the scene's own.
+    starts: &'a [Vec<f64>],
+    /// A point (values) the fit ends no worse than, but does not search
+    /// from: a candidate's effect switched off (`Candidate::off`).
+    floor: Option<&'a [f64]>,
+    /// A fit already run: a point that is its model takes its replay.
+    known: Option<&'a ModelFit>,
+}
+
+/// Fits the task's parameters of its scene to `recording` minimising the
+/// noise-weighted residual sum of squares over every marker (fingers
+/// included). "cancelled" once the diagnosis's cancel token is set.
 fn fit_model(
     recording: &Recording,
-    scene: &Scene,
-    params: &[FitParam],
     noise: &Noise,
-    k_total: usize,
     options: &DiagnoseOptions,
-    search: Search,
-    budget: usize,
-    starts: &[Vec<f64>],
-    floor: Option<&[f64]>,
-    known: Option<&ModelFit>,
+    task: FitTask<'_>,
 ) -> Result<ModelFit, String> {
+    let fit = fit_task(recording, noise, options, task);
+    check_cancel()?;
+    fit
+}
+
+fn fit_task(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    task: FitTask<'_>,
+) -> Result<ModelFit, String> {
+    let FitTask {
+        scene,
+        params,
+        k_total,
+        search,
+        budget,
+        starts,
+        floor,
+        known,
+    } = task;
     // On the default thread count: one simulation per core while a batch
     // has several, both cores for the last one left (`Simulation::set_threads`).
     let run = |values: &[f64]| -> Result<Replay, String> {
@@ -1298,19 +1332,19 @@ pub fn diagnose(
     progress(0, planned, "baseline");
     let first = fit_model(
         recording,
-        scene,
-        &base_params,
         &unit,
-        base_params.len(),
         options,
-        Search::Twice,
-        options.max_evaluations,
-        &[],
-        None,
-        None,
-    )
-    .and_then(|f| check_cancel().map(|()| f))
-    .map_err(|e| check_cancel().err().unwrap_or(e))?;
+        FitTask {
+            scene,
+            params: &base_params,
+            k_total: base_params.len(),
+            search: Search::Twice,
+            budget: options.max_evaluations,
+            starts: &[],
+            floor: None,
+            known: None,
+        },
+    )?;
     let loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
     let breaks: Vec<usize> = (1..loads.len().saturating_sub(1))
         .filter(|&i| (loads[i] - loads[i - 1]) * (loads[i + 1] - loads[i]) < 0.0)
@@ -1320,19 +1354,20 @@ pub fn diagnose(
     progress(1, planned, "baseline, weighted by the noise");
     let baseline = fit_model(
         recording,
-        &first.scene,
-        &base_params,
         &noise,
-        base_params.len(),
         options,
-        Search::Local, // from the first fit's optimum: the weights changed a little
-        options.max_evaluations / 2,
-        &[],
-        None,
-        Some(&first),
-    )
-    .and_then(|f| check_cancel().map(|()| f))
-    .map_err(|e| check_cancel().err().unwrap_or(e))?;
+        FitTask {
+            scene: &first.scene,
+            params: &base_params,
+            k_total: base_params.len(),
+            // From the first fit's optimum: the weights changed a little.
+            search: Search::Local,
+            budget: options.max_evaluations / 2,
+            starts: &[],
+            floor: None,
+            known: Some(&first),
+        },
+    )?;
     let location = locate(recording, &baseline.replay, &noise);
     let mut hypotheses = Vec::new();
     let mut effects = Vec::new();
@@ -1371,17 +1406,21 @@ pub fn diagnose(
                 let budget = options.candidate_evaluations_per_param * c.params.len();
                 let fit = fit_model(
                     recording,
-                    &c.scene,
-                    &c.params,
                     &noise,
-                    k,
                     options,
-                    Search::Contender,
-                    budget,
-                    &[],
-                    c.off.as_deref(),
-                    Some(&current),
+                    FitTask {
+                        scene: &c.scene,
+                        params: &c.params,
+                        k_total: k,
+                        search: Search::Contender,
+                        budget,
+                        starts: &[],
+                        floor: c.off.as_deref(),
+                        known: Some(&current),
+                    },
                 );
+                // A cancelled fit is the diagnosis's end, not a candidate
+                // that failed.
                 check_cancel()?;
                 done += 1;
                 let (score, explained) = match &fit {
@@ -1490,16 +1529,18 @@ pub fn diagnose(
                     .collect();
                 let pair = fit_model(
                     recording,
-                    &rc.scene,
-                    &params,
                     &noise,
-                    k,
                     options,
-                    Search::Design,
-                    budget,
-                    &starts,
-                    None,
-                    None,
+                    FitTask {
+                        scene: &rc.scene,
+                        params: &params,
+                        k_total: k,
+                        search: Search::Design,
+                        budget,
+                        starts: &starts,
+                        floor: None,
+                        known: None,
+                    },
                 );
                 check_cancel()?;
                 let Ok(pair) = pair else { break };
