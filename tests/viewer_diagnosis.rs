@@ -7,28 +7,21 @@
 #![cfg(feature = "gui")]
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use softgrip::diagnose::{self, DiagnoseOptions, Diagnosis};
-use softgrip::live::RunState;
 use softgrip::recording::{Mode, Recording, Start};
 use softgrip::scene::SupportKind;
 use softgrip::synth::{Synthesis, synthesize};
-use softgrip::viewer::Panels;
 use softgrip::viewer::diagnosis::Shown;
 use softgrip::{Scene, prove};
 
-const PATIENCE: Duration = Duration::from_secs(20);
-const REPLAY_PATIENCE: Duration = Duration::from_secs(300);
+mod viewer_support;
+use viewer_support::{PATIENCE, step_until, temp_dir};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("softgrip-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+const REPLAY_PATIENCE: Duration = Duration::from_secs(300);
 
 /// The light guide on an 8 mm mesh (fast), with the bottom on a table of
 /// friction 0.1 in the data and fixed in the scene beside them: a large
@@ -68,21 +61,6 @@ fn diagnosis(path: &Path) -> Diagnosis {
     diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis")
 }
 
-fn step_until<S>(
-    harness: &mut Harness<'_, S>,
-    patience: Duration,
-    what: &str,
-    done: impl Fn(&S) -> bool,
-) {
-    let start = Instant::now();
-    while !done(harness.state()) {
-        assert!(start.elapsed() < patience, "timed out waiting for {what}");
-        harness.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    harness.step();
-}
-
 fn is_accepted_green([r, g, b, _]: [u8; 4]) -> bool {
     (r as i32 - 40).abs() < 12 && (g as i32 - 150).abs() < 12 && (b as i32 - 70).abs() < 12
 }
@@ -104,17 +82,7 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
     let candidates = d.hypotheses.len();
     assert!(candidates >= 3);
 
-    let panels = Panels::start(Scene::thesis()).expect("solver thread");
-    panels
-        .live
-        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
-        .expect("first frame");
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 2600.0))
-        .with_max_steps(32)
-        .wgpu()
-        .build_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
-    harness.run();
+    let mut harness = viewer_support::panels(2600.0, true);
     harness.state_mut().open_recording(path.clone());
     step_until(&mut harness, REPLAY_PATIENCE, "the replay", |p| {
         !p.recording.replaying()

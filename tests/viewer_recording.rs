@@ -6,7 +6,7 @@
 #![cfg(feature = "gui")]
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -19,7 +19,6 @@ use softgrip::viewer::Panels;
 use softgrip::viewer::recording::fitted_value;
 use softgrip::{Scene, params};
 
-const PATIENCE: Duration = Duration::from_secs(20);
 /// A replay of two loads on the 8 mm mesh takes a second or two; the
 /// machine may be busy.
 const REPLAY_PATIENCE: Duration = Duration::from_secs(300);
@@ -29,13 +28,6 @@ const LOADS: [f64; 2] = [3.0, 8.0];
 
 /// The side marker, on the +x face (which the opening iso view shows).
 const SIDE: DVec3 = DVec3::new(0.025, 0.0, 0.01);
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("softgrip-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
 
 /// The light-guide thesis scene on an 8 mm mesh.
 fn light_guide() -> Scene {
@@ -77,36 +69,13 @@ fn recording(dir: &Path, viewer_modulus: Option<f64>, axes: [bool; 3]) -> PathBu
     dir.join("recording.toml")
 }
 
+mod viewer_support;
+use viewer_support::{PATIENCE, step_until, temp_dir};
+
 /// The panels (paused) on the thesis scene in a harness tall enough to
 /// show them whole.
 fn panels() -> Harness<'static, Panels> {
-    let panels = Panels::start(Scene::thesis()).expect("solver thread");
-    panels
-        .live
-        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
-        .expect("first frame");
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1800.0))
-        .with_max_steps(32)
-        .build_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
-    harness.run();
-    harness
-}
-
-/// Steps UI frames until `done` or the time is up.
-fn step_until<S>(
-    harness: &mut Harness<'_, S>,
-    patience: Duration,
-    what: &str,
-    done: impl Fn(&S) -> bool,
-) {
-    let start = Instant::now();
-    while !done(harness.state()) {
-        assert!(start.elapsed() < patience, "timed out waiting for {what}");
-        harness.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    harness.step();
+    viewer_support::panels(1800.0, false)
 }
 
 /// Opening a recording switches the run to its scene and replays it on a

@@ -3,30 +3,19 @@
 //! and the solver thread must have received both.
 #![cfg(feature = "gui")]
 
-use std::time::Duration;
-
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use softgrip::Scene;
 use softgrip::live::RunState;
 use softgrip::viewer::Panels;
 
-const PATIENCE: Duration = Duration::from_secs(10);
+mod viewer_support;
+use viewer_support::PATIENCE;
 
-/// The panels on the thesis scene in a harness tall enough to show them
-/// whole, once the solver has published its first frame; Play pressed.
+/// The panels on the thesis scene, once the solver has published its
+/// first frame; Play pressed.
 fn playing() -> Harness<'static, Panels> {
-    let panels = Panels::start(Scene::thesis()).expect("solver thread");
-    panels
-        .live
-        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
-        .expect("first frame");
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1800.0))
-        // Frames from the solver arrive between steps; let the UI settle.
-        .with_max_steps(32)
-        .build_ui_state(|ui, panels: &mut Panels| panels.ui(ui), panels);
-    harness.run();
+    let mut harness = viewer_support::panels(1800.0, false);
     harness.get_by_label("Play").click();
     harness.run();
     harness
