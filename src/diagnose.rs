@@ -683,6 +683,22 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
         params: with_modulus(vec![param("stiffening", 0.0, stiffening_max, false)]),
         off: None,
     });
+    // Elements can also soften first and stiffen late (filled silicones:
+    // a two-term Yeoh solid, C20 < 0 < C30), which one growing term cannot
+    // follow. gamma 10 multiplies the shear modulus by 11 at s = 3 (the
+    // Ecoflex recordings' last level); softening 0.95 dips it to 10 %.
+    if scene.model.elasticity == crate::scene::Elasticity::NeoHookean {
+        out.push(Candidate {
+            effect: "strain-stiffening",
+            variant: "two-term".into(),
+            scene: scene.clone(),
+            params: with_modulus(vec![
+                param("stiffening_cubic", 0.0, 10.0, false),
+                param("softening", 0.0, 0.95, false),
+            ]),
+            off: None,
+        });
+    }
     if recording.mode == Mode::TimeSeries {
         out.push(Candidate {
             effect: "viscoelastic-creep",

@@ -115,6 +115,8 @@ struct RawModel {
     constraint_iterations: Option<i64>,
     constraint_tolerance: Option<f64>,
     stiffening: Option<f64>,
+    stiffening_cubic: Option<f64>,
+    softening: Option<f64>,
     compression_ratio: Option<f64>,
     prony_g: Option<f64>,
     prony_tau: Option<f64>,
@@ -279,6 +281,17 @@ pub struct ModelParams {
     /// `mu beta / 12 max(I1 - 3, 0)^2` (the same share at small uniaxial
     /// strain, `forces::fem`); 0 = the thesis's linear spring (softgrip).
     pub stiffening: f64,
+    /// Neo-Hookean elements only: a third-order term, gamma, the energy's
+    /// `mu gamma / 54 max(I1 - 3, 0)^3` (Yeoh's C30 form; at small uniaxial
+    /// strain the shear modulus grows by `gamma e^4`) ...
+    pub stiffening_cubic: f64,
+    /// ... and an early softening q in [0, 1): a second-order term of
+    /// `-2 q sqrt(gamma)` beside `stiffening`, so that the shear modulus
+    /// first dips (to `1 - q^2` of mu at the lowest, with `stiffening` 0)
+    /// and then stiffens, as filled silicones do (a two-term Yeoh solid
+    /// with C20 < 0 < C30); never below zero for any q < 1
+    /// (`forces::fem`). 0 = none (softgrip).
+    pub softening: f64,
     /// A spring's stiffness in compression over its stiffness in tension;
     /// 1 = symmetric, the thesis (softgrip).
     pub compression_ratio: f64,
@@ -575,6 +588,12 @@ impl Scene {
         let _ = writeln!(s, "constraint_iterations = {}", m.constraint_iterations);
         if let Some(t) = m.constraint_tolerance {
             let _ = writeln!(s, "constraint_tolerance = {t:?}");
+        }
+        if m.stiffening_cubic != 0.0 {
+            let _ = writeln!(s, "stiffening_cubic = {:?}", m.stiffening_cubic);
+        }
+        if m.softening != 0.0 {
+            let _ = writeln!(s, "softening = {:?}", m.softening);
         }
         let _ = writeln!(
             s,
@@ -1085,6 +1104,20 @@ impl<'a> Resolver<'a> {
             |x| (0.0..=1e5).contains(&x),
             "must be in [0, 1e5] (a spring's F = k dl (1 + stiffening (dl / l0)^2), an element's energy mu stiffening / 12 max(I1 - 3, 0)^2 more; 0 = none)",
         )?;
+        let stiffening_cubic = self.number(
+            at("model", "stiffening_cubic"),
+            m.stiffening_cubic,
+            0.0,
+            |x| (0.0..=1e5).contains(&x),
+            "must be in [0, 1e5] (an element's energy mu stiffening_cubic / 54 max(I1 - 3, 0)^3 more; 0 = none)",
+        )?;
+        let softening = self.number(
+            at("model", "softening"),
+            m.softening,
+            0.0,
+            |x| (0.0..1.0).contains(&x),
+            "must be in [0, 1) (the early softening of a two-term Yeoh solid: the shear modulus dips to 1 - softening^2 of mu before stiffening_cubic lifts it; 0 = none)",
+        )?;
         let compression_ratio = self.number(
             at("model", "compression_ratio"),
             m.compression_ratio,
@@ -1121,6 +1154,20 @@ impl<'a> Resolver<'a> {
                 ));
             }
         };
+        if elasticity == Elasticity::Springs {
+            for (key, value) in [
+                ("stiffening_cubic", stiffening_cubic),
+                ("softening", softening),
+            ] {
+                if value != 0.0 {
+                    return Err(self.err(
+                        at("model", key),
+                        value,
+                        "applies to neo-Hookean elements only: set [model] elasticity = \"neo-hookean\", or remove the key (the springs' law is stiffening alone)",
+                    ));
+                }
+            }
+        }
         let self_collision = self.default(at("model", "self_collision"), m.self_collision, false);
         let model = ModelParams {
             self_collision,
@@ -1134,6 +1181,8 @@ impl<'a> Resolver<'a> {
             constraint_iterations: iters as usize,
             constraint_tolerance,
             stiffening,
+            stiffening_cubic,
+            softening,
             compression_ratio,
             prony_g,
             prony_tau,

@@ -291,3 +291,21 @@ fn non_positive_contact_stiffness_scale() {
         &["contact_stiffness_scale", "0", "(0, 1e6]"],
     );
 }
+
+#[test]
+fn softening_out_of_range_or_on_springs() {
+    // q = 1 would let the shear modulus reach zero.
+    expect(
+        &format!("{BASE}[model]\nelasticity = \"neo-hookean\"\nsoftening = 1.0\n"),
+        &["softening", "[0, 1)", ":8"],
+    );
+    expect(
+        &format!("{BASE}[model]\nelasticity = \"neo-hookean\"\nstiffening_cubic = -2.0\n"),
+        &["stiffening_cubic", "-2", "[0, 1e5]"],
+    );
+    // The lattice has no such law: an error, not a key silently ignored.
+    expect(
+        &format!("{BASE}[model]\nstiffening_cubic = 3.0\nsoftening = 0.4\n"),
+        &["stiffening_cubic", "3", ":7", "neo-Hookean elements only"],
+    );
+}

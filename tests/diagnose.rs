@@ -202,6 +202,28 @@ fn the_catalogue_offers_what_applies() {
     }
     assert!(diagnose::same_model(&off, &rec.scene));
     assert!(!diagnose::same_model(&creep.scene, &rec.scene));
+    // The two-term stiffening (soften, then stiffen) is for elements: the
+    // lattice has no such law, and every value in its range is a valid
+    // scene.
+    let two_term = |scene: &softgrip::Scene| {
+        diagnose::catalogue(&rec, scene)
+            .into_iter()
+            .find(|c| c.effect == "strain-stiffening" && c.variant == "two-term")
+    };
+    assert!(two_term(&rec.scene).is_none());
+    let mut elements = rec.scene.clone();
+    elements.model.elasticity = softgrip::scene::Elasticity::NeoHookean;
+    let c = two_term(&elements).expect("offered for elements");
+    let names_of: Vec<&str> = c.params.iter().map(|p| p.param.name).collect();
+    assert_eq!(
+        names_of,
+        vec!["young_modulus", "stiffening_cubic", "softening"]
+    );
+    for p in &c.params[1..] {
+        for v in [p.lower, p.upper] {
+            softgrip::params::set(&c.scene, p.param.name, v).expect("in range");
+        }
+    }
     let mut free = rec.scene.clone();
     free.support.kind = softgrip::scene::SupportKind::None;
     assert!(!names(&diagnose::catalogue(&rec, &free)).contains(&"table-friction"));

@@ -17,15 +17,19 @@ fn constants() -> (f64, f64, f64) {
 
 /// Uniaxial stress with free sides, `F = diag(l1, l2, l2)`: `P_22 = 0`
 /// gives `J = a - mu_s / (lambda l1)`, and then `P_11 = mu_s (l1 - J /
-/// l1^2)`, the lateral stretch `l2 = sqrt(J / l1)`. With stiffening beta
-/// the shear modulus is `mu_s = mu (1 + beta max(I1 - 3, 0) / 3)`, `I1 =
+/// l1^2)`, the lateral stretch `l2 = sqrt(J / l1)`. With the stiffening
+/// terms the shear modulus is `mu_s = mu phi(max(I1 - 3, 0))`, `phi = 1 +
+/// beta s / 3 + gamma s^2 / 9` (beta with the softening's share), `I1 =
 /// l1^2 + 2 J / l1`, which depends on J: `J - a + mu_s(J) / (lambda l1)`
-/// grows with J, so its root is found by bisection.
-fn analytic(stretch: f64, beta: f64) -> (f64, f64) {
+/// grows with J (here `2 mu |phi'| / (lambda l1^2)` stays below 1), so
+/// its root is found by bisection. `phi` is written out here, not taken
+/// from `forces::fem`.
+fn analytic(stretch: f64, (beta, gamma, q): (f64, f64, f64)) -> (f64, f64) {
     let (mu, lambda, a) = constants();
+    let b = beta - 2.0 * q * gamma.sqrt();
     let mu_s = |j: f64| {
-        let i1 = stretch * stretch + 2.0 * j / stretch;
-        mu * (1.0 + beta * (i1 - 3.0).max(0.0) / 3.0)
+        let s = (stretch * stretch + 2.0 * j / stretch - 3.0).max(0.0);
+        mu * (1.0 + b * s / 3.0 + gamma * s * s / 9.0)
     };
     let (mut lo, mut hi) = (1e-3, a);
     for _ in 0..200 {
@@ -42,6 +46,8 @@ fn analytic(stretch: f64, beta: f64) -> (f64, f64) {
         (j / stretch).sqrt(),
     )
 }
+
+const PLAIN: (f64, f64, f64) = (0.0, 0.0, 0.0);
 
 fn settle(sim: &mut Simulation) {
     sim.settle(
@@ -63,7 +69,7 @@ fn settle(sim: &mut Simulation) {
 #[test]
 fn uniaxial_compression_follows_the_analytic_neo_hookean_stress() {
     for force in [2.0, 6.0] {
-        uniaxial(force, 0.0);
+        uniaxial(force, PLAIN);
     }
 }
 
@@ -72,18 +78,37 @@ fn uniaxial_compression_follows_the_analytic_neo_hookean_stress() {
 /// cube's stretch, and the cube follows the stiffened one.
 #[test]
 fn uniaxial_compression_with_stiffening_follows_its_analytic_stress() {
-    let stretch = uniaxial(6.0, 10.0);
-    let (p_plain, _) = analytic(stretch, 0.0);
-    let (p_stiff, _) = analytic(stretch, 10.0);
+    let terms = (10.0, 0.0, 0.0);
+    let stretch = uniaxial(6.0, terms);
+    let (p_plain, _) = analytic(stretch, PLAIN);
+    let (p_stiff, _) = analytic(stretch, terms);
     assert!(
         (p_stiff - p_plain).abs() > 0.05 * p_plain.abs(),
         "at stretch {stretch:.4} the stiffening changes the stress by less than 5 % ({p_plain:.1} against {p_stiff:.1} Pa): the test would not tell them apart"
     );
 }
 
-/// Compresses the cube with `force` (N) and stiffening `beta`, checks the
-/// stress and lateral stretch against `analytic`, returns the stretch.
-fn uniaxial(force: f64, beta: f64) -> f64 {
+/// A two-term Yeoh solid that softens first (`stiffening_cubic = 400`,
+/// `softening = 0.9`: the shear modulus dips to 19 % of mu at s = 0.135):
+/// at 2 N the cube is softer than the plain solid by far more than 5 %,
+/// and follows its own analytic curve.
+#[test]
+fn uniaxial_compression_of_a_softening_solid_follows_its_analytic_stress() {
+    let terms = (0.0, 400.0, 0.9);
+    let stretch = uniaxial(2.0, terms);
+    let (p_plain, _) = analytic(stretch, PLAIN);
+    let (p_soft, _) = analytic(stretch, terms);
+    assert!(
+        (p_soft - p_plain).abs() > 0.05 * p_plain.abs(),
+        "at stretch {stretch:.4} the softening changes the stress by less than 5 % ({p_plain:.1} against {p_soft:.1} Pa): the test would not tell them apart"
+    );
+}
+
+/// Compresses the cube with `force` (N) and the stiffening terms `(beta,
+/// gamma, q)`, checks the stress and lateral stretch against `analytic`,
+/// returns the stretch.
+fn uniaxial(force: f64, terms: (f64, f64, f64)) -> f64 {
+    let (beta, gamma, q) = terms;
     {
         let text = format!(
             r#"
@@ -100,6 +125,8 @@ poisson_ratio = {NU}
 [model]
 elasticity = "neo-hookean"
 stiffening = {beta}
+stiffening_cubic = {gamma}
+softening = {q}
 
 [support]
 kind = "table"
@@ -135,9 +162,9 @@ contact_stiffness_scale = 10
             |x: f64| move |p: glam::DVec3| (p.x - x).abs() < 1e-9 && (p.z - 0.01).abs() < 1e-9;
         let lateral = (mean(&side(0.01), 0) - mean(&side(-0.01), 0)) / 0.02;
         let nominal = -force / (0.02 * 0.02);
-        let (p_exact, lateral_exact) = analytic(stretch, beta);
+        let (p_exact, lateral_exact) = analytic(stretch, terms);
         eprintln!(
-            "F {force} N, beta {beta}: stretch {stretch:.5}, nominal stress {nominal:.1} Pa, analytic {p_exact:.1} Pa; lateral {lateral:.5} (analytic {lateral_exact:.5})"
+            "F {force} N, terms {terms:?}: stretch {stretch:.5}, nominal stress {nominal:.1} Pa, analytic {p_exact:.1} Pa; lateral {lateral:.5} (analytic {lateral_exact:.5})"
         );
         assert!(
             (nominal - p_exact).abs() < 0.02 * p_exact.abs(),

@@ -47,6 +47,8 @@ fn thesis_scene_has_the_thesis_values() {
                 "constraint_tolerance",
                 "limit_stiffness",
                 "stiffening",
+                "stiffening_cubic",
+                "softening",
                 "compression_ratio",
                 "prony_g",
                 "prony_tau",

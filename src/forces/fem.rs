@@ -21,16 +21,25 @@
 //!
 //! Strain stiffening (`[model] stiffening`, beta, as for the springs) adds
 //! a second-order term in `I1 = |F|^2` (Yeoh's C20 form, on `I1` rather
-//! than its isochoric part, as the energy above):
+//! than its isochoric part, as the energy above), and `stiffening_cubic`,
+//! gamma, a third-order one (C30), both on `s = max(I1 - 3, 0)`:
 //!
-//! `Psi_s = mu beta / 12 max(I1 - 3, 0)^2`, `P_s = mu beta / 3 max(I1 - 3, 0) F`,
+//! `Psi_s = mu (b / 4 s^2 + c / 6 s^3)`, `P_s = mu (b s + c s^2) F`,
+//! `b = beta / 3`, `c = gamma / 9`,
 //!
-//! so the shear modulus grows to `mu (1 + beta max(I1 - 3, 0) / 3)`. In an
-//! incompressible solid under a small uniaxial strain e, `I1 - 3 = 3 e^2`,
-//! and the energy grows by the same share `beta e^2 / 2` as a spring's
-//! `k dl (1 + beta e^2)`. The `max` keeps it off under a volume change
-//! alone (`I1 < 3`), where it would soften the shear. Its Jacobian adds
-//! `V0 (2 mu beta / 3) (F b_a)(F b_b)^T`, positive semi-definite.
+//! so the shear modulus grows to `mu phi(s)`, `phi = 1 + b s + c s^2`. In
+//! an incompressible solid under a small uniaxial strain e, `s = 3 e^2`, so
+//! `phi = 1 + beta e^2 + gamma e^4`, a spring's `k dl (1 + beta e^2)` for
+//! gamma 0 (the energy grows by the same share `beta e^2 / 2`). The `max`
+//! keeps it off under a volume change alone (`I1 < 3`), where it would
+//! soften the shear. `softening`, q in [0, 1), adds `-2 q sqrt(gamma)` to
+//! beta: filled silicones soften first and stiffen late (C20 < 0 < C30),
+//! and this form keeps `phi >= 1 - q^2 > 0` for every strain (with beta 0
+//! its lowest value is exactly `1 - q^2`), so no setting makes the shear
+//! modulus negative. The Jacobian adds `V0 2 mu phi'(s) (F b_a)(F b_b)^T`,
+//! positive semi-definite where `phi' >= 0`; where the softening makes it
+//! negative the term is left out (a Gauss-Newton step, as for the bulk
+//! term: the forces stay exact).
 //!
 //! The model shares everything else with the springs: masses, contact,
 //! supports, the implicit integrator, and the springs' dampers (each edge's
@@ -56,6 +65,8 @@ pub struct FemModel {
     /// Each element's `mu` and `lambda` (Pa), see the module docs.
     pub mu: Vec<f64>,
     pub lambda: Vec<f64>,
+    /// The strain-stiffening terms, one for all elements.
+    pub yeoh: Yeoh,
 }
 
 impl FemModel {
@@ -92,6 +103,7 @@ impl FemModel {
             gradients,
             mu,
             lambda,
+            yeoh: Yeoh::default(),
         }
     }
 }
@@ -108,37 +120,74 @@ fn first_invariant(f: DMat3) -> f64 {
     f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared()
 }
 
-/// `max(I1 - 3, 0)`: what the stiffening term acts on.
+/// `max(I1 - 3, 0)`: what the stiffening terms act on.
 #[inline]
 fn stretch_invariant(f: DMat3) -> f64 {
     (first_invariant(f) - 3.0).max(0.0)
 }
 
-/// The shear modulus with the stiffening term, `mu (1 + beta s / 3)`.
-#[inline]
-fn shear_modulus(mu: f64, stiffening: f64, s: f64) -> f64 {
-    mu * (1.0 + stiffening * s / 3.0)
+/// The elements' strain-stiffening terms (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Yeoh {
+    /// beta with the softening's share: `stiffening - 2 q sqrt(gamma)`.
+    pub beta: f64,
+    /// gamma, `stiffening_cubic`.
+    pub gamma: f64,
+}
+
+impl Yeoh {
+    /// From `[model] stiffening`, `stiffening_cubic` and `softening`.
+    pub fn new(stiffening: f64, stiffening_cubic: f64, softening: f64) -> Yeoh {
+        Yeoh {
+            beta: stiffening - 2.0 * softening * stiffening_cubic.sqrt(),
+            gamma: stiffening_cubic,
+        }
+    }
+
+    /// No term: the plain energy.
+    pub fn is_plain(&self) -> bool {
+        self.beta == 0.0 && self.gamma == 0.0
+    }
+
+    /// `phi(s) = 1 + beta s / 3 + gamma s^2 / 9`, the shear modulus over mu.
+    #[inline]
+    pub fn factor(&self, s: f64) -> f64 {
+        1.0 + self.beta * s / 3.0 + self.gamma * s * s / 9.0
+    }
+
+    /// `V0 2 mu phi'(s)`, the weight of the Jacobian's term, 0 where
+    /// negative (see the module docs).
+    #[inline]
+    fn slope_weight(&self, v0: f64, mu: f64, s: f64) -> f64 {
+        (v0 * 2.0 * mu * self.beta / 3.0 + v0 * 2.0 * mu * 2.0 * self.gamma * s / 9.0).max(0.0)
+    }
+
+    /// `Psi_s`, the terms' energy per unit rest volume.
+    #[inline]
+    fn energy(&self, mu: f64, s: f64) -> f64 {
+        mu * self.beta / 12.0 * s * s + mu * self.gamma / 54.0 * s * s * s
+    }
 }
 
 /// First Piola-Kirchhoff stress of the energy at `F` (Pa), with the
-/// stiffening beta (0: the plain energy).
-pub fn stress(mu: f64, lambda: f64, stiffening: f64, f: DMat3) -> DMat3 {
+/// stiffening terms `yeoh` (`Yeoh::default()`: the plain energy).
+pub fn stress(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> DMat3 {
     let j = f.determinant();
     let alpha = 1.0 + mu / lambda;
     // cof F = J F^-T, written with cross products so it exists at J = 0.
     let (c0, c1, c2) = (f.x_axis, f.y_axis, f.z_axis);
     let cof = DMat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
-    f * shear_modulus(mu, stiffening, stretch_invariant(f)) + cof * (lambda * (j - alpha))
+    f * (mu * yeoh.factor(stretch_invariant(f))) + cof * (lambda * (j - alpha))
 }
 
 /// The energy per unit rest volume at `F` (Pa), zero at rest.
-pub fn energy_density(mu: f64, lambda: f64, stiffening: f64, f: DMat3) -> f64 {
+pub fn energy_density(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> f64 {
     let alpha = 1.0 + mu / lambda;
     let j = f.determinant();
     let i1 = first_invariant(f);
     let s = (i1 - 3.0).max(0.0);
     0.5 * mu * (i1 - 3.0)
-        + mu * stiffening / 12.0 * s * s
+        + yeoh.energy(mu, s)
         + 0.5 * lambda * ((j - alpha).powi(2) - (1.0 - alpha).powi(2))
 }
 
@@ -154,7 +203,7 @@ pub fn accumulate_elements(
 ) {
     let dt2 = system.dt() * system.dt();
     let (x, v) = (&state.positions, &state.velocities);
-    let beta = model.spring_law.stiffening;
+    let yeoh = fem.yeoh;
     for e in elements {
         let tet = model.tets[e];
         let idx = tet.map(|i| i as usize);
@@ -167,15 +216,15 @@ pub fn accumulate_elements(
         let j = g[3].dot(p[3] - p[0]) / v0; // V / V0 = det F
         let alpha = 1.0 + mu / lambda;
         let volumetric = lambda * (j - alpha);
-        let s = if beta > 0.0 {
-            stretch_invariant(f)
-        } else {
+        let s = if yeoh.is_plain() {
             0.0
+        } else {
+            stretch_invariant(f)
         };
         // The stiffened shear modulus, and the weight of the stiffening's
         // Jacobian term (0 where it is off).
         let (mu_s, stiff) = if s > 0.0 {
-            (shear_modulus(mu, beta, s), v0 * 2.0 * mu * beta / 3.0)
+            (mu * yeoh.factor(s), yeoh.slope_weight(v0, mu, s))
         } else {
             (mu, 0.0)
         };
@@ -228,12 +277,11 @@ pub fn accumulate_elements(
 /// The elastic energy of the elements (J), zero at rest.
 pub fn energy(model: &Model, fem: &FemModel, state: &State) -> f64 {
     let x = &state.positions;
-    let beta = model.spring_law.stiffening;
     let mut total = 0.0;
     for (e, tet) in model.tets.iter().enumerate() {
         let p = tet.map(|i| x[i as usize]);
         let f = deformation_gradient(&fem.gradients[e], p);
-        total += model.rest_volume[e] * energy_density(fem.mu[e], fem.lambda[e], beta, f);
+        total += model.rest_volume[e] * energy_density(fem.mu[e], fem.lambda[e], fem.yeoh, f);
     }
     total
 }
@@ -279,19 +327,26 @@ mod tests {
         assert!(i1(f_at(&squeezed)) < 3.0 && i1(f_at(&stretched)) > 3.0);
         for deformed in [squeezed, stretched] {
             assert!(f_at(&deformed).determinant() > 0.0);
-            for beta in [0.0, 50.0] {
-                assert!(stress(mu, lambda, beta, DMat3::IDENTITY).abs_diff_eq(DMat3::ZERO, 1e-9));
-                // The energy written out here, not through `energy_density`.
+            // Plain, stiffening alone, and soften-then-stiffen (beta -
+            // 2 q sqrt(gamma) < 0).
+            for (beta, gamma, q) in [(0.0, 0.0, 0.0), (50.0, 0.0, 0.0), (2.0, 400.0, 0.7)] {
+                let yeoh = Yeoh::new(beta, gamma, q);
+                assert!(stress(mu, lambda, yeoh, DMat3::IDENTITY).abs_diff_eq(DMat3::ZERO, 1e-9));
+                // The energy written out here, not through `energy_density`:
+                // `mu (beta s^2 / 12 + gamma s^3 / 54)`, beta with the
+                // softening's share.
+                let b = beta - 2.0 * q * gamma.sqrt();
                 let energy_at = |pos: &[DVec3]| {
                     let f = f_at(pos);
                     let alpha = 1.0 + mu / lambda;
                     let s = (i1(f) - 3.0).max(0.0);
                     v0 * (0.5 * mu * (i1(f) - 3.0)
-                        + mu * beta / 12.0 * s * s
+                        + mu * b / 12.0 * s * s
+                        + mu * gamma / 54.0 * s * s * s
                         + 0.5 * lambda * (f.determinant() - alpha).powi(2))
                 };
                 // f_a = -V0 P b_a
-                let p = stress(mu, lambda, beta, f_at(&deformed));
+                let p = stress(mu, lambda, yeoh, f_at(&deformed));
                 for a in 0..4 {
                     let analytic = -(p * fem.gradients[0][a]) * v0;
                     for k in 0..3 {
@@ -303,7 +358,7 @@ mod tests {
                         let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
                         assert!(
                             (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
-                            "beta {beta}, node {a} axis {k}: {numeric} against {}",
+                            "beta {beta} gamma {gamma} q {q}, node {a} axis {k}: {numeric} against {}",
                             analytic[k]
                         );
                     }
@@ -320,11 +375,12 @@ mod tests {
     fn stiffening_adds_the_springs_share_and_nothing_under_compression_alone() {
         let (mu, lambda) = (20e3, 200e3);
         let beta = 100.0;
+        let (plain, stiff) = (Yeoh::default(), Yeoh::new(beta, 0.0, 0.0));
         for e in [0.005f64, 0.01, -0.01] {
             let l = 1.0 + e;
             let f = DMat3::from_diagonal(DVec3::new(l, l.powf(-0.5), l.powf(-0.5)));
             let share =
-                energy_density(mu, lambda, beta, f) / energy_density(mu, lambda, 0.0, f) - 1.0;
+                energy_density(mu, lambda, stiff, f) / energy_density(mu, lambda, plain, f) - 1.0;
             let expected = beta * e * e / 2.0;
             // The next order: `I1 - 3 = 3 e^2 (1 - 2 e / 3 + ...)`, so the
             // share is off by about 2 |e| / 3 of itself.
@@ -334,10 +390,38 @@ mod tests {
             );
         }
         let f = DMat3::from_diagonal(DVec3::splat(0.97));
-        assert_eq!(stress(mu, lambda, beta, f), stress(mu, lambda, 0.0, f));
-        assert_eq!(
-            energy_density(mu, lambda, beta, f),
-            energy_density(mu, lambda, 0.0, f)
-        );
+        let soft = Yeoh::new(0.0, 30.0, 0.9);
+        for y in [stiff, soft] {
+            assert_eq!(stress(mu, lambda, y, f), stress(mu, lambda, plain, f));
+            assert_eq!(
+                energy_density(mu, lambda, y, f),
+                energy_density(mu, lambda, plain, f)
+            );
+        }
+    }
+
+    /// The two-term solid's shear modulus dips to `1 - q^2` of mu at its
+    /// lowest (beta 0: `phi = (t - q)^2 + 1 - q^2` in `t = sqrt(gamma) s /
+    /// 3`, lowest at `t = q`), never below, for q up to 0.99 and any
+    /// gamma; and then rises past 1.
+    #[test]
+    fn softening_dips_the_shear_modulus_to_one_minus_q_squared_and_never_below() {
+        for gamma in [0.5, 3.0, 30.0, 1e4] {
+            for q in [0.0, 0.3, 0.9, 0.99] {
+                let y = Yeoh::new(0.0, gamma, q);
+                // s over t in [0, 4] in steps of 1e-4 (off the lowest
+                // point by 5e-5 at most: 2.5e-9 in phi).
+                let lowest = (0..=40_000)
+                    .map(|i| y.factor(3.0 * (i as f64 * 1e-4) / gamma.sqrt()))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    (lowest - (1.0 - q * q)).abs() < 1e-8 && lowest > 0.0,
+                    "gamma {gamma}, q {q}: lowest {lowest}, 1 - q^2 = {}",
+                    1.0 - q * q
+                );
+                // Past the dip, at t = 2 q + 1: back above 1.
+                assert!(y.factor(3.0 * (2.0 * q + 1.0) / gamma.sqrt()) > 1.0);
+            }
+        }
     }
 }

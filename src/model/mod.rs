@@ -383,12 +383,18 @@ impl Model {
         let fem_mode = scene.model.elasticity == Elasticity::NeoHookean;
         let (mesh_nodes, mesh_tets) = (&mesh.nodes, &mesh.tets);
         let fem = fem_mode.then(|| {
-            crate::forces::fem::FemModel::new(
+            let mut fem = crate::forces::fem::FemModel::new(
                 mesh_nodes,
                 mesh_tets,
                 &element_modulus,
                 obj.poisson_ratio,
-            )
+            );
+            fem.yeoh = crate::forces::fem::Yeoh::new(
+                scene.model.stiffening,
+                scene.model.stiffening_cubic,
+                scene.model.softening,
+            );
+            fem
         });
 
         let self_collision = scene.model.self_collision.then(|| {

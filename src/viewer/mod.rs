@@ -641,6 +641,21 @@ impl Panels {
                     "limit stiffness (x)",
                 );
                 changed |= log_slider(ui, &mut s.model.stiffening, 0.0..=1e5, "stiffening");
+                if s.model.elasticity == Elasticity::NeoHookean {
+                    // The elements' two-term Yeoh law (`forces::fem`).
+                    changed |= log_slider(
+                        ui,
+                        &mut s.model.stiffening_cubic,
+                        0.0..=1e5,
+                        "stiffening, cubic (elements)",
+                    );
+                    changed |= ui
+                        .add(
+                            egui::Slider::new(&mut s.model.softening, 0.0..=0.99)
+                                .text("early softening (elements)"),
+                        )
+                        .changed();
+                }
                 changed |= log_slider(
                     ui,
                     &mut s.model.compression_ratio,
