@@ -63,5 +63,15 @@ pub fn requested() -> bool {
     CURRENT.with(|c| c.borrow().as_ref().is_some_and(Cancel::is_cancelled))
 }
 
+/// `Err(SimError::Cancelled)` once `token` is set: for the step loops,
+/// which read the thread's token once ([`current`]) and look every step.
+pub fn check(token: Option<&Cancel>) -> Result<(), crate::error::SimError> {
+    if token.is_some_and(Cancel::is_cancelled) {
+        Err(crate::error::SimError::Cancelled)
+    } else {
+        Ok(())
+    }
+}
+
 /// The message of a cancelled fit, sweep or diagnosis.
 pub const CANCELLED: &str = "cancelled";

@@ -107,12 +107,7 @@ impl Simulation {
         let mut second = 0u64;
         let cancel = crate::cancel::current();
         loop {
-            if cancel
-                .as_ref()
-                .is_some_and(crate::cancel::Cancel::is_cancelled)
-            {
-                return Err(SimError::Cancelled);
-            }
+            crate::cancel::check(cancel.as_ref())?;
             self.step()?;
             let finger_speed = self
                 .state

@@ -255,12 +255,7 @@ impl Simulation {
     pub fn run_until(&mut self, time: f64) -> Result<(), SimError> {
         let cancel = crate::cancel::current();
         while self.state.time + 0.5 * self.model.dt < time {
-            if cancel
-                .as_ref()
-                .is_some_and(crate::cancel::Cancel::is_cancelled)
-            {
-                return Err(SimError::Cancelled);
-            }
+            crate::cancel::check(cancel.as_ref())?;
             self.step()?;
         }
         Ok(())
