@@ -425,12 +425,33 @@ pub fn seeded(filter: &str) -> Vec<(u64, Case)> {
         .collect()
 }
 
+/// The diagnosis's options for `case`: `base`, and with `e_within` E's
+/// measured range, that factor either way of the nominal E (as a
+/// compression test's initial slope, the thesis's section V.B, tells it),
+/// unless `base` already bounds E. `softgrip prove` gives no range unless
+/// asked (`--e-measured-within`): on this suite, a range of 2 let the
+/// diagnosis name strong stiffening and cost four cases a second effect
+/// (DIAGNOSIS.md).
+pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -> DiagnoseOptions {
+    let mut options = base.clone();
+    if let Some(f) = e_within
+        && !options.bounds.iter().any(|(n, _, _)| n == "young_modulus")
+    {
+        let e = case.nominal.object.young_modulus;
+        options
+            .bounds
+            .push(("young_modulus".to_string(), e / f, e * f));
+    }
+    options
+}
+
 /// Runs the cases whose names contain `filter` (all for ""), writing the
 /// recordings under `dir`; `progress` gets (case index, cases, name).
 pub fn run(
     dir: &Path,
     filter: &str,
     options: &DiagnoseOptions,
+    e_within: Option<f64>,
     progress: &dyn Fn(usize, usize, &str),
 ) -> Vec<Outcome> {
     let chosen = seeded(filter);
@@ -442,8 +463,9 @@ pub fn run(
             progress(i, total, &case.name);
             let started = std::time::Instant::now();
             let case_dir: PathBuf = dir.join(&case.name);
+            let options = options_for(&case, options, e_within);
             let diagnosis = write_case(&case, &case_dir, seed)
-                .and_then(|rec| diagnose::diagnose(&rec, options, &|_, _, _| {}));
+                .and_then(|rec| diagnose::diagnose(&rec, &options, &|_, _, _| {}));
             let seconds = started.elapsed().as_secs_f64();
             // Not timed: what only the proof can measure, against the truth.
             let clean = noise_free(&case, &case_dir);
@@ -469,12 +491,18 @@ pub fn run(
 
 /// `DIAGNOSIS.md`: the confusion matrix, NRMSE before and after, and the
 /// recovered parameters against the hidden ones.
-pub fn report(outcomes: &[Outcome]) -> String {
+pub fn report(outcomes: &[Outcome], e_within: Option<f64>) -> String {
     let mut s = String::from("# The diagnosis on concealed data\n\n");
     let _ = writeln!(
         s,
-        "Made by `softgrip prove` ({}). Each recording is made by softgrip from a scene the diagnosis is not given (4 mm edges and 1 ms steps instead of its 5 mm and 2 ms, E 10 % higher, the spring limits at 0.2), with 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane section (as the thesis's camera saw it) and the finger; the diagnosis gets the nominal scene (the thesis light guide with a sphere; a flat plate for the finger-friction cases and their control) and the recording, and is not told what is hidden.\n",
-        crate::bench::machine_description()
+        "Made by `softgrip prove` ({}). Each recording is made by softgrip from a scene the diagnosis is not given (4 mm edges and 1 ms steps instead of its 5 mm and 2 ms, E 10 % higher, the spring limits at 0.2), with 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane section (as the thesis's camera saw it) and the finger; the diagnosis gets the nominal scene (the thesis light guide with a sphere; a flat plate for the finger-friction cases and their control) and the recording{}, and is not told what is hidden.\n",
+        crate::bench::machine_description(),
+        match e_within {
+            Some(f) => format!(
+                ", and the range E was measured in: a factor of {f} either way of the nominal E, as a compression test's initial slope gives it (`softgrip prove --e-measured-within {f}`; by hand, `softgrip diagnose REC --bound young_modulus=LOW:HIGH`)"
+            ),
+            None => String::new(),
+        }
     );
     let effect_cases: Vec<&Outcome> = outcomes
         .iter()

@@ -834,6 +834,17 @@ pub fn diagnosis(
         params(&d.fitted_params()),
         d.noise.describe()
     );
+    for (name, low, high) in &d.bounds {
+        let _ = writeln!(
+            md,
+            "- searched within the range given (`--bound`): {name} {} to {}",
+            fmt_value(*low),
+            fmt_value(*high)
+        );
+    }
+    if !d.bounds.is_empty() {
+        md.push('\n');
+    }
     let l = &d.location;
     let _ = writeln!(
         md,

@@ -361,6 +361,25 @@ fn a_report_named_like_a_file_is_refused_at_once() {
     assert!(!md.exists(), "nothing is made");
 }
 
+/// A `--bound` that cannot be a range is refused before any work, naming
+/// the option and the form to write.
+#[test]
+fn a_bad_bound_is_refused_at_once() {
+    let rec = recording("beam_ds10/gravity_a/recording.toml");
+    for (bound, says) in [
+        ("young_modulus=9e4:3e4", "the low one first"),
+        ("young_modulus=-1:3e4", "give a positive low value"),
+        ("young_modulus:3e4", "write NAME=LOW:HIGH"),
+        ("stiffness=1:2", "unknown parameter \"stiffness\""),
+    ] {
+        let o = softgrip(&["diagnose", &rec, "--no-report", "--bound", bound]);
+        assert!(!o.status.success(), "{bound}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("--bound"), "{bound}: {err}");
+        assert!(err.contains(says), "{bound}: {err}");
+    }
+}
+
 /// A scene on an .stl surface: without TetGen, one clear error (said
 /// once, not repeated by the error chain); the tetrahedralization itself
 /// is tested with the feature (tests/surface_meshes.rs).

@@ -120,3 +120,55 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A range given for E (`--bound`, as for a modulus measured by a
+/// compression test) holds in every fit: the baseline's, each
+/// candidate's and the pair's; the JSON and the report say it was given.
+#[test]
+fn a_range_given_for_e_holds_in_every_fit() {
+    let dir = std::env::temp_dir().join(format!("softgrip-diag-bound-{}", std::process::id()));
+    let case = prove::case("table-friction-strong").expect("case");
+    let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
+    rec.scene.object.edge_length = 0.008;
+    // Below the truth's 1.1 times the nominal: the range binds.
+    let e = rec.scene.object.young_modulus;
+    let (low, high) = (0.8 * e, 0.95 * e);
+    let options = DiagnoseOptions {
+        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
+        bounds: vec![("young_modulus".into(), low, high)],
+        max_evaluations: 8,
+        candidate_evaluations_per_param: 4,
+        max_effects: 1,
+        ..DiagnoseOptions::default()
+    };
+    let d = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
+    let e_of = |p: &[(String, f64)]| {
+        p.iter()
+            .find(|(n, _)| n == "young_modulus")
+            .map(|(_, v)| *v)
+    };
+    let inside = |v: f64| v >= low * (1.0 - 1e-12) && v <= high * (1.0 + 1e-12);
+    let mut fits = vec![("baseline".to_string(), e_of(&d.baseline.params))];
+    for h in &d.hypotheses {
+        if let Ok(f) = &h.fit {
+            fits.push((format!("{} {}", h.effect, h.variant), e_of(&f.params)));
+        }
+    }
+    if let Some(p) = &d.pair {
+        fits.push(("pair".to_string(), e_of(&p.fit.params)));
+    }
+    assert!(fits.len() >= 3, "the baseline and candidates: {fits:?}");
+    for (what, v) in &fits {
+        let v = v.unwrap_or_else(|| panic!("{what} fitted E"));
+        assert!(inside(v), "{what}: E {v} outside {low}..{high}");
+    }
+    let v = diagnose::to_json(&d, &rec);
+    assert_eq!(
+        v["baseline"]["bounds"]["young_modulus"],
+        serde_json::json!([low, high])
+    );
+    let written = softgrip::report::diagnosis(&dir.join("report"), &rec, &d).expect("report");
+    let md = std::fs::read_to_string(&written.markdown).expect("markdown");
+    assert!(md.contains("searched within the range given"), "{md}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -133,6 +133,39 @@ fn the_candidates_search_ranges_cover_every_hidden_value() {
     }
 }
 
+/// The range `softgrip prove --e-measured-within 2` gives the diagnosis
+/// for E (as measured by a compression test) holds every truth's E,
+/// controls' included, with room to spare; without the option, no range.
+#[test]
+fn the_measured_range_of_e_holds_every_truths_e() {
+    use softgrip::diagnose::DiagnoseOptions;
+    for c in prove::cases() {
+        let plain = prove::options_for(&c, &DiagnoseOptions::default(), None);
+        assert!(plain.bounds.is_empty(), "not told unless asked");
+        let options = prove::options_for(&c, &DiagnoseOptions::default(), Some(2.0));
+        assert_eq!(options.bounds.len(), 1, "{}", c.name);
+        let (name, low, high) = &options.bounds[0];
+        assert_eq!(name, "young_modulus");
+        let truth = c.truth_scene.object.young_modulus;
+        // 1.4 either way: the truth never near an end (the suite's widest
+        // is control-3's 1.32 times the nominal).
+        assert!(
+            *low * 1.4 <= truth && truth * 1.4 <= *high,
+            "{}: truth E {truth} against {low}..{high}",
+            c.name
+        );
+        // A range the user gives first is kept.
+        let given = DiagnoseOptions {
+            bounds: vec![("young_modulus".into(), 1.0, 2.0)],
+            ..DiagnoseOptions::default()
+        };
+        assert_eq!(
+            prove::options_for(&c, &given, Some(2.0)).bounds,
+            given.bounds
+        );
+    }
+}
+
 /// `--only` and `softgrip bench --diagnosis` make the recording the full
 /// run makes: a case's noise seed is its place in the whole suite, not in
 /// the selection.

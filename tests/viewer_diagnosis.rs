@@ -135,6 +135,28 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
     // probe: the job ends as stopped (run to its end, it gives a verdict
     // some seconds later), and its simulations are gone (the solver's
     // own stays).
+    // "E measured": the diagnosis started next keeps E within the factor
+    // (2 unless changed) of the scene's in every fit.
+    let rec = Recording::load(&path).expect("recording");
+    assert!(
+        harness
+            .state()
+            .recording
+            .diagnosis
+            .options(&rec)
+            .bounds
+            .is_empty()
+    );
+    harness
+        .get_by_label("E measured, within a factor of")
+        .click();
+    harness.run_steps(2);
+    let e = rec.scene.object.young_modulus;
+    assert_eq!(
+        harness.state().recording.diagnosis.options(&rec).bounds,
+        vec![("young_modulus".to_string(), e / 2.0, e * 2.0)]
+    );
+
     let idle = softgrip::parallel::running();
     harness.get_by_label("Run diagnosis").click();
     step_until(

@@ -10,11 +10,17 @@ use softgrip::recording::Recording;
 pub fn diagnose(
     recording_path: &Path,
     lock: &[String],
+    bound: &[String],
     max_evaluations: usize,
     workers: usize,
     json: Option<&Path>,
     report: &super::lab::ReportArgs,
 ) -> Result<()> {
+    let bounds = bound
+        .iter()
+        .map(|b| diagnose::parse_bound(b))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(anyhow::Error::msg)?;
     let recording = Recording::load(recording_path)?;
     println!(
         "{}: {} ({} samples, {} markers)",
@@ -25,6 +31,7 @@ pub fn diagnose(
     );
     let options = DiagnoseOptions {
         lock: lock.to_vec(),
+        bounds,
         max_evaluations,
         workers,
         ..DiagnoseOptions::default()
@@ -49,6 +56,9 @@ pub fn diagnose(
         d.baseline.errors.nrmse,
         d.baseline.errors.nrmse_all
     );
+    for (name, low, high) in &d.bounds {
+        println!("searched within the range given: {name} {low:.4e} to {high:.4e}");
+    }
     println!("noise (from the data): {}", d.noise.describe());
     println!("mismatch: {}", d.location.description);
     println!(

@@ -171,6 +171,13 @@ enum Command {
         /// Baseline parameters to keep at the scene's values (e.g. alpha).
         #[arg(long, num_args = 1..)]
         lock: Vec<String>,
+        /// Ranges you know parameters lie in, NAME=LOW:HIGH (e.g.
+        /// young_modulus=30e3:120e3 for a modulus measured at 60 kPa to
+        /// within a factor of 2): every fit searches only there. A fit
+        /// that needs E far from a measured small-strain value is
+        /// absorbing physics the model lacks (strain-stiffening, creep).
+        #[arg(long, num_args = 1..)]
+        bound: Vec<String>,
         /// Simulations at most for the baseline fit (each candidate's fit
         /// gets 20 per parameter).
         #[arg(long, default_value_t = 80)]
@@ -197,6 +204,11 @@ enum Command {
         /// The report.
         #[arg(long, default_value = "DIAGNOSIS.md")]
         report: PathBuf,
+        /// Tell the diagnosis E was measured to within this factor of the
+        /// nominal value either way (`diagnose --bound`); by default it is
+        /// not told.
+        #[arg(long)]
+        e_measured_within: Option<f64>,
     },
     /// Grasp and lift (e.g. assets/scenes/grasp_lift.toml): the fingers
     /// squeeze, lift after their start_time and hold; says whether friction
@@ -495,6 +507,7 @@ pub fn main() -> ExitCode {
         Some(Command::Diagnose {
             recording,
             lock,
+            bound,
             max_evaluations,
             workers,
             json,
@@ -502,12 +515,18 @@ pub fn main() -> ExitCode {
         }) => diagnose::diagnose(
             &recording,
             &lock,
+            &bound,
             max_evaluations,
             workers,
             json.as_deref(),
             &report,
         ),
-        Some(Command::Prove { out, only, report }) => prove(&out, &only, &report),
+        Some(Command::Prove {
+            out,
+            only,
+            report,
+            e_measured_within,
+        }) => prove(&out, &only, &report, e_measured_within),
         Some(Command::Grasp {
             scene,
             hold,
@@ -947,12 +966,19 @@ fn check(scene_path: Option<&Path>) -> Result<()> {
 }
 
 /// Peak memory is the process's high-water mark, so sizes run smallest first.
-fn prove(out: &Path, only: &str, report: &Path) -> Result<()> {
+fn prove(out: &Path, only: &str, report: &Path, e_within: Option<f64>) -> Result<()> {
+    if let Some(f) = e_within {
+        anyhow::ensure!(
+            f.is_finite() && f > 1.0,
+            "--e-measured-within {f}: give a factor above 1 (2: E within half to twice the nominal)"
+        );
+    }
     let bar = progress_bar(1, "recordings");
     let outcomes = softgrip::prove::run(
         out,
         only,
         &softgrip::diagnose::DiagnoseOptions::default(),
+        e_within,
         &|i, total, name| {
             bar.set_length(total as u64);
             bar.set_position(i as u64);
@@ -964,7 +990,7 @@ fn prove(out: &Path, only: &str, report: &Path) -> Result<()> {
         !outcomes.is_empty(),
         "--only {only:?}: no case of the suite matches"
     );
-    let text = softgrip::prove::report(&outcomes);
+    let text = softgrip::prove::report(&outcomes, e_within);
     std::fs::write(report, &text).with_context(|| format!("cannot write {}", report.display()))?;
     print!("{text}");
     Ok(())
@@ -1026,6 +1052,7 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
         let started = std::time::Instant::now();
         let d = diagnose(
             &recording,
+            // The options `softgrip prove` gives the case.
             &DiagnoseOptions::default(),
             &|done, total, what| {
                 bar.set_length(total as u64);

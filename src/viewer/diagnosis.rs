@@ -29,7 +29,6 @@ pub enum Shown {
 }
 
 /// The section's state.
-#[derive(Default)]
 pub struct DiagnosisSection {
     job: Option<Job<Diagnosis>>,
     /// What the running job is fitting.
@@ -39,6 +38,27 @@ pub struct DiagnosisSection {
     pub error: Option<String>,
     /// Open the section on the next frame (a diagnosis started or came).
     reveal: bool,
+    /// The scene's E was measured (a compression test's initial slope) ...
+    pub e_measured: bool,
+    /// ... to within this factor either way: every fit keeps E there
+    /// (`DiagnoseOptions::bounds`, the CLI's `--bound`).
+    pub e_within: f64,
+}
+
+impl Default for DiagnosisSection {
+    fn default() -> Self {
+        DiagnosisSection {
+            job: None,
+            stage: Arc::default(),
+            result: None,
+            shown: Shown::default(),
+            error: None,
+            reveal: false,
+            e_measured: false,
+            // Generous for a compression test's initial slope.
+            e_within: 2.0,
+        }
+    }
 }
 
 impl DiagnosisSection {
@@ -73,12 +93,24 @@ impl DiagnosisSection {
         std::mem::take(&mut self.reveal)
     }
 
+    /// The options a diagnosis of `recording` started now runs with: the
+    /// defaults, and E's range when it is marked measured.
+    pub fn options(&self, recording: &Recording) -> DiagnoseOptions {
+        let mut options = DiagnoseOptions::default();
+        if self.e_measured {
+            let e = recording.scene.object.young_modulus;
+            let f = self.e_within.max(1.0 + 1e-9);
+            options.bounds.push(("young_modulus".into(), e / f, e * f));
+        }
+        options
+    }
+
     /// Starts diagnosing `recording` (on its own scene).
     pub fn start(&mut self, recording: Arc<Recording>, generation: u64) {
         self.error = None;
         self.result = None;
         let stage = Arc::clone(&self.stage);
-        let options = DiagnoseOptions::default();
+        let options = self.options(&recording);
         // Two baseline fits and each candidate once or twice; the count is
         // corrected as the diagnosis reports it.
         let total = 2 + 8 * options.max_effects;
@@ -116,6 +148,21 @@ impl DiagnosisSection {
     pub fn ui(&mut self, ui: &mut egui::Ui, can_start: bool) -> SectionAction {
         let mut action = SectionAction::None;
         let running = self.job.is_some();
+        ui.add_enabled_ui(!running, |ui| {
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut self.e_measured, "E measured, within a factor of")
+                    .on_hover_text(
+                        "the scene's Young's modulus was measured (the initial slope of a compression test): every fit keeps E within this factor of it, so a fit cannot absorb missing physics (strain-stiffening, creep) into an implausible E",
+                    );
+                ui.add_enabled(
+                    self.e_measured,
+                    egui::DragValue::new(&mut self.e_within)
+                        .range(1.05..=10.0)
+                        .speed(0.01)
+                        .fixed_decimals(2),
+                );
+            });
+        });
         if ui
             .add_enabled(can_start && !running, egui::Button::new("Run diagnosis"))
             .on_hover_text(
