@@ -32,7 +32,9 @@
 //!    than 10 ("very strong" evidence, Kass and Raftery 1995), removes at
 //!    least a tenth of the residual sum of squares, **and** fits closer
 //!    than the best candidate of any other effect by Vuong's test for
-//!    non-nested models (`z >= 2`, about the 5 % level): the model's own
+//!    non-nested models (`z >= 2`, about the 5 % level; with no other
+//!    effect fitted in its round, than the model without it by the same
+//!    test): the model's own
 //!    form error (a lattice against a continuum, a coarse mesh against a
 //!    fine one) is a smooth mismatch that several extra parameters absorb
 //!    a little of each, none specifically, and that must not be named as
@@ -294,8 +296,9 @@ pub fn bic(rss: f64, n: usize, k: usize) -> f64 {
 pub fn accepted(h: &Hypothesis) -> bool {
     h.score < -BIC_THRESHOLD
         && h.explained >= MIN_EXPLAINED
-        // With no other effect left to compare, BIC and the share decide.
-        && h.vuong.is_none_or(|z| z >= VUONG_Z)
+        // Against the best other effect or, with none fitted in its
+        // round, against the model without it.
+        && h.vuong.is_some_and(|z| z >= VUONG_Z)
 }
 
 /// Vuong's statistic for two non-nested least-squares models fitted to the
@@ -932,9 +935,27 @@ pub struct Hypothesis {
     pub explained: f64,
     pub round: usize,
     /// Vuong's statistic against the best candidate of another effect in
-    /// the same round (positive: this one fits closer); None when there is
-    /// no other.
+    /// the same round (positive: this one fits closer) or, when no other
+    /// effect was fitted in its round, against the model it was added to
+    /// (`against_model`); None when the fit failed.
     pub vuong: Option<f64>,
+    /// `vuong` is against the model without the effect: the round had no
+    /// rival. (Until 2026-11-24 such a candidate had no Vuong test, and
+    /// BIC and the share alone decided; with E's range given, two load
+    /// losses took a wrong table friction in round 2 that way.)
+    pub against_model: bool,
+}
+
+impl Hypothesis {
+    /// Its Vuong z for tables: "+2.31", "+2.31 (against the model without
+    /// it)", or "-".
+    pub fn z_text(&self) -> String {
+        match self.vuong {
+            Some(z) if self.against_model => format!("{z:+.2} (against the model without it)"),
+            Some(z) => format!("{z:+.2}"),
+            None => "-".into(),
+        }
+    }
 }
 
 /// The outcome.
@@ -1527,9 +1548,11 @@ pub fn diagnose(
                     explained,
                     round,
                     vuong: None,
+                    against_model: false,
                 });
             }
             // Each candidate against the best-scoring fit of another effect.
+            let without = weighted_residuals(&current.replay.residuals, &noise);
             let weighted: Vec<Option<Vec<f64>>> = hypotheses[start..]
                 .iter()
                 .map(|h| {
@@ -1548,9 +1571,15 @@ pub fn diagnose(
                             .score
                             .total_cmp(&hypotheses[start + b].score)
                     });
-                hypotheses[start + i].vuong = match (&weighted[i], rival.map(|j| &weighted[j])) {
-                    (Some(this), Some(Some(other))) => vuong(this, other),
-                    _ => None,
+                let h = &mut hypotheses[start + i];
+                (h.vuong, h.against_model) = match (&weighted[i], rival.map(|j| &weighted[j])) {
+                    (Some(this), Some(Some(other))) => (vuong(this, other), false),
+                    // No other effect fitted this round: the same test
+                    // against the model it was added to (nested, as in
+                    // the pair test), so that form error a lone candidate
+                    // absorbs is not named on BIC and the share alone.
+                    (Some(this), None) => (vuong(this, &without), true),
+                    _ => (None, false),
                 };
             }
             for (i, h) in hypotheses.iter().enumerate().skip(start) {
@@ -1798,7 +1827,14 @@ fn evidence_text(
                     h.score,
                     100.0 * h.explained,
                     h.vuong
-                        .map(|z| format!(", Vuong z {z:+.2} against the best other effect"))
+                        .map(|z| format!(
+                            ", Vuong z {z:+.2} against {}",
+                            if h.against_model {
+                                "the model without it"
+                            } else {
+                                "the best other effect"
+                            }
+                        ))
                         .unwrap_or_default()
                 )
             })
@@ -1859,7 +1895,13 @@ fn evidence_text(
                             .unwrap_or_default()
                     );
                 }
-                None => {}
+                None => {
+                    if let Some(z) = c.vuong.filter(|_| c.against_model) {
+                        s += &format!(
+                            "; no other effect was fitted beside it, and Vuong's test finds it closer to the data than the model without it at z = {z:.2}"
+                        );
+                    }
+                }
             }
             parts.push(s);
         }
@@ -1974,6 +2016,30 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
 mod tests {
     use super::*;
 
+    /// A candidate with no other effect beside it in its round is named
+    /// only when it also fits closer than the model without it by Vuong's
+    /// z: BIC and the share alone let form error through (the load losses'
+    /// round 2 with E's range given: -12 / 11 % and -13 / 12 % for a wrong
+    /// table friction).
+    #[test]
+    fn a_lone_candidate_needs_vuongs_test_against_the_model_without_it() {
+        let mut lone = tried("table-friction", -13.0, 0.12, 1.5);
+        lone.against_model = true;
+        assert!(!accepted(&lone), "z 1.5 against the model: not named");
+        assert_eq!(lone.z_text(), "+1.50 (against the model without it)");
+        lone.vuong = Some(2.5);
+        assert!(accepted(&lone), "z 2.5: named");
+        // BIC and the share still gate it.
+        lone.score = -9.0;
+        assert!(!accepted(&lone));
+        // A failed fit (no z at all) is never named.
+        let mut failed = tried("load-loss", -50.0, 0.5, 0.0);
+        failed.vuong = None;
+        assert!(!accepted(&failed));
+        assert_eq!(failed.z_text(), "-");
+        assert_eq!(tried("load-loss", -50.0, 0.5, 3.0).z_text(), "+3.00");
+    }
+
     /// A range the user gives narrows a fit's own and never widens it; one
     /// outside the fit's own leaves the search at its nearer end.
     #[test]
@@ -2040,6 +2106,7 @@ mod tests {
             explained,
             round: 0,
             vuong: Some(vuong),
+            against_model: false,
         }
     }
 

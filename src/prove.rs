@@ -681,7 +681,11 @@ pub fn report(outcomes: &[Outcome], e_within: Option<f64>) -> String {
                     h.round + 1,
                     h.score,
                     100.0 * h.explained,
-                    h.vuong.map(|z| format!(" / z {z:+.1}")).unwrap_or_default()
+                    match h.vuong {
+                        Some(z) if h.against_model => format!(" / z {z:+.1} against the model"),
+                        Some(z) => format!(" / z {z:+.1}"),
+                        None => String::new(),
+                    }
                 )
             })
             .collect();

@@ -909,7 +909,7 @@ pub fn diagnosis(
                         name(h),
                         h.score,
                         100.0 * h.explained,
-                        h.vuong.map_or("-".into(), |z| format!("{z:+.2}")),
+                        h.z_text(),
                         f.errors.nrmse_all,
                         params(&f.params)
                     );

@@ -79,7 +79,7 @@ pub fn diagnose(
                 h.round + 1,
                 h.score,
                 100.0 * h.explained,
-                h.vuong.map_or("-".into(), |z| format!("{z:+.2}")),
+                h.z_text(),
                 f.errors.nrmse_all,
                 params(&f.params)
             ),
