@@ -1359,6 +1359,16 @@ pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, 
     Ok(out)
 }
 
+/// The object's modulus, which every candidate refits (unless locked).
+fn is_modulus(p: &FitParam) -> bool {
+    p.param.name == "young_modulus"
+}
+
+/// A candidate's own parameters: all but the modulus it refits.
+fn own_params(params: &[FitParam]) -> usize {
+    params.iter().filter(|p| !is_modulus(p)).count()
+}
+
 /// Parses `NAME=LOW:HIGH` (a `--bound`).
 pub fn parse_bound(text: &str) -> Result<(String, f64, f64), String> {
     let bad = || format!("--bound {text:?}: write NAME=LOW:HIGH, e.g. young_modulus=30e3:120e3");
@@ -1422,13 +1432,29 @@ pub fn diagnose(
     let scene = &recording.scene;
     check_bounds(&options.bounds)?;
     let base_params = within_bounds(baseline_params(scene, &options.lock)?, &options.bounds);
+    // A locked E stays at the scene's value in the candidates' fits too
+    // (until 2026-11-24 they refitted it whatever the lock said).
+    let e_locked = options.lock.iter().any(|l| l == "young_modulus");
     let catalogue = |recording: &Recording, scene: &Scene| -> Vec<Candidate> {
         catalogue(recording, scene)
             .into_iter()
             .map(|mut c| {
+                if e_locked {
+                    let kept: Vec<bool> = c.params.iter().map(|p| !is_modulus(p)).collect();
+                    if let Some(off) = &mut c.off {
+                        *off = off
+                            .iter()
+                            .zip(&kept)
+                            .filter(|(_, k)| **k)
+                            .map(|(v, _)| *v)
+                            .collect();
+                    }
+                    c.params.retain(|p| !is_modulus(p));
+                }
                 c.params = within_bounds(c.params, &options.bounds);
                 c
             })
+            .filter(|c| !c.params.is_empty())
             .collect()
     };
     // The noise needs a residual, and the weighted fit needs the noise:
@@ -1515,7 +1541,7 @@ pub fn diagnose(
             let start = hypotheses.len();
             for c in cands {
                 progress(done, planned, c.effect);
-                let k = current.k + c.params.len() - 1; // the modulus is refitted, not added
+                let k = current.k + own_params(&c.params); // the modulus is refitted, not added
                 let budget = options.candidate_evaluations_per_param * c.params.len();
                 let fit = fit_model(
                     recording,
@@ -1615,8 +1641,8 @@ pub fn diagnose(
                     break;
                 };
                 let mut params = rc.params.clone();
-                params.extend(hc.params.iter().skip(1).cloned());
-                let k = current.k + hc.params.len() - 1 + rc.params.len() - 1;
+                params.extend(hc.params.iter().filter(|p| !is_modulus(p)).cloned());
+                let k = current.k + own_params(&hc.params) + own_params(&rc.params);
                 let budget = options.candidate_evaluations_per_param * params.len();
                 progress(done, planned, "the two closest effects together");
                 // The pair starts where the better one ended, the other

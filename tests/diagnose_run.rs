@@ -172,3 +172,48 @@ fn a_range_given_for_e_holds_in_every_fit() {
     assert!(md.contains("searched within the range given"), "{md}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--lock young_modulus` keeps E at the scene's value in every fit: the
+/// baseline's, each candidate's and the pair's (the candidates refitted it
+/// until 2026-11-24), and the model with the effects keeps it too.
+#[test]
+fn a_locked_modulus_stays_locked_in_every_fit() {
+    let dir = std::env::temp_dir().join(format!("softgrip-diag-lock-{}", std::process::id()));
+    let case = prove::case("table-friction-strong").expect("case");
+    let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
+    rec.scene.object.edge_length = 0.008;
+    let e = rec.scene.object.young_modulus;
+    let options = DiagnoseOptions {
+        lock: vec![
+            "young_modulus".into(),
+            "alpha".into(),
+            "tau_s".into(),
+            "tau_c".into(),
+        ],
+        max_evaluations: 8,
+        candidate_evaluations_per_param: 4,
+        max_effects: 1,
+        ..DiagnoseOptions::default()
+    };
+    let d = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
+    assert!(d.baseline.params.is_empty(), "{:?}", d.baseline.params);
+    let fitted: Vec<&diagnose::ModelFit> = d
+        .hypotheses
+        .iter()
+        .filter_map(|h| h.fit.as_ref().ok())
+        .chain(d.pair.as_ref().map(|p| &p.fit))
+        .collect();
+    assert!(fitted.len() >= 3, "candidates were fitted");
+    for f in fitted {
+        assert!(
+            f.params.iter().all(|(n, _)| n != "young_modulus"),
+            "E refitted: {:?}",
+            f.params
+        );
+        assert_eq!(f.scene.object.young_modulus, e);
+        // Each candidate's k counts its own parameters only.
+        assert_eq!(f.k, f.params.len(), "{:?}", f.params);
+    }
+    assert_eq!(d.final_fit.scene.object.young_modulus, e);
+    let _ = std::fs::remove_dir_all(&dir);
+}
