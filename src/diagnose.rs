@@ -947,11 +947,20 @@ pub struct Hypothesis {
 }
 
 impl Hypothesis {
+    /// What `vuong` compares it with, in words.
+    pub fn rival_text(&self) -> &'static str {
+        if self.against_model {
+            "the model without it"
+        } else {
+            "the best other effect"
+        }
+    }
+
     /// Its Vuong z for tables: "+2.31", "+2.31 (against the model without
     /// it)", or "-".
     pub fn z_text(&self) -> String {
         match self.vuong {
-            Some(z) if self.against_model => format!("{z:+.2} (against the model without it)"),
+            Some(z) if self.against_model => format!("{z:+.2} (against {})", self.rival_text()),
             Some(z) => format!("{z:+.2}"),
             None => "-".into(),
         }
@@ -1431,11 +1440,22 @@ pub fn diagnose(
 ) -> Result<Diagnosis, String> {
     let scene = &recording.scene;
     check_bounds(&options.bounds)?;
-    let base_params = within_bounds(baseline_params(scene, &options.lock)?, &options.bounds);
+    let own = baseline_params(scene, &options.lock)?;
+    for p in &own {
+        for (name, low, high) in &options.bounds {
+            if p.param.name == name && (*high < p.lower || *low > p.upper) {
+                return Err(format!(
+                    "--bound {name}={low}:{high} lies outside the range the baseline searches around the scene's {name} ({:.4e} to {:.4e}): set the scene's {name} inside your range",
+                    p.lower, p.upper
+                ));
+            }
+        }
+    }
+    let base_params = within_bounds(own, &options.bounds);
     // A locked E stays at the scene's value in the candidates' fits too
     // (until 2026-11-24 they refitted it whatever the lock said).
     let e_locked = options.lock.iter().any(|l| l == "young_modulus");
-    let catalogue = |recording: &Recording, scene: &Scene| -> Vec<Candidate> {
+    let candidates = |recording: &Recording, scene: &Scene| -> Vec<Candidate> {
         catalogue(recording, scene)
             .into_iter()
             .map(|mut c| {
@@ -1529,7 +1549,7 @@ pub fn diagnose(
                             && h.explained >= PROMISING
                     })
             };
-            let cands: Vec<Candidate> = catalogue(recording, &current.scene)
+            let cands: Vec<Candidate> = candidates(recording, &current.scene)
                 .into_iter()
                 .filter(|c| !effects.contains(&c.effect) && !tried.contains(&c.effect))
                 .filter(promising)
@@ -1630,7 +1650,7 @@ pub fn diagnose(
                 && let (Ok(hf), Ok(rf)) = (hypotheses[b].fit.clone(), hypotheses[r].fit.clone())
             {
                 let find = |scene: &Scene, h: &Hypothesis| {
-                    catalogue(recording, scene)
+                    candidates(recording, scene)
                         .into_iter()
                         .find(|c| c.effect == h.effect && c.variant == h.variant)
                 };
@@ -1853,14 +1873,7 @@ fn evidence_text(
                     h.score,
                     100.0 * h.explained,
                     h.vuong
-                        .map(|z| format!(
-                            ", Vuong z {z:+.2} against {}",
-                            if h.against_model {
-                                "the model without it"
-                            } else {
-                                "the best other effect"
-                            }
-                        ))
+                        .map(|z| format!(", Vuong z {z:+.2} against {}", h.rival_text()))
                         .unwrap_or_default()
                 )
             })
@@ -1924,7 +1937,8 @@ fn evidence_text(
                 None => {
                     if let Some(z) = c.vuong.filter(|_| c.against_model) {
                         s += &format!(
-                            "; no other effect was fitted beside it, and Vuong's test finds it closer to the data than the model without it at z = {z:.2}"
+                            "; no other effect was fitted beside it, and Vuong's test finds it closer to the data than {} at z = {z:.2}",
+                            c.rival_text()
                         );
                     }
                 }

@@ -659,7 +659,7 @@ pub fn report(outcomes: &[Outcome], e_within: Option<f64>) -> String {
         }
         s.push('\n');
     }
-    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it).\n\n");
+    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect, or against the model without it when its round has no other, is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it).\n\n");
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
         let mut line = format!("- **{}**: ", o.case.name);
@@ -682,7 +682,8 @@ pub fn report(outcomes: &[Outcome], e_within: Option<f64>) -> String {
                     h.score,
                     100.0 * h.explained,
                     match h.vuong {
-                        Some(z) if h.against_model => format!(" / z {z:+.1} against the model"),
+                        Some(z) if h.against_model =>
+                            format!(" / z {z:+.1} against {}", h.rival_text()),
                         Some(z) => format!(" / z {z:+.1}"),
                         None => String::new(),
                     }

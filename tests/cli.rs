@@ -371,6 +371,10 @@ fn a_bad_bound_is_refused_at_once() {
         ("young_modulus=-1:3e4", "give a positive low value"),
         ("young_modulus:3e4", "write NAME=LOW:HIGH"),
         ("stiffness=1:2", "unknown parameter \"stiffness\""),
+        (
+            "young_modulus=1e12:2e12",
+            "lies outside the range the baseline searches",
+        ),
     ] {
         let o = softgrip(&["diagnose", &rec, "--no-report", "--bound", bound]);
         assert!(!o.status.success(), "{bound}");

@@ -121,15 +121,22 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// table-friction-strong's recording, on the nominal scene at 8 mm (fast),
+/// in a directory of its own.
+fn coarse_table_friction(tag: &str) -> (std::path::PathBuf, softgrip::recording::Recording) {
+    let dir = std::env::temp_dir().join(format!("softgrip-diag-{tag}-{}", std::process::id()));
+    let case = prove::case("table-friction-strong").expect("case");
+    let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
+    rec.scene.object.edge_length = 0.008;
+    (dir, rec)
+}
+
 /// A range given for E (`--bound`, as for a modulus measured by a
 /// compression test) holds in every fit: the baseline's, each
 /// candidate's and the pair's; the JSON and the report say it was given.
 #[test]
 fn a_range_given_for_e_holds_in_every_fit() {
-    let dir = std::env::temp_dir().join(format!("softgrip-diag-bound-{}", std::process::id()));
-    let case = prove::case("table-friction-strong").expect("case");
-    let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
-    rec.scene.object.edge_length = 0.008;
+    let (dir, rec) = coarse_table_friction("bound");
     // Below the truth's 1.1 times the nominal: the range binds.
     let e = rec.scene.object.young_modulus;
     let (low, high) = (0.8 * e, 0.95 * e);
@@ -178,10 +185,7 @@ fn a_range_given_for_e_holds_in_every_fit() {
 /// until 2026-11-24), and the model with the effects keeps it too.
 #[test]
 fn a_locked_modulus_stays_locked_in_every_fit() {
-    let dir = std::env::temp_dir().join(format!("softgrip-diag-lock-{}", std::process::id()));
-    let case = prove::case("table-friction-strong").expect("case");
-    let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
-    rec.scene.object.edge_length = 0.008;
+    let (dir, rec) = coarse_table_friction("lock");
     let e = rec.scene.object.young_modulus;
     let options = DiagnoseOptions {
         lock: vec![

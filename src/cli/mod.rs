@@ -1052,7 +1052,7 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
         let started = std::time::Instant::now();
         let d = diagnose(
             &recording,
-            // The options `softgrip prove` gives the case.
+            // As `softgrip prove` without --e-measured-within.
             &DiagnoseOptions::default(),
             &|done, total, what| {
                 bar.set_length(total as u64);
