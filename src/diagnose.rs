@@ -987,6 +987,8 @@ pub struct Diagnosis {
     pub simulations: usize,
     /// The ranges the user gave (`DiagnoseOptions::bounds`).
     pub bounds: Vec<(String, f64, f64)>,
+    /// The baseline's parameters left at a bound of their search range.
+    pub pinned: Vec<String>,
 }
 
 impl Diagnosis {
@@ -1331,6 +1333,9 @@ pub fn same_model(a: &Scene, b: &Scene) -> bool {
     a == b || plain(a) == plain(b)
 }
 
+/// The nominal model's uncertain parameters, fitted by the baseline.
+const BASELINE_PARAMS: [&str; 4] = ["young_modulus", "alpha", "tau_s", "tau_c"];
+
 /// The baseline's parameters: E, alpha, tau_s and tau_c, less the locked
 /// ones and those the scene's model does not use.
 pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, String> {
@@ -1339,7 +1344,7 @@ pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, 
     }
     let neo = scene.model.elasticity == crate::scene::Elasticity::NeoHookean;
     let mut out = Vec::new();
-    for name in ["young_modulus", "alpha", "tau_s", "tau_c"] {
+    for name in BASELINE_PARAMS {
         if lock.iter().any(|l| l == name) {
             continue;
         }
@@ -1528,6 +1533,10 @@ pub fn diagnose(
         },
     )?;
     let location = locate(recording, &baseline.replay, &noise);
+    // Reported, not acted on: refitting them in every candidate, and
+    // trying the candidates at the noise level when one was pinned, named
+    // one effect fewer on the suite (docs/diagnosis-pinned-refitted.md).
+    let pinned = pinned_at_bounds(&baseline.params, &base_params);
     let mut hypotheses = Vec::new();
     let mut effects = Vec::new();
     let mut current = baseline.clone();
@@ -1777,6 +1786,7 @@ pub fn diagnose(
         &hypotheses,
         &effects,
         unexplained,
+        &pinned,
         (baseline.errors.nrmse_all, current.errors.nrmse_all),
     );
     if let Some(t) = &pair_test {
@@ -1804,7 +1814,28 @@ pub fn diagnose(
         pair: pair_test,
         simulations,
         bounds: options.bounds.clone(),
+        pinned,
     })
+}
+
+/// The baseline's parameters that its fit left at a bound of their search
+/// range (within 0.1 % of the range, on the parameter's own scale).
+pub fn pinned_at_bounds(fitted: &[(String, f64)], params: &[FitParam]) -> Vec<String> {
+    params
+        .iter()
+        .filter(|p| {
+            let Some((_, v)) = fitted.iter().find(|(n, _)| n == p.param.name) else {
+                return false;
+            };
+            let u = if p.log {
+                (v.ln() - p.lower.ln()) / (p.upper.ln() - p.lower.ln())
+            } else {
+                (v - p.lower) / (p.upper - p.lower)
+            };
+            !(1e-3..=1.0 - 1e-3).contains(&u)
+        })
+        .map(|p| p.param.name.to_string())
+        .collect()
 }
 
 /// The cancel message once the diagnosis's token is set (`crate::cancel`):
@@ -1848,14 +1879,9 @@ fn evidence_text(
     hypotheses: &[Hypothesis],
     effects: &[&'static str],
     unexplained: bool,
+    pinned: &[String],
     (nrmse_before, nrmse_after): (f64, f64),
 ) -> String {
-    if !location.significant {
-        return format!(
-            "nothing is missing: after the baseline fit the residual is at the noise level (chi-square {:.0} on {} coordinates, within three standard deviations)",
-            location.chi2, location.dof
-        );
-    }
     let ranked = |round: usize| {
         let mut v: Vec<&Hypothesis> = hypotheses.iter().filter(|h| h.round == round).collect();
         v.sort_by(|a, b| a.score.total_cmp(&b.score));
@@ -1878,6 +1904,24 @@ fn evidence_text(
                 )
             })
             .unwrap_or_default();
+        if !location.significant {
+            let mut s = format!(
+                "nothing is missing: after the baseline fit the residual is at the noise level (chi-square {:.0} on {} coordinates, within three standard deviations)",
+                location.chi2, location.dof
+            );
+            if !pinned.is_empty() {
+                s += &format!(
+                    ". The fit left {} at the edge of its search range, where a model can stand in for physics it lacks: if you measured {} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
+                    pinned.join(" and "),
+                    if pinned.len() == 1 {
+                        "it"
+                    } else {
+                        "one of them"
+                    },
+                );
+            }
+            return s;
+        }
         let ratio = (location.chi2 / location.dof.max(1) as f64).sqrt();
         return if unexplained {
             format!(
@@ -2017,6 +2061,7 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
             "nrmse_all": d.baseline.errors.nrmse_all,
             "rmse_m": d.baseline.errors.rmse_m,
             "params": params(&d.baseline),
+            "pinned": d.pinned,
             "bounds": serde_json::Value::Object(
                 d.bounds
                     .iter()
@@ -2114,6 +2159,43 @@ mod tests {
         );
     }
 
+    /// A fitted value at either end of its search range (on the log scale
+    /// for E) is pinned; one inside it, or a parameter not fitted, is not.
+    #[test]
+    fn a_value_at_the_edge_of_its_range_is_pinned() {
+        let param = |name: &str, lower: f64, upper: f64, log: bool| FitParam {
+            param: params::find(name).expect("known"),
+            lower,
+            upper,
+            log,
+        };
+        let ranges = [
+            param("young_modulus", 6e3, 6e5, true),
+            param("alpha", 6e4, 6e6, true),
+            param("tau_c", 0.08, 0.5, false),
+            param("tau_s", 0.08, 0.5, false),
+        ];
+        let fitted = |e: f64, alpha: f64, tau_c: f64| {
+            vec![
+                ("young_modulus".to_string(), e),
+                ("alpha".to_string(), alpha),
+                ("tau_c".to_string(), tau_c),
+            ]
+        };
+        assert!(pinned_at_bounds(&fitted(2.1e5, 6.1e5, 0.2), &ranges).is_empty());
+        assert_eq!(
+            pinned_at_bounds(&fitted(2.1e5, 6e4, 0.08), &ranges),
+            ["alpha", "tau_c"]
+        );
+        assert_eq!(
+            pinned_at_bounds(&fitted(6e5, 6.1e5, 0.4999), &ranges),
+            ["young_modulus", "tau_c"],
+            "the upper end, within 0.1 % of the range"
+        );
+        // 0.1 % of E's log range above its lower end is still inside.
+        assert!(pinned_at_bounds(&fitted(6e3 * 1.01, 6.1e5, 0.2), &ranges).is_empty());
+    }
+
     #[test]
     fn a_bound_parses_and_bad_ones_say_what_to_write() {
         assert_eq!(
@@ -2168,6 +2250,7 @@ mod tests {
             ],
             &["table-friction"],
             false,
+            &[],
             (0.01, 0.005),
         );
         assert!(
@@ -2183,6 +2266,7 @@ mod tests {
             ],
             &["heterogeneous-stiffness"],
             false,
+            &[],
             (0.0358, 0.0193),
         );
         assert!(!pair_named.contains("runner-up"), "{pair_named}");
@@ -2193,5 +2277,36 @@ mod tests {
             "{pair_named}"
         );
         assert!(pair_named.ends_with("NRMSE (all markers) 0.0358 -> 0.0193"));
+    }
+
+    /// Within the noise, "nothing is missing" stands alone when the fit
+    /// pinned nothing; when it pinned a parameter, the evidence names it
+    /// and says how to settle it.
+    #[test]
+    fn the_evidence_names_what_the_baseline_pinned() {
+        let location = Location {
+            significant: false,
+            chi2: 193.0,
+            dof: 144,
+            ..Location::default()
+        };
+        let plain = evidence_text(&location, &[], &[], false, &[], (0.0034, 0.0034));
+        assert!(plain.starts_with("nothing is missing"), "{plain}");
+        assert!(!plain.contains("edge"), "{plain}");
+        let pinned = evidence_text(
+            &location,
+            &[],
+            &[],
+            false,
+            &["alpha".to_string(), "tau_c".to_string()],
+            (0.0034, 0.0034),
+        );
+        assert!(pinned.starts_with("nothing is missing"), "{pinned}");
+        assert!(
+            pinned.contains("left alpha and tau_c at the edge of its search range")
+                && pinned.contains("if you measured one of them or E")
+                && pinned.contains("--bound NAME=LOW:HIGH"),
+            "{pinned}"
+        );
     }
 }

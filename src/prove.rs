@@ -663,6 +663,13 @@ pub fn report(outcomes: &[Outcome], e_within: Option<f64>) -> String {
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
         let mut line = format!("- **{}**: ", o.case.name);
+        if !d.pinned.is_empty() {
+            let _ = write!(
+                line,
+                "baseline at the edge of its range in {}; ",
+                d.pinned.join(", ")
+            );
+        }
         if d.hypotheses.is_empty() {
             line.push_str("the baseline's residual is within the noise; nothing tried");
         }

@@ -834,6 +834,13 @@ pub fn diagnosis(
         params(&d.fitted_params()),
         d.noise.describe()
     );
+    if !d.pinned.is_empty() {
+        let _ = writeln!(
+            md,
+            "- at the edge of its search range after the baseline fit: {} (a fit at a bound may be standing in for something the model lacks; a measured range, `--bound`, settles it)",
+            d.pinned.join(", ")
+        );
+    }
     for (name, low, high) in &d.bounds {
         let _ = writeln!(
             md,
@@ -842,7 +849,7 @@ pub fn diagnosis(
             fmt_value(*high)
         );
     }
-    if !d.bounds.is_empty() {
+    if !d.bounds.is_empty() || !d.pinned.is_empty() {
         md.push('\n');
     }
     let l = &d.location;

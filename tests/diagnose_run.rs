@@ -221,3 +221,50 @@ fn a_locked_modulus_stays_locked_in_every_fit() {
     assert_eq!(d.final_fit.scene.object.young_modulus, e);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A baseline fit that ends at the edge of its search range may be
+/// standing in for physics the model lacks: the diagnosis names the
+/// parameters (CLI, report, JSON `baseline.pinned`). Here E's range lies
+/// five to six times above the truth's, so the fit presses E against its
+/// floor.
+#[test]
+fn a_baseline_at_the_edge_of_its_range_says_so() {
+    let (dir, rec) = coarse_table_friction("pinned");
+    let e = rec.scene.object.young_modulus;
+    let options = DiagnoseOptions {
+        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
+        bounds: vec![("young_modulus".into(), 5.0 * e, 6.0 * e)],
+        max_evaluations: 8,
+        candidate_evaluations_per_param: 4,
+        max_effects: 1,
+        ..DiagnoseOptions::default()
+    };
+    let d = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
+    let e_fit = d
+        .baseline
+        .params
+        .iter()
+        .find(|(n, _)| n == "young_modulus")
+        .map(|(_, v)| *v)
+        .expect("E fitted");
+    assert!(e_fit < 5.001 * e, "E pressed against its floor: {e_fit}");
+    assert_eq!(
+        d.pinned,
+        ["young_modulus"],
+        "{:?} from {:?}",
+        d.pinned,
+        d.baseline.params
+    );
+    let v = diagnose::to_json(&d, &rec);
+    assert_eq!(v["baseline"]["pinned"], serde_json::json!(d.pinned));
+    let written = softgrip::report::diagnosis(&dir.join("report"), &rec, &d).expect("report");
+    let md = std::fs::read_to_string(&written.markdown).expect("markdown");
+    assert!(
+        md.contains(&format!(
+            "at the edge of its search range after the baseline fit: {}",
+            d.pinned.join(", ")
+        )),
+        "{md}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

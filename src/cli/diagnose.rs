@@ -56,6 +56,12 @@ pub fn diagnose(
         d.baseline.errors.nrmse,
         d.baseline.errors.nrmse_all
     );
+    if !d.pinned.is_empty() {
+        println!(
+            "at the edge of its search range after the baseline fit: {}",
+            d.pinned.join(", ")
+        );
+    }
     for (name, low, high) in &d.bounds {
         println!("searched within the range given: {name} {low:.4e} to {high:.4e}");
     }
