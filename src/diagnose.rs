@@ -1911,7 +1911,7 @@ fn evidence_text(
             );
             if !pinned.is_empty() {
                 s += &format!(
-                    ". The fit left {} at the edge of its search range, where a model can stand in for physics it lacks: if you measured {} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
+                    ". The fit left {} at the edge of its search range: either the data do not pin it down, or the model bends it to stand in for physics it lacks; if you measured {} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
                     pinned.join(" and "),
                     if pinned.len() == 1 {
                         "it"
