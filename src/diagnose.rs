@@ -1333,9 +1333,6 @@ pub fn same_model(a: &Scene, b: &Scene) -> bool {
     a == b || plain(a) == plain(b)
 }
 
-/// The nominal model's uncertain parameters, fitted by the baseline.
-const BASELINE_PARAMS: [&str; 4] = ["young_modulus", "alpha", "tau_s", "tau_c"];
-
 /// The baseline's parameters: E, alpha, tau_s and tau_c, less the locked
 /// ones and those the scene's model does not use.
 pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, String> {
@@ -1344,7 +1341,7 @@ pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, 
     }
     let neo = scene.model.elasticity == crate::scene::Elasticity::NeoHookean;
     let mut out = Vec::new();
-    for name in BASELINE_PARAMS {
+    for name in ["young_modulus", "alpha", "tau_s", "tau_c"] {
         if lock.iter().any(|l| l == name) {
             continue;
         }
@@ -1819,20 +1816,15 @@ pub fn diagnose(
 }
 
 /// The baseline's parameters that its fit left at a bound of their search
-/// range (within 0.1 % of the range, on the parameter's own scale).
+/// range (`fit::at_bound`, as `softgrip fit` flags them).
 pub fn pinned_at_bounds(fitted: &[(String, f64)], params: &[FitParam]) -> Vec<String> {
     params
         .iter()
         .filter(|p| {
-            let Some((_, v)) = fitted.iter().find(|(n, _)| n == p.param.name) else {
-                return false;
-            };
-            let u = if p.log {
-                (v.ln() - p.lower.ln()) / (p.upper.ln() - p.lower.ln())
-            } else {
-                (v - p.lower) / (p.upper - p.lower)
-            };
-            !(1e-3..=1.0 - 1e-3).contains(&u)
+            fitted
+                .iter()
+                .find(|(n, _)| n == p.param.name)
+                .is_some_and(|(_, v)| crate::fit::at_bound(p.unit(*v)))
         })
         .map(|p| p.param.name.to_string())
         .collect()
@@ -1910,14 +1902,13 @@ fn evidence_text(
                 location.chi2, location.dof
             );
             if !pinned.is_empty() {
+                let one = pinned.len() == 1;
                 s += &format!(
-                    ". The fit left {} at the edge of its search range: either the data do not pin it down, or the model bends it to stand in for physics it lacks; if you measured {} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
-                    pinned.join(" and "),
-                    if pinned.len() == 1 {
-                        "it"
-                    } else {
-                        "one of them"
-                    },
+                    ". The fit left {names} at the edge of {its} search range: either the data do not pin {it} down, or the model bends {it} to stand in for physics it lacks; if you measured {which} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
+                    names = pinned.join(" and "),
+                    its = if one { "its" } else { "their" },
+                    it = if one { "it" } else { "them" },
+                    which = if one { "it" } else { "one of them" },
                 );
             }
             return s;
@@ -2192,7 +2183,7 @@ mod tests {
             ["young_modulus", "tau_c"],
             "the upper end, within 0.1 % of the range"
         );
-        // 0.1 % of E's log range above its lower end is still inside.
+        // 1 % above E's lower end (0.2 % of its log range) is inside.
         assert!(pinned_at_bounds(&fitted(6e3 * 1.01, 6.1e5, 0.2), &ranges).is_empty());
     }
 
@@ -2303,7 +2294,7 @@ mod tests {
         );
         assert!(pinned.starts_with("nothing is missing"), "{pinned}");
         assert!(
-            pinned.contains("left alpha and tau_c at the edge of its search range")
+            pinned.contains("left alpha and tau_c at the edge of their search range")
                 && pinned.contains("if you measured one of them or E")
                 && pinned.contains("--bound NAME=LOW:HIGH"),
             "{pinned}"

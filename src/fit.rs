@@ -81,6 +81,12 @@ impl FitParam {
     }
 }
 
+/// Is a point at `u` (0..1 of a parameter's bounds, [`FitParam::unit`])
+/// at one of its bounds, within 0.1 % of the range?
+pub fn at_bound(u: f64) -> bool {
+    !(1e-3..=1.0 - 1e-3).contains(&u)
+}
+
 /// The bounds used when the command line gives none: around the scene's
 /// value for moduli and alpha, the physically sensible range otherwise.
 pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String> {
@@ -495,10 +501,7 @@ pub fn fit(
         fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
     }
     let fitted = value_at(&best_u);
-    let at_bound = best_u
-        .iter()
-        .map(|u| *u < 1e-3 || *u > 1.0 - 1e-3)
-        .collect();
+    let at_bound = best_u.iter().map(|u| at_bound(*u)).collect();
     let after = fitted_replay.errors;
     check_cancel()?;
     let (uncertainty, sensitivity) = evidence(recording, params, &fitted, &fitted_replay, options);

@@ -837,7 +837,7 @@ pub fn diagnosis(
     if !d.pinned.is_empty() {
         let _ = writeln!(
             md,
-            "- at the edge of its search range after the baseline fit: {} (either the data do not pin it down, or the fit bends it to stand in for something the model lacks; a measured range, `--bound`, settles it)",
+            "- at the edge of its search range after the baseline fit: {} (each: either the data do not pin it down, or the fit bends it to stand in for something the model lacks; a measured range, `--bound`, settles it)",
             d.pinned.join(", ")
         );
     }
