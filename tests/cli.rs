@@ -384,6 +384,37 @@ fn a_bad_bound_is_refused_at_once() {
     }
 }
 
+/// `softgrip prove` refuses a bad option before making any recording.
+#[test]
+fn prove_refuses_a_bad_option_at_once() {
+    let out = std::env::temp_dir().join(format!("softgrip-prove-bad-{}", std::process::id()));
+    for (flag, value, says) in [
+        ("--truth-edge-length", "4", "between 0.002 and 0.01"),
+        ("--truth-edge-length", "0", "between 0.002 and 0.01"),
+        ("--e-measured-within", "0.5", "give a factor above 1"),
+    ] {
+        let o = softgrip(&[
+            "prove",
+            "--out",
+            out.to_str().expect("a UTF-8 temp dir"),
+            "--report",
+            out.join("D.md").to_str().expect("a UTF-8 temp dir"),
+            flag,
+            value,
+        ]);
+        assert!(!o.status.success(), "{flag} {value}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(flag) && err.contains(says),
+            "{flag} {value}: {err}"
+        );
+        assert!(
+            !out.exists(),
+            "{flag} {value}: nothing made before the refusal"
+        );
+    }
+}
+
 /// A scene on an .stl surface: without TetGen, one clear error (said
 /// once, not repeated by the error chain); the tetrahedralization itself
 /// is tested with the feature (tests/surface_meshes.rs).

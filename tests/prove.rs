@@ -166,6 +166,35 @@ fn the_measured_range_of_e_holds_every_truths_e() {
     }
 }
 
+/// `softgrip prove --truth-edge-length` moves the truth's mesh and nothing
+/// else: the effect, its twin without it, the concealment and the scene
+/// the diagnosis gets stay as the suite has them.
+#[test]
+fn the_truths_edge_length_moves_only_the_truths_mesh() {
+    for c in prove::cases() {
+        let moved = prove::with_truth_edge(c.clone(), 0.005);
+        assert_eq!(moved.truth_scene.object.edge_length, 0.005, "{}", c.name);
+        assert_eq!(moved.plain_scene.object.edge_length, 0.005, "{}", c.name);
+        let mut back = moved.clone();
+        back.truth_scene.object.edge_length = c.truth_scene.object.edge_length;
+        back.plain_scene.object.edge_length = c.plain_scene.object.edge_length;
+        assert_eq!(
+            back.truth_scene.to_toml(),
+            c.truth_scene.to_toml(),
+            "{}",
+            c.name
+        );
+        assert_eq!(
+            back.plain_scene.to_toml(),
+            c.plain_scene.to_toml(),
+            "{}",
+            c.name
+        );
+        assert_eq!(moved.nominal.to_toml(), c.nominal.to_toml(), "{}", c.name);
+        assert_eq!(moved.truth, c.truth);
+    }
+}
+
 /// `--only` and `softgrip bench --diagnosis` make the recording the full
 /// run makes: a case's noise seed is its place in the whole suite, not in
 /// the selection.
