@@ -38,6 +38,7 @@ pub mod compare;
 pub mod constraints;
 pub mod contact;
 pub mod diagnose;
+pub mod discretisation;
 pub mod error;
 pub mod fields;
 pub mod fit;

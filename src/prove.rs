@@ -580,7 +580,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
         "**NRMSE all falls by half in {against_recording} of the {} cases named right against the recording, and in {against_truth} against the noise-free recording of the truth** (the model's own error: the noise, about 0.003 here, is a floor the first cannot go below; the columns \"truth\" below).\n",
         named_right.len()
     );
-    s.push_str("| case | hidden | named | right | NRMSE all before | after | after / before | truth before | truth after | truth after / before | recovered (hidden) | moved most by the effect | called mismatched | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| case | hidden | named | right | NRMSE all before | after | after / before | truth before | truth after | truth after / before | recovered (hidden) | moved most by the effect | called mismatched | finer mesh, half step: move / noise | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for o in outcomes {
         let hidden = if o.case.effects.is_empty() {
             "none".to_string()
@@ -626,9 +626,18 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
                 let truth = o.truth_errors.map_or(" | | ".to_string(), |[b, a]| {
                     format!("{b:.5} | {a:.5} | {:.2}", a / b)
                 });
+                let over = |o: &crate::discretisation::Outcome| {
+                    o.measured()
+                        .map_or("-".to_string(), |c| format!("{:.1}", c.over_noise))
+                };
+                let discretisation = format!(
+                    "{}, {}",
+                    over(&d.discretisation.mesh),
+                    over(&d.discretisation.time_step)
+                );
                 let _ = writeln!(
                     s,
-                    "| {} | {hidden} | {named} | {} | {:.5} | {:.5} | {:.2} | {truth} | {} | {} | {} | {:.0} |",
+                    "| {} | {hidden} | {named} | {} | {:.5} | {:.5} | {:.2} | {truth} | {} | {} | {} | {discretisation} | {:.0} |",
                     o.case.name,
                     if o.right() { "yes" } else { "NO" },
                     d.baseline.errors.nrmse_all,
@@ -643,7 +652,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
             Err(e) => {
                 let _ = writeln!(
                     s,
-                    "| {} | {hidden} | failed: {e} | NO | | | | | | | | | | {:.0} |",
+                    "| {} | {hidden} | failed: {e} | NO | | | | | | | | | | | {:.0} |",
                     o.case.name, o.seconds
                 );
             }

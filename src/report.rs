@@ -834,6 +834,11 @@ pub fn diagnosis(
         params(&d.fitted_params()),
         d.noise.describe()
     );
+    let _ = writeln!(
+        md,
+        "- the model's own discretisation, at the final fit: {}\n",
+        d.discretisation.describe()
+    );
     if !d.pinned.is_empty() {
         let _ = writeln!(
             md,

@@ -42,6 +42,14 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
     for key in ["markers", "axes", "where", "when"] {
         assert!(v["mismatch"].get(key).is_some(), "mismatch.{key}");
     }
+    // softgrip's extension: the model's own discretisation against the
+    // noise; a quasi-static recording's step is not checked.
+    let mesh = &v["discretisation"]["mesh"];
+    assert!(
+        mesh["rms_m"].as_f64().is_some_and(|m| m > 0.0) && mesh["over_noise"].is_number(),
+        "{mesh}"
+    );
+    assert!(v["discretisation"]["time_step"]["skipped"].is_string());
     for key in [
         "effect",
         "nrmse_before",

@@ -66,6 +66,7 @@ pub fn diagnose(
         println!("searched within the range given: {name} {low:.4e} to {high:.4e}");
     }
     println!("noise (from the data): {}", d.noise.describe());
+    println!("discretisation: {}", d.discretisation.describe());
     println!("mismatch: {}", d.location.description);
     println!(
         "| round | candidate | BIC change | residual removed | Vuong z against the best other effect | NRMSE all | parameters |"
