@@ -1802,8 +1802,13 @@ pub fn diagnose(
         planned,
         "the final model on a finer mesh and step",
     );
-    let discretisation =
-        crate::discretisation::check(recording, &current.scene, &current.replay, &noise);
+    let discretisation = crate::discretisation::check(
+        recording,
+        &current.scene,
+        &current.replay,
+        &noise,
+        RestTolerance::for_fits(),
+    );
     if let Some(c) = discretisation.caution() {
         if !evidence.trim_end().ends_with('.') {
             evidence = evidence.trim_end().to_string() + ".";

@@ -145,18 +145,23 @@ fn short(v: f64) -> String {
 /// `coarse`) on a finer mesh and, for a time series, at half the step,
 /// and measures the moves against `noise`. A refined replay that fails is
 /// reported as skipped, with its error: the check never stops a diagnosis.
+///
+/// The refined replays come to rest as `rest` says: as `coarse` did, so
+/// that the tolerance is not taken for the mesh's move (the diagnosis's
+/// `RestTolerance::for_fits`, `softgrip compare`'s default).
 pub fn check(
     recording: &Recording,
     scene: &Scene,
     coarse: &Replay,
     noise: &Noise,
+    rest: RestTolerance,
 ) -> Discretisation {
     let refined = |s: Scene| {
         replay(
             recording,
             &s,
             ReplayOptions {
-                rest: RestTolerance::for_fits(),
+                rest,
                 ..ReplayOptions::default()
             },
             |_| {},

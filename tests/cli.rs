@@ -503,6 +503,27 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert!(v["nrmse"].as_f64().unwrap() < 1e-12, "{v}");
+    assert!(v.get("discretisation").is_none(), "only when asked: {v}");
+    // Asked, the mesh's move: a quasi-static recording's step is not checked.
+    let o = softgrip(&[
+        "compare",
+        dir.join("recording.toml").to_str().unwrap(),
+        "--no-report",
+        "--discretisation",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let text = stdout(&o);
+    assert!(
+        text.contains("discretisation: a finer mesh (3.2 mm instead of 4 mm) moves the markers by"),
+        "{text}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let d = &v["discretisation"];
+    assert!(d["mesh"]["rms_m"].as_f64().is_some_and(|m| m > 0.0), "{v}");
+    assert!(d["time_step"]["skipped"].is_string(), "{v}");
     let _ = std::fs::remove_dir_all(dir);
 }
 

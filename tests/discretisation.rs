@@ -153,7 +153,7 @@ fn a_quasi_static_recording_checks_the_mesh_which_converges() {
     for edge in [0.008, 0.005] {
         let rec = recording(&dir.join(format!("{edge}")), edge, &loads, None);
         let coarse = replay(&rec, &rec.scene, fits(), |_| {}).expect("replay");
-        let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4));
+        let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4), fits().rest);
         match &d.time_step {
             Outcome::Skipped(why) => assert!(why.contains("quasi-static"), "{why}"),
             Outcome::Measured(c) => panic!("a quasi-static recording checked the step: {c:?}"),
@@ -202,7 +202,7 @@ fn a_time_series_checks_the_step_and_a_mesh_file_is_not_refined() {
         Some(&[0.05, 0.1, 0.15, 0.2]),
     );
     let coarse = replay(&rec, &rec.scene, fits(), |_| {}).expect("replay");
-    let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4));
+    let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4), fits().rest);
     let step = d.time_step.measured().expect("the step is checked");
     assert_eq!(step.fine, step.coarse / 2.0);
     assert!(step.rms_m.is_finite() && step.over_noise.is_finite());
@@ -220,7 +220,7 @@ fn a_time_series_checks_the_step_and_a_mesh_file_is_not_refined() {
         scale: 1.0,
         position: DVec3::ZERO,
     };
-    let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4));
+    let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4), fits().rest);
     match &d.mesh {
         Outcome::Skipped(why) => assert!(why.contains("mesh file"), "{why}"),
         Outcome::Measured(c) => panic!("a mesh file was refined: {c:?}"),

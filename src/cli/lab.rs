@@ -111,7 +111,12 @@ fn describe(path: &Path, recording: &Recording) {
     );
 }
 
-pub fn compare(path: &Path, json: Option<&Path>, report: &ReportArgs) -> Result<()> {
+pub fn compare(
+    path: &Path,
+    json: Option<&Path>,
+    discretisation: bool,
+    report: &ReportArgs,
+) -> Result<()> {
     let recording = Recording::load(path)?;
     describe(path, &recording);
     let bar = progress_bar(recording.samples.len() as u64, "samples");
@@ -158,6 +163,21 @@ pub fn compare(path: &Path, json: Option<&Path>, report: &ReportArgs) -> Result<
     if let Some(v) = run.volume_errors.last() {
         println!("volume error at the last sample: {v:.3e}");
     }
+    let discretisation = discretisation.then(|| {
+        let noise = softgrip::diagnose::estimate_noise(&run.residuals);
+        println!("noise (estimated from the residual): {}", noise.describe());
+        let spinner = progress_bar(1, "the scene refined");
+        let d = softgrip::discretisation::check(
+            &recording,
+            &recording.scene,
+            &run,
+            &noise,
+            softgrip::replay::ReplayOptions::default().rest,
+        );
+        spinner.finish_and_clear();
+        println!("discretisation: {}", d.describe());
+        d
+    });
     if let Some(dir) = report.dir("compare", path) {
         wrote(&softgrip::report::compare(&dir, &recording, &run)?);
     }
@@ -172,6 +192,9 @@ pub fn compare(path: &Path, json: Option<&Path>, report: &ReportArgs) -> Result<
             "tau_s": m.tau_s,
             "tau_c": m.tau_c,
         });
+        if let Some(d) = &discretisation {
+            value["discretisation"] = d.to_json();
+        }
         write_json(json, &value)?;
     }
     Ok(())
