@@ -105,6 +105,7 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
     harness.get_by_label("missing: table-friction");
     harness.get_by_label_contains("NRMSE over all markers");
     harness.get_by_label_contains("where:");
+    harness.get_by_label_contains("discretisation: a finer mesh");
     let image = harness.render().expect("rendered");
     let _ = image.save(std::env::temp_dir().join("softgrip-viewer-diagnosis.png"));
     let green = image.pixels().filter(|p| is_accepted_green(p.0)).count();

@@ -217,6 +217,13 @@ impl DiagnosisSection {
         }
         ranking(ui, &d);
         ui.label(egui::RichText::new(&d.evidence).small());
+        ui.label(
+            egui::RichText::new(format!("discretisation: {}", d.discretisation.describe()))
+                .small(),
+        )
+        .on_hover_text(
+            "the final model replayed on a mesh 0.8 times as fine and, for a time series, at half the step: a mismatch this size may be the model's own",
+        );
         ui.horizontal(|ui| {
             ui.label("overlay:");
             let before = self.shown;
