@@ -174,7 +174,7 @@ impl Noise {
         )
     }
 
-    pub(crate) fn sigma(&self, marker: MarkerRef) -> f64 {
+    fn sigma(&self, marker: MarkerRef) -> f64 {
         match marker {
             MarkerRef::Object(_) => self.object_m,
             MarkerRef::Finger(_) => self.finger_m,

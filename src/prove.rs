@@ -626,8 +626,9 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
                 let truth = o.truth_errors.map_or(" | | ".to_string(), |[b, a]| {
                     format!("{b:.5} | {a:.5} | {:.2}", a / b)
                 });
-                let over = |o: &crate::discretisation::Outcome| {
-                    o.measured()
+                let over = |check: &crate::discretisation::Outcome| {
+                    check
+                        .measured()
                         .map_or("-".to_string(), |c| format!("{:.1}", c.over_noise))
                 };
                 let discretisation = format!(

@@ -115,7 +115,7 @@ fn the_measure_is_the_rms_move_of_the_observed_coordinates() {
     }
     let (sigma_object, sigma_finger) = (1e-4, 4e-4);
     let (rms, over, worst) =
-        discretisation::compare(&rec, &a, &b, &noise(sigma_object, sigma_finger)).expect("same");
+        discretisation::moves(&rec, &a, &b, &noise(sigma_object, sigma_finger)).expect("same");
     // Per sample: 6 observed coordinates, squares 9e-8, 0, 0, 1e-8, 0, 4e-8.
     let expected = ((9e-8 + 1e-8 + 4e-8) / 6.0f64).sqrt();
     assert!((rms - expected).abs() < 1e-12, "{rms} against {expected}");
@@ -125,12 +125,13 @@ fn the_measure_is_the_rms_move_of_the_observed_coordinates() {
         "{over} against {expected_over}"
     );
     assert_eq!(worst.0, "top");
-    // top's RMS per observed coordinate: sqrt((0.3^2 + 0) / 2) mm.
-    assert!((worst.1 - 3e-4 / 2f64.sqrt()).abs() < 1e-12, "{worst:?}");
+    // top's RMS distance over its observed axes, x and z: 0.3 mm (its 1 mm
+    // in y is not seen).
+    assert!((worst.1 - 3e-4).abs() < 1e-12, "{worst:?}");
     // No move, nothing measured; other observations, no comparison.
-    let (rms0, over0, _) = discretisation::compare(&rec, &a, &a, &noise(1e-4, 1e-4)).expect("same");
+    let (rms0, over0, _) = discretisation::moves(&rec, &a, &a, &noise(1e-4, 1e-4)).expect("same");
     assert_eq!((rms0, over0), (0.0, 0.0));
-    assert!(discretisation::compare(&rec, &a, &b[1..], &noise(1e-4, 1e-4)).is_none());
+    assert!(discretisation::moves(&rec, &a, &b[1..], &noise(1e-4, 1e-4)).is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
