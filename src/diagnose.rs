@@ -820,7 +820,14 @@ pub struct PairTest {
     /// What leaving each effect out of the pair costs, in the order of
     /// `effects`.
     pub without: [PairNeed; 2],
+    /// When the pair does not need one effect at all (leaving it out lowers
+    /// BIC), the other was judged as a lone candidate is.
+    pub alone: Option<LoneTest>,
 }
+
+/// A pair's effect judged alone: `(i, z)`, effect `i` of the pair and its
+/// Vuong z against the model without it.
+pub type LoneTest = (usize, Option<f64>);
 
 impl PairTest {
     /// Effect `i` of the pair, with its variant: "heterogeneous-stiffness
@@ -877,6 +884,48 @@ impl PairNeed {
                 && explained >= MIN_EXPLAINED
                 && z.is_some_and(|z| z >= VUONG_Z),
         }
+    }
+}
+
+/// Which effects of a pair are named, from what leaving each out costs
+/// (`without`, in the pair's order), each one's Vuong z alone against the
+/// model without it (`lone`) and the places left for effects (`room`);
+/// with the `PairTest::alone` it records.
+///
+/// Each is named when the pair needs it; with one place left, the one it
+/// needs more. A pair that needs neither but does not need one of the two
+/// at all (leaving it out lowers BIC) says that one only mimicked the
+/// other: the tie that called for the pair is gone, and the other faces
+/// the test a candidate alone in its round faces, Vuong's z against the
+/// model without it. (Where both effects stand for one form error, as on
+/// the suite's control-2, leaving either out costs something.)
+pub fn pair_verdict(
+    without: &[PairNeed; 2],
+    lone: [Option<f64>; 2],
+    room: usize,
+) -> ((bool, bool), Option<LoneTest>) {
+    let needed = (without[0].needed, without[1].needed);
+    match needed {
+        (true, true) if room < 2 => {
+            if without[0].bic >= without[1].bic {
+                ((true, false), None)
+            } else {
+                ((false, true), None)
+            }
+        }
+        (false, false) => {
+            let Some(i) = (0..2).find(|&i| without[1 - i].bic < 0.0) else {
+                return (needed, None);
+            };
+            let named = lone[i].is_some_and(|z| z >= VUONG_Z);
+            let verdict = match (i, named) {
+                (0, true) => (true, false),
+                (1, true) => (false, true),
+                _ => (false, false),
+            };
+            (verdict, Some((i, lone[i])))
+        }
+        _ => (needed, None),
     }
 }
 
@@ -1727,25 +1776,20 @@ pub fn diagnose(
                 // and Vuong's z, with the same thresholds.
                 let (he, hv) = (hypotheses[b].effect, hypotheses[b].variant.clone());
                 let (re, rv) = (hypotheses[r].effect, hypotheses[r].variant.clone());
-                let test = PairTest {
+                let mut test = PairTest {
                     effects: [(he, hv), (re, rv)],
                     without: [
                         PairNeed::new(&pair, &rf, &noise),
                         PairNeed::new(&pair, &hf, &noise),
                     ],
                     fit: pair,
+                    alone: None,
                 };
-                // One place left for an effect: the pair names the one it
-                // needs more.
                 let room = options.max_effects.saturating_sub(effects.len());
-                let mut needed = (test.without[0].needed, test.without[1].needed);
-                if needed == (true, true) && room < 2 {
-                    needed = if test.without[0].bic >= test.without[1].bic {
-                        (true, false)
-                    } else {
-                        (false, true)
-                    };
-                }
+                let lone = [&hf, &rf]
+                    .map(|f| vuong(&weighted_residuals(&f.replay.residuals, &noise), &without));
+                let (needed, alone) = pair_verdict(&test.without, lone, room);
+                test.alone = alone;
                 match needed {
                     (true, true) => {
                         effects.extend([he, re]);
@@ -1884,8 +1928,22 @@ fn pair_text(t: &PairTest) -> String {
             if w.needed { "needed" } else { "not needed" }
         )
     };
+    let alone = match t.alone {
+        Some((i, lone)) => format!(
+            "; the pair does not need {} at all, so {} was tested as a lone candidate is: z {} against the model without it ({})",
+            t.label(1 - i),
+            t.label(i),
+            z(lone),
+            if lone.is_some_and(|z| z >= VUONG_Z) {
+                "named"
+            } else {
+                "not named"
+            }
+        ),
+        None => String::new(),
+    };
     format!(
-        ". {} and {} could not be told apart alone, so they were fitted together; {}; {} (needed: BIC over {BIC_THRESHOLD}, {:.0} % and z {VUONG_Z})",
+        ". {} and {} could not be told apart alone, so they were fitted together; {}; {} (needed: BIC over {BIC_THRESHOLD}, {:.0} % and z {VUONG_Z}){alone}",
         t.label(0),
         t.label(1),
         cost(0),
@@ -2071,6 +2129,10 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                 "vuong_z_by_sample": w.vuong_by_sample,
                 "needed": w.needed,
             })).collect::<Vec<_>>(),
+            "alone": t.alone.map(|(i, z)| serde_json::json!({
+                "effect": effect(&t.effects[i]),
+                "vuong_z": z,
+            })),
         })
     });
     serde_json::json!({
@@ -2120,6 +2182,57 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// What leaving one effect out of a pair costs, with the thresholds'
+    /// verdict.
+    fn need(bic: f64, explained: f64, z: f64) -> PairNeed {
+        PairNeed {
+            bic,
+            explained,
+            vuong: Some(z),
+            vuong_by_sample: None,
+            needed: bic > BIC_THRESHOLD && explained >= MIN_EXPLAINED && z >= VUONG_Z,
+        }
+    }
+
+    /// The pair's verdicts, with the suite's figures (DIAGNOSIS.md): two
+    /// effects both needed are both named, or with one place left the one
+    /// needed more; a pair that needs neither names none when leaving
+    /// either out costs something (control-2: +4 and +1, one form error
+    /// seen by both), and when it does not need one at all (leaving table
+    /// friction out of heterogeneous-stiffness-weak's pair lowers BIC by 3)
+    /// the other is named only if it passes a lone candidate's Vuong test.
+    #[test]
+    fn a_pair_that_does_not_need_one_judges_the_other_alone() {
+        let both = [need(200.0, 0.76, 5.5), need(144.0, 0.65, 3.7)];
+        assert_eq!(pair_verdict(&both, [None, None], 2), ((true, true), None));
+        assert_eq!(pair_verdict(&both, [None, None], 1), ((true, false), None));
+        let one_form_error = [need(4.0, 0.06, 1.2), need(1.0, 0.04, 0.8)];
+        assert_eq!(
+            pair_verdict(&one_form_error, [Some(3.0), Some(3.0)], 2),
+            ((false, false), None),
+            "both cost something: no lone test"
+        );
+        let mimic = [need(13.0, 0.12, 1.9), need(-3.0, 0.01, 0.3)];
+        assert_eq!(
+            pair_verdict(&mimic, [Some(2.4), Some(-1.0)], 2),
+            ((true, false), Some((0, Some(2.4))))
+        );
+        assert_eq!(
+            pair_verdict(&mimic, [Some(1.5), Some(-1.0)], 2),
+            ((false, false), Some((0, Some(1.5)))),
+            "alone it must still beat the model without it by z 2"
+        );
+        // The same with the pair's order reversed: the second is judged.
+        let reversed = [mimic[1], mimic[0]];
+        assert_eq!(
+            pair_verdict(&reversed, [Some(-1.0), Some(2.4)], 2),
+            ((false, true), Some((1, Some(2.4))))
+        );
+        // One effect needed: named as before, no lone test.
+        let first = [need(63.0, 0.29, 2.7), need(-3.0, 0.01, 0.3)];
+        assert_eq!(pair_verdict(&first, [None, None], 2), ((true, false), None));
+    }
 
     /// A candidate with no other effect beside it in its round is named
     /// only when it also fits closer than the model without it by Vuong's

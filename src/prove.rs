@@ -703,7 +703,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
         }
         s.push('\n');
     }
-    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect, or against the model without it when its round has no other, is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it).\n\n");
+    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect, or against the model without it when its round has no other, is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it); when leaving one out lowers BIC, the pair does not need it at all, and the other is judged as a lone candidate: by Vuong's z against the model without it.\n\n");
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
         let mut line = format!("- **{}**: ", o.case.name);
@@ -759,6 +759,15 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
                 })
                 .collect();
             let _ = write!(line, "; tied, fitted together: {}", without.join(", "));
+            if let Some((i, lone)) = t.alone {
+                let _ = write!(
+                    line,
+                    "; not needing {}, {} alone against the model without it: z {}",
+                    t.label(1 - i),
+                    t.label(i),
+                    z(lone)
+                );
+            }
         }
         let _ = writeln!(s, "{line}");
     }

@@ -167,6 +167,50 @@ fn mesh_info_convert_and_make() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// A recording whose scene is bad, or missing: the error names the file,
+/// the line and what to do, once (the recording's error quotes the
+/// scene's, and printing the chain as well said everything twice).
+#[test]
+fn a_recordings_bad_scene_is_said_once() {
+    let dir = std::env::temp_dir().join(format!("softgrip-cli-badrec-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let shipped = recording("synthetic/thesis_7_loads");
+    for f in ["recording.toml", "samples.csv"] {
+        std::fs::copy(format!("{shipped}/{f}"), dir.join(f)).expect("copy");
+    }
+    let scene = std::fs::read_to_string(format!("{shipped}/scene.toml")).expect("scene");
+    let bad: String = scene
+        .lines()
+        .map(|l| {
+            if l.starts_with("tau_c") {
+                "tau_c = 5"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(bad.contains("tau_c = 5"), "the shipped scene sets tau_c");
+    std::fs::write(dir.join("scene.toml"), bad).expect("write");
+    let header = dir.join("recording.toml");
+    let o = softgrip(&["compare", header.to_str().expect("path"), "--no-report"]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("scene.toml:") && err.contains("tau_c = 5"),
+        "{err}"
+    );
+    assert_eq!(err.matches("tau_c = 5").count(), 1, "{err}");
+    // A missing file: the system's reason once.
+    let missing = dir.join("missing.toml");
+    let o = softgrip(&["compare", missing.to_str().expect("path"), "--no-report"]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("missing.toml"), "{err}");
+    assert_eq!(err.matches("No such file").count(), 1, "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn recording(rel: &str) -> String {
     format!("{}/assets/recordings/{rel}", env!("CARGO_MANIFEST_DIR"))
 }

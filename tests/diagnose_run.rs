@@ -69,6 +69,15 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         pair.is_null() || pair["without"].as_array().is_some_and(|w| w.len() == 2),
         "{pair}"
     );
+    // ... and, when it did not need one of the two at all, the other's
+    // test alone (null otherwise).
+    assert!(
+        pair.is_null()
+            || pair.get("alone").is_some_and(|a| {
+                a.is_null() || (a["effect"]["effect"].is_string() && a.get("vuong_z").is_some())
+            }),
+        "{pair}"
+    );
     let effect = v["verdict"]["effect"].as_str().expect("effect");
     let names = [
         "none",
