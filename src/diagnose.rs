@@ -2048,10 +2048,17 @@ fn evidence_text(
                         -ru.score,
                         100.0 * ru.explained,
                         c.vuong
-                            .map(|z| format!(
-                                ", and Vuong's test finds {} closer to the data at z = {z:.2}",
-                                c.effect
-                            ))
+                            .map(|z| if z >= VUONG_Z {
+                                format!(
+                                    ", and Vuong's test finds {} closer to the data at z = {z:.2}",
+                                    c.effect
+                                )
+                            } else {
+                                // Named through the pair (see `pair_text`).
+                                format!(
+                                    ", but Vuong's test cannot tell the two apart (z = {z:+.2}); fitted together, see below"
+                                )
+                            })
                             .unwrap_or_default()
                     );
                 }
@@ -2410,6 +2417,26 @@ mod tests {
             "{pair_named}"
         );
         assert!(pair_named.ends_with("NRMSE (all markers) 0.0358 -> 0.0193"));
+        // Named through the pair though it scored better alone
+        // (heterogeneous-stiffness-weak's figures): the runner-up, and no
+        // claim that Vuong's test told them apart.
+        let tied_better = evidence_text(
+            &location,
+            &[
+                tried("heterogeneous-stiffness", -27.0, 0.20, 1.2),
+                tried("table-friction", -12.0, 0.11, -1.2),
+            ],
+            &["heterogeneous-stiffness"],
+            false,
+            &[],
+            (0.00378, 0.00339),
+        );
+        assert!(
+            tied_better.contains("the runner-up, table-friction, only 12.0 (11 %)")
+                && tied_better.contains("cannot tell the two apart (z = +1.20)")
+                && !tied_better.contains("closer to the data"),
+            "{tied_better}"
+        );
     }
 
     /// Within the noise, "nothing is missing" stands alone when the fit
