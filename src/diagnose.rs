@@ -1046,6 +1046,19 @@ pub struct Diagnosis {
 }
 
 impl Diagnosis {
+    /// Whether `h` is the fit that named its effect: the best-scoring
+    /// candidate of an effect found (the half chosen, not the other halves
+    /// of the same effect). The report's chart and the viewer's bars colour
+    /// it as accepted.
+    pub fn named(&self, h: &Hypothesis) -> bool {
+        self.effects.contains(&h.effect)
+            && self
+                .hypotheses
+                .iter()
+                .filter(|k| k.effect == h.effect)
+                .all(|k| k.score >= h.score)
+    }
+
     /// The spec's `verdict.effect`: the first effect found, "none" or
     /// "unexplained".
     pub fn verdict(&self) -> String {

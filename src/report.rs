@@ -893,7 +893,7 @@ pub fn diagnosis(
             colors: first
                 .iter()
                 .map(|h| {
-                    if d.effects.first() == Some(&h.effect) {
+                    if d.named(h) {
                         [40, 160, 60]
                     } else {
                         [150, 150, 150]

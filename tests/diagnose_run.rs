@@ -32,6 +32,22 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         steps.windows(2).all(|w| w[0].0 <= w[1].0),
         "and it only grows"
     );
+    // One fit per effect found is the one that named it (the best of its
+    // halves, for a region), and none of an effect not found: the chart's
+    // and the viewer's green bars.
+    for effect in [
+        "table-friction",
+        "heterogeneous-stiffness",
+        "load-loss",
+        "finger-friction",
+    ] {
+        let named = d
+            .hypotheses
+            .iter()
+            .filter(|h| h.effect == effect && d.named(h))
+            .count();
+        assert_eq!(named, usize::from(d.effects.contains(&effect)), "{effect}");
+    }
     // Only E was fitted in the baseline.
     assert_eq!(d.baseline.params.len(), 1);
     assert_eq!(d.baseline.params[0].0, "young_modulus");

@@ -292,11 +292,7 @@ fn ranking(ui: &mut egui::Ui, d: &Diagnosis) {
             text,
         );
         let share = h.explained.clamp(0.0, 1.0) as f32;
-        let accepted = d.effects.contains(&h.effect)
-            && d.hypotheses
-                .iter()
-                .filter(|k| k.effect == h.effect)
-                .all(|k| k.score >= h.score);
+        let accepted = d.named(h);
         let bar = egui::Rect::from_min_size(
             egui::pos2(rect.left() + label_width, top + 3.0),
             egui::vec2(
