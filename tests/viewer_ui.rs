@@ -227,6 +227,83 @@ fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
         .expect("let go");
 }
 
+/// The thesis's finger moves along z only, so a sideways drag alone holds
+/// it where it was; ticking "along x" under Fingers frees x live, and the
+/// same sideways drag then moves it along x.
+#[test]
+fn freeing_an_axis_in_the_panel_lets_a_sideways_drag_move_the_finger() {
+    let mut harness = app_sized(2400.0);
+    let frame = harness.state().panels.live.latest().expect("frame");
+    assert_eq!(frame.scene.fingers[0].free_axes, [false, false, true]);
+    let held_after_sideways_drag = |harness: &mut Harness<'static, softgrip::viewer::Viewer>| {
+        let frame = harness.state().panels.live.latest().expect("frame");
+        let centre = frame.state.fingers[0].position;
+        let at = harness
+            .state()
+            .screen_position(centre)
+            .expect("the finger is in view");
+        let right = harness
+            .state()
+            .screen_position(centre + glam::DVec3::new(0.01, 0.0, 0.0))
+            .expect("in view");
+        // One screen step along +x's direction, several times.
+        let step = (right - at).normalized() * 10.0;
+        harness.hover_at(at);
+        harness.run_steps(1);
+        harness.drag_at(at);
+        harness.run_steps(1);
+        for k in 1..=4 {
+            harness.hover_at(at + step * k as f32);
+            harness.run_steps(1);
+        }
+        let held = harness
+            .state()
+            .panels
+            .live
+            .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_some())
+            .expect("the solver holds the finger");
+        // The last target, once the solver has taken it.
+        harness.run_steps(2);
+        let held = harness
+            .state()
+            .panels
+            .live
+            .latest()
+            .and_then(|f| f.state.fingers[0].held)
+            .or(held.state.fingers[0].held)
+            .expect("held");
+        harness.drop_at(at + step * 4.0);
+        harness.run_steps(2);
+        harness
+            .state()
+            .panels
+            .live
+            .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_none())
+            .expect("let go");
+        (centre, held)
+    };
+
+    let (centre, held) = held_after_sideways_drag(&mut harness);
+    assert_eq!(held.x, centre.x, "x is locked: {held:?} from {centre:?}");
+
+    harness.get_by_label("along x").click();
+    harness.run();
+    harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| {
+            f.scene.fingers[0].free_axes == [true, false, true]
+        })
+        .expect("the solver got the freed axis");
+    let (centre, held) = held_after_sideways_drag(&mut harness);
+    assert!(
+        held.x > centre.x + 1e-3,
+        "x is free, the drag went +x: {held:?} from {centre:?}"
+    );
+    assert_eq!(held.y, centre.y, "y is still locked");
+}
+
 #[test]
 fn dragging_the_object_pulls_it_with_the_mouse_spring() {
     let mut harness = app();

@@ -119,6 +119,34 @@ struct View3d {
     meshing_since: Option<std::time::Instant>,
 }
 
+/// While a finger with a locked axis is dragged: which way it can move and
+/// where to free the others (a scene's `free_axes`; the thesis's finger
+/// moves along z only, so a sideways drag alone does nothing).
+fn locked_axes_hint(index: usize, free: [bool; 3]) -> Option<String> {
+    if free.iter().all(|f| *f) {
+        return None;
+    }
+    let names = |want: bool| {
+        ["x", "y", "z"]
+            .into_iter()
+            .zip(free)
+            .filter(|(_, f)| *f == want)
+            .map(|(n, _)| n)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let finger = index + 1;
+    Some(if free.iter().any(|f| *f) {
+        format!(
+            "finger {finger} moves along {} only: tick \"along {}\" under Fingers",
+            names(true),
+            names(false).replace(", ", "\" or \"along ")
+        )
+    } else {
+        format!("finger {finger} has every axis locked: tick its \"along\" boxes under Fingers")
+    })
+}
+
 /// What a primary-button drag in the 3-D view does, decided where it
 /// starts: on a finger it moves the finger, on the object it pulls it with
 /// the mouse spring, elsewhere (or with Alt held) it orbits.
@@ -732,6 +760,14 @@ impl Panels {
                                 .radio_value(&mut f.control, Control::Velocity, "velocity")
                                 .changed();
                         });
+                        ui.horizontal(|ui| {
+                            ui.label("moves along");
+                            for (a, name) in ["x", "y", "z"].into_iter().enumerate() {
+                                changed |= ui
+                                    .checkbox(&mut f.free_axes[a], format!("along {name}"))
+                                    .changed();
+                            }
+                        });
                         changed |= ui
                             .add(
                                 egui::Slider::new(&mut f.force.z, -50.0..=50.0).text("force z (N)"),
@@ -1218,11 +1254,19 @@ impl Viewer {
             draw_recording_caption(ui, rect, &o.caption);
         }
         let hint = if overlay.is_some() {
-            "showing the recording (untick \"show recording\" for the live run) | drag: orbit | right-drag: pan | scroll: zoom"
+            "showing the recording (untick \"show recording\" for the live run) | drag: orbit | right-drag: pan | scroll: zoom".to_string()
         } else if f.run == RunState::Paused && self.view.drag != Drag::None {
-            "paused: press Play to see the drag act"
+            "paused: press Play to see the drag act".to_string()
+        } else if let Drag::Finger { index, .. } = self.view.drag
+            && let Some(locked) = f
+                .scene
+                .fingers
+                .get(index)
+                .and_then(|s| locked_axes_hint(index, s.free_axes))
+        {
+            locked
         } else {
-            "drag: finger moves, object is pulled, elsewhere orbits | right-drag: pan | scroll: zoom"
+            "drag: finger moves, object is pulled, elsewhere orbits | right-drag: pan | scroll: zoom".to_string()
         };
         ui.painter().text(
             rect.left_bottom() + egui::vec2(8.0, -8.0),
