@@ -63,6 +63,16 @@ pub fn requested() -> bool {
     CURRENT.with(|c| c.borrow().as_ref().is_some_and(Cancel::is_cancelled))
 }
 
+/// `Err(cancelled())` once this thread's token is set: the check the fits
+/// and the diagnosis make between simulations, each with its own error.
+pub fn check_scope<E>(cancelled: impl FnOnce() -> E) -> Result<(), E> {
+    if requested() {
+        Err(cancelled())
+    } else {
+        Ok(())
+    }
+}
+
 /// `Err(SimError::Cancelled)` once `token` is set: for the step loops,
 /// which read the thread's token once ([`current`]) and look every step.
 pub fn check(token: Option<&Cancel>) -> Result<(), crate::error::SimError> {

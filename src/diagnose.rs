@@ -155,16 +155,29 @@ pub struct Noise {
     pub finger_count: usize,
 }
 
+/// The least noise level [`estimate_noise`] gives (m): a recording whose
+/// residual has no second differences (a noise-free one, replayed by the
+/// model that made it) sits here, and a move "over the noise" means nothing.
+pub const NOISE_FLOOR_M: f64 = 1e-6;
+
 impl Noise {
+    /// False when both levels are at [`NOISE_FLOOR_M`]: the data showed no
+    /// noise to measure moves against.
+    pub fn measured(&self) -> bool {
+        self.object_m > NOISE_FLOOR_M || self.finger_m > NOISE_FLOOR_M
+    }
+
     /// "0.084 mm on object markers, 0.098 mm on fingers"; a class with no
     /// differences of its own (no finger in the recording) took the
     /// other's level and is said to be not measured.
     pub fn describe(&self) -> String {
         let level = |m: f64, count: usize| {
-            if count >= 3 {
-                format!("{:.3} mm", m * 1e3)
-            } else {
+            if count < 3 {
                 "none measured".to_string()
+            } else if m <= NOISE_FLOOR_M {
+                "none (noise-free data)".to_string()
+            } else {
+                format!("{:.3} mm", m * 1e3)
             }
         };
         format!(
@@ -227,7 +240,7 @@ pub fn estimate_noise_split(residuals: &[Residual], breaks: &[usize]) -> Noise {
     }
     let level = |(sum, n): (f64, usize)| (n >= 3).then(|| (sum / (6.0 * n as f64)).sqrt());
     let (object, finger) = (level(sums[0]), level(sums[1]));
-    let floor = 1e-6;
+    let floor = NOISE_FLOOR_M;
     let object_m = object.or(finger).unwrap_or(floor).max(floor);
     let finger_m = finger.or(object).unwrap_or(floor).max(floor);
     Noise {
@@ -1919,11 +1932,7 @@ pub fn pinned_at_bounds(fitted: &[(String, f64)], params: &[FitParam]) -> Vec<St
 /// its simulations then fail at once, which must not read as candidates
 /// that explain nothing.
 fn check_cancel() -> Result<(), String> {
-    if crate::cancel::requested() {
-        Err(crate::cancel::CANCELLED.into())
-    } else {
-        Ok(())
-    }
+    crate::cancel::check_scope(|| crate::cancel::CANCELLED.to_string())
 }
 
 /// The pair test in words, for the evidence.

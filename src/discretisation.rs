@@ -35,8 +35,12 @@ pub struct Check {
     pub fine: f64,
     /// RMS move of the observed coordinates, fingers included (m).
     pub rms_m: f64,
-    /// The same, each coordinate over its noise level.
+    /// The same, each coordinate over its noise level (0 when the
+    /// recording showed no noise: `noise_measured`).
     pub over_noise: f64,
+    /// Whether the recording had noise to measure the move against (a
+    /// noise-free one has not: [`Noise::measured`]).
+    pub noise_measured: bool,
     /// The marker that moves most, and its RMS distance over the observed
     /// axes (m).
     pub worst: (String, f64),
@@ -72,6 +76,7 @@ impl Discretisation {
         [&self.mesh, &self.time_step]
             .iter()
             .filter_map(|o| o.measured())
+            .filter(|c| c.noise_measured)
             .map(|c| c.over_noise)
             .fold(0.0, f64::max)
     }
@@ -79,6 +84,14 @@ impl Discretisation {
     /// In words, for the CLI and the report.
     pub fn describe(&self) -> String {
         let one = |what: &str, o: &Outcome, unit: &str| match o {
+            Outcome::Measured(c) if !c.noise_measured => format!(
+                "{what} ({} {unit} instead of {} {unit}) moves the markers by {:.3} mm RMS (most: {} by {:.3} mm); the recording shows no noise to weigh that against",
+                short(c.fine * 1e3),
+                short(c.coarse * 1e3),
+                c.rms_m * 1e3,
+                c.worst.0,
+                c.worst.1 * 1e3
+            ),
             Outcome::Measured(c) => format!(
                 "{what} ({} {unit} instead of {} {unit}) moves the markers by {:.3} mm RMS, {:.1} times the noise (most: {} by {:.3} mm)",
                 short(c.fine * 1e3),
@@ -125,7 +138,7 @@ impl Discretisation {
                 "coarse": c.coarse,
                 "fine": c.fine,
                 "rms_m": c.rms_m,
-                "over_noise": c.over_noise,
+                "over_noise": c.noise_measured.then_some(c.over_noise),
                 "worst_marker": c.worst.0,
                 "worst_m": c.worst.1,
             }),
@@ -173,7 +186,8 @@ pub fn check(
                 coarse: from,
                 fine: to,
                 rms_m,
-                over_noise,
+                over_noise: if noise.measured() { over_noise } else { 0.0 },
+                noise_measured: noise.measured(),
                 worst,
             }),
             None => Outcome::Skipped("the refined model sees other markers".into()),

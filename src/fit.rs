@@ -338,11 +338,7 @@ pub enum FitError {
 /// `FitError::Cancelled` once the fit's cancel token is set (its
 /// simulations then fail at once, which must not read as bad points).
 fn check_cancel() -> Result<(), FitError> {
-    if crate::cancel::requested() {
-        Err(FitError::Cancelled)
-    } else {
-        Ok(())
-    }
+    crate::cancel::check_scope(|| FitError::Cancelled)
 }
 
 /// A run's error as the fit's: cancelled, or the start's.

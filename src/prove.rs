@@ -629,6 +629,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
                 let over = |check: &crate::discretisation::Outcome| {
                     check
                         .measured()
+                        .filter(|c| c.noise_measured)
                         .map_or("-".to_string(), |c| format!("{:.1}", c.over_noise))
                 };
                 let discretisation = format!(

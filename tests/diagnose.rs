@@ -353,6 +353,19 @@ fn noise_not_measured_is_not_reported_as_measured() {
         no_finger.describe(),
         "0.084 mm on object markers, none measured on fingers"
     );
+    // A noise-free recording's estimate sits at the floor: no noise, and
+    // nothing to weigh a move against.
+    let floor = diagnose::NOISE_FLOOR_M;
+    let bare = diagnose::Noise {
+        object_m: floor,
+        finger_m: floor,
+        ..both
+    };
+    assert_eq!(
+        bare.describe(),
+        "none (noise-free data) on object markers, none (noise-free data) on fingers"
+    );
+    assert!(!bare.measured() && both.measured() && no_finger.measured());
 }
 
 /// A heterogeneous-stiffness candidate starts with its region at the

@@ -203,8 +203,24 @@ fn a_time_series_checks_the_step_and_a_mesh_file_is_not_refined() {
         Some(&[0.05, 0.1, 0.15, 0.2]),
     );
     let coarse = replay(&rec, &rec.scene, fits(), |_| {}).expect("replay");
+    // A noise-free recording (its noise estimate at the floor) gives the
+    // moves in mm and no ratio to a noise it does not have.
+    let floor = softgrip::diagnose::NOISE_FLOOR_M;
+    let bare = discretisation::check(&rec, &rec.scene, &coarse, &noise(floor, floor), fits().rest);
+    let step = bare.time_step.measured().expect("the step is checked");
+    assert!(!step.noise_measured && step.over_noise == 0.0, "{step:?}");
+    assert!(step.rms_m > 0.0, "half the step moves the markers");
+    assert!(
+        bare.describe().contains("shows no noise") && !bare.describe().contains("times the noise"),
+        "{}",
+        bare.describe()
+    );
+    assert!(bare.to_json()["time_step"]["over_noise"].is_null());
+    assert!(bare.caution().is_none(), "{:?}", bare.caution());
     let d = discretisation::check(&rec, &rec.scene, &coarse, &noise(1e-4, 1e-4), fits().rest);
     let step = d.time_step.measured().expect("the step is checked");
+    assert!(step.noise_measured);
+    assert!(d.to_json()["time_step"]["over_noise"].is_number());
     assert_eq!(step.fine, step.coarse / 2.0);
     assert!(step.rms_m.is_finite() && step.over_noise.is_finite());
     assert!(d.mesh.measured().is_some());

@@ -73,6 +73,12 @@ fn a_malformed_file_is_an_error_and_the_run_goes_on() {
         harness.get_by_label("Open").click();
         harness.run();
     };
+    // Open with the box empty says what to type, not "cannot read ''".
+    harness.get_by_label("Open").click();
+    harness.run();
+    let message = harness.state().file_error.clone().expect("an error shown");
+    assert!(message.starts_with("no path given"), "{message}");
+
     open(&mut harness, &bad);
     let message = harness.state().file_error.clone().expect("an error shown");
     assert!(message.contains("bad.toml"), "{message}");

@@ -492,6 +492,14 @@ impl Panels {
     /// it is (a mesh is read on the solver thread: its error comes back
     /// in the frame).
     pub fn open(&mut self, path: std::path::PathBuf) {
+        if path.as_os_str().is_empty() {
+            self.file_status = None;
+            self.file_error = Some(
+                "no path given: type the path of a scene (.toml), a mesh or a recording in the box, then press Open"
+                    .into(),
+            );
+            return;
+        }
         let extension = path
             .extension()
             .and_then(|e| e.to_str())
@@ -1268,13 +1276,16 @@ impl Viewer {
         } else {
             "drag: finger moves, object is pulled, elsewhere orbits | right-drag: pan | scroll: zoom".to_string()
         };
-        ui.painter().text(
-            rect.left_bottom() + egui::vec2(8.0, -8.0),
-            egui::Align2::LEFT_BOTTOM,
+        // Wrapped to the view's width: a narrow view keeps the whole hint.
+        let galley = ui.painter().layout(
             hint,
             egui::FontId::proportional(12.0),
             egui::Color32::from_gray(90),
+            (rect.width() - 16.0).max(40.0),
         );
+        let at = rect.left_bottom() + egui::vec2(8.0, -8.0 - galley.size().y);
+        ui.painter()
+            .galley(at, galley, egui::Color32::from_gray(90));
         if meshing {
             // The old model stays drawn under a spinner, with the new
             // edge length and how long it has taken so far.
