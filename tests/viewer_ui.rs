@@ -182,9 +182,17 @@ fn app_sized(height: f32) -> Harness<'static, softgrip::viewer::Viewer> {
     harness
 }
 
-#[test]
-fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
-    let mut harness = app();
+type App = Harness<'static, softgrip::viewer::Viewer>;
+
+/// Grabs finger 1, moves the mouse four `step`s from there, waits until
+/// the solver holds the finger where `reached(centre, held)` says, lets
+/// go and waits for the release; returns where the finger was and the
+/// target it was held at.
+fn drag_finger(
+    harness: &mut App,
+    step: egui::Vec2,
+    reached: impl Fn(glam::DVec3, glam::DVec3) -> bool,
+) -> (glam::DVec3, glam::DVec3) {
     let frame = harness.state().panels.live.latest().expect("frame");
     let centre = frame.state.fingers[0].position;
     let at = harness
@@ -195,9 +203,8 @@ fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
     harness.run_steps(1);
     harness.drag_at(at);
     harness.run_steps(1);
-    // Up the screen: the finger (free along z) is held higher.
-    for dy in [10.0, 20.0, 30.0, 40.0] {
-        harness.hover_at(at - egui::vec2(0.0, dy));
+    for k in 1..=4 {
+        harness.hover_at(at + step * k as f32);
         harness.run_steps(1);
     }
     let held = harness
@@ -208,12 +215,28 @@ fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
         // under load the first frame it holds the finger may still carry
         // the grab point, so wait for the last target, not the first.
         .wait_for(PATIENCE, |f| {
-            f.state.fingers[0]
-                .held
-                .is_some_and(|h| h.z > centre.z + 1e-3)
+            f.state.fingers[0].held.is_some_and(|h| reached(centre, h))
         })
-        .expect("the solver holds the finger above where it was grabbed");
-    let target = held.state.fingers[0].held.unwrap();
+        .unwrap_or_else(|| panic!("the solver never held the finger where asked, from {centre:?}"));
+    let target = held.state.fingers[0].held.expect("held");
+    harness.drop_at(at + step * 4.0);
+    harness.run_steps(2);
+    harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_none())
+        .expect("let go");
+    (centre, target)
+}
+
+#[test]
+fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
+    let mut harness = app();
+    // Up the screen: the finger (free along z) is held higher.
+    let (centre, target) = drag_finger(&mut harness, egui::vec2(0.0, -10.0), |c, h| {
+        h.z > c.z + 1e-3
+    });
     assert!(
         target.z > centre.z + 1e-3,
         "held above: {target:?} from {centre:?}"
@@ -223,14 +246,6 @@ fn dragging_the_finger_holds_it_and_letting_go_releases_it() {
         (centre.x, centre.y),
         "x, y are locked"
     );
-    harness.drop_at(at - egui::vec2(0.0, 40.0));
-    harness.run_steps(2);
-    harness
-        .state()
-        .panels
-        .live
-        .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_none())
-        .expect("let go");
 }
 
 /// The thesis's finger moves along z only, so a sideways drag alone holds
@@ -241,55 +256,13 @@ fn freeing_an_axis_in_the_panel_lets_a_sideways_drag_move_the_finger() {
     let mut harness = app_sized(2400.0);
     let frame = harness.state().panels.live.latest().expect("frame");
     assert_eq!(frame.scene.fingers[0].free_axes, [false, false, true]);
-    let held_after_sideways_drag = |harness: &mut Harness<'static, softgrip::viewer::Viewer>| {
-        let frame = harness.state().panels.live.latest().expect("frame");
-        let centre = frame.state.fingers[0].position;
-        let at = harness
-            .state()
-            .screen_position(centre)
-            .expect("the finger is in view");
-        let right = harness
-            .state()
-            .screen_position(centre + glam::DVec3::new(0.01, 0.0, 0.0))
-            .expect("in view");
-        // One screen step along +x's direction, several times.
-        let step = (right - at).normalized() * 10.0;
-        harness.hover_at(at);
-        harness.run_steps(1);
-        harness.drag_at(at);
-        harness.run_steps(1);
-        for k in 1..=4 {
-            harness.hover_at(at + step * k as f32);
-            harness.run_steps(1);
-        }
-        let held = harness
-            .state()
-            .panels
-            .live
-            .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_some())
-            .expect("the solver holds the finger");
-        // The last target, once the solver has taken it.
-        harness.run_steps(2);
-        let held = harness
-            .state()
-            .panels
-            .live
-            .latest()
-            .and_then(|f| f.state.fingers[0].held)
-            .or(held.state.fingers[0].held)
-            .expect("held");
-        harness.drop_at(at + step * 4.0);
-        harness.run_steps(2);
-        harness
-            .state()
-            .panels
-            .live
-            .wait_for(PATIENCE, |f| f.state.fingers[0].held.is_none())
-            .expect("let go");
-        (centre, held)
-    };
+    // One screen step along +x's direction on screen.
+    let centre = frame.state.fingers[0].position;
+    let screen = |p: glam::DVec3| harness.state().screen_position(p).expect("in view");
+    let step = (screen(centre + glam::DVec3::X * 0.01) - screen(centre)).normalized() * 10.0;
 
-    let (centre, held) = held_after_sideways_drag(&mut harness);
+    // Every target of a locked axis is the grab's: any held one will do.
+    let (centre, held) = drag_finger(&mut harness, step, |_, _| true);
     assert_eq!(held.x, centre.x, "x is locked: {held:?} from {centre:?}");
 
     harness.get_by_label("along x").click();
@@ -302,7 +275,7 @@ fn freeing_an_axis_in_the_panel_lets_a_sideways_drag_move_the_finger() {
             f.scene.fingers[0].free_axes == [true, false, true]
         })
         .expect("the solver got the freed axis");
-    let (centre, held) = held_after_sideways_drag(&mut harness);
+    let (centre, held) = drag_finger(&mut harness, step, |c, h| h.x > c.x + 1e-3);
     assert!(
         held.x > centre.x + 1e-3,
         "x is free, the drag went +x: {held:?} from {centre:?}"

@@ -934,8 +934,18 @@ impl Panels {
             ("normal force", "N", series(|s| s.normal_force)),
         ] {
             ui.label(format!("{title} ({unit})"));
+            // Zero and some room above the largest value: a steady line
+            // would otherwise sit on the frame with no value beside it.
+            let top = lines
+                .iter()
+                .flatten()
+                .map(|p| p[1])
+                .filter(|v| v.is_finite())
+                .fold(0.0, f64::max);
             egui_plot::Plot::new(title)
                 .height(140.0)
+                .include_y(0.0)
+                .include_y(top * 1.2)
                 .x_axis_label("time (s)")
                 .show(ui, |plot| {
                     for (k, points) in lines.into_iter().enumerate() {
