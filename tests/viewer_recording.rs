@@ -415,6 +415,15 @@ fn a_fit_from_the_panel_finds_the_modulus_the_recording_was_made_with() {
         .nrmse;
     assert!(before > 1e-4, "80 kPa does not match: NRMSE {before}");
 
+    // The live run plays; the fit pauses it while it runs, and plays it
+    // again at its end.
+    harness.get_by_label("Play").click();
+    harness.run();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.run == RunState::Running)
+        .expect("playing");
     harness.get_by_label("Fit...").click();
     harness.run();
     harness.get_by_label("Run fit").click();
@@ -422,10 +431,22 @@ fn a_fit_from_the_panel_finds_the_modulus_the_recording_was_made_with() {
     assert!(harness.state().recording.fitting(), "the fit runs");
     // The UI goes on while it runs.
     harness.get_by_label_contains("fitting:");
+    harness.run();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.run == RunState::Paused)
+        .expect("the live run waits for the fit");
+    harness.get_by_label_contains("the live run waits while this runs");
     step_until(&mut harness, FIT_PATIENCE, "the fit", |p| {
         !p.recording.fitting()
     });
     harness.run();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.run == RunState::Running)
+        .expect("the live run plays again after the fit");
     let rec = &harness.state().recording;
     let fitted = rec
         .fitted()

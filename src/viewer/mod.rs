@@ -204,6 +204,9 @@ pub struct Panels {
     pub last_frame: Option<std::time::Instant>,
     /// The lab recording over the run, its replay and its fit.
     pub recording: recording::RecordingPanel,
+    /// The live run was paused for a fit or a diagnosis, and is played
+    /// again when it ends (unless the user played it meanwhile).
+    paused_for_job: bool,
 }
 
 /// The whole app: the panels and the 3-D view. Public for the UI tests,
@@ -352,7 +355,27 @@ impl Panels {
             file_error: None,
             file_status: None,
             recording: recording::RecordingPanel::default(),
+            paused_for_job: false,
         })
+    }
+
+    /// A fit or a diagnosis wants the cores the live run (and its drawing)
+    /// would take: the run waits while one goes on (a diagnosis from the
+    /// viewer took two and a half times the CLI's beside a running scene on
+    /// a 2-core machine) and plays again when it ends, unless the user
+    /// played it meanwhile (they may: the note says how).
+    fn pause_for_long_jobs(&mut self) {
+        let long = self.recording.fitting() || self.recording.diagnosis.running();
+        let run = self.frame.as_ref().map(|f| f.run);
+        if long && !self.paused_for_job && run == Some(RunState::Running) {
+            self.send(Command::Pause);
+            self.paused_for_job = true;
+        } else if !long && self.paused_for_job {
+            self.paused_for_job = false;
+            if run == Some(RunState::Paused) {
+                self.send(Command::Play);
+            }
+        }
     }
 
     /// The left and right panels for one UI frame (the central area is
@@ -390,6 +413,12 @@ impl Panels {
                     ui.separator();
                     if let Some(action) = self.recording.ui(ui) {
                         self.recording_action(action);
+                    }
+                    self.pause_for_long_jobs();
+                    if self.paused_for_job {
+                        ui.label(
+                            "the live run waits while this runs, so that it has the cores (Play runs both)",
+                        );
                     }
                     ui.separator();
                     if self.parameters(ui) {
@@ -1425,9 +1454,14 @@ impl eframe::App for Viewer {
             .frame
             .as_ref()
             .is_some_and(|f| f.run != RunState::Paused);
-        if running || self.view.drag != Drag::None || self.panels.recording.busy() {
+        if running || self.view.drag != Drag::None {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(16));
+        } else if self.panels.recording.busy() {
+            // A progress bar: two frames a second leave the cores to the
+            // job (a frame on a software renderer costs about 0.1 s).
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(500));
         } else {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(250));
