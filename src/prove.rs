@@ -575,12 +575,16 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
         Some(d.final_fit.errors.nrmse_all / d.baseline.errors.nrmse_all)
     });
     let against_truth = halved(&|o| o.truth_errors.map(|[b, a]| a / b));
+    let beyond_noise = halved(&|o| {
+        let (b, a) = o.diagnosis.as_ref().ok()?.nrmse_all_beyond_noise();
+        (b > 0.0).then(|| a / b)
+    });
     let _ = writeln!(
         s,
-        "**NRMSE all falls by half in {against_recording} of the {} cases named right against the recording, and in {against_truth} against the noise-free recording of the truth** (the model's own error: the noise, about 0.003 here, is a floor the first cannot go below; the columns \"truth\" below).\n",
+        "**NRMSE all falls by half in {against_recording} of the {} cases named right against the recording, and in {against_truth} against the noise-free recording of the truth** (the model's own error: the noise, about 0.003 here, is a floor the first cannot go below; the columns \"truth\" below). **Beyond the noise** (the part of the residual the diagnosis's own noise estimate does not account for, which a lab can compute without the truth; the column \"beyond the noise\"), **it falls by half in {beyond_noise}.**\n",
         named_right.len()
     );
-    s.push_str("| case | hidden | named | right | NRMSE all before | after | after / before | truth before | truth after | truth after / before | recovered (hidden) | moved most by the effect | called mismatched | finer mesh, half step: move / noise | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| case | hidden | named | right | NRMSE all before | after | after / before | truth before | truth after | truth after / before | beyond the noise: before, after (after / before) | recovered (hidden) | moved most by the effect | called mismatched | finer mesh, half step: move / noise | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for o in outcomes {
         let hidden = if o.case.effects.is_empty() {
             "none".to_string()
@@ -632,6 +636,14 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
                         .filter(|c| c.noise_measured)
                         .map_or("-".to_string(), |c| format!("{:.1}", c.over_noise))
                 };
+                let beyond = {
+                    let (b, a) = d.nrmse_all_beyond_noise();
+                    if b > 0.0 {
+                        format!("{b:.5}, {a:.5} ({:.2})", a / b)
+                    } else {
+                        format!("{b:.5}, {a:.5}")
+                    }
+                };
                 let discretisation = format!(
                     "{}, {}",
                     over(&d.discretisation.mesh),
@@ -639,7 +651,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
                 );
                 let _ = writeln!(
                     s,
-                    "| {} | {hidden} | {named} | {} | {:.5} | {:.5} | {:.2} | {truth} | {} | {} | {} | {discretisation} | {:.0} |",
+                    "| {} | {hidden} | {named} | {} | {:.5} | {:.5} | {:.2} | {truth} | {beyond} | {} | {} | {} | {discretisation} | {:.0} |",
                     o.case.name,
                     if o.right() { "yes" } else { "NO" },
                     d.baseline.errors.nrmse_all,
@@ -654,7 +666,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
             Err(e) => {
                 let _ = writeln!(
                     s,
-                    "| {} | {hidden} | failed: {e} | NO | | | | | | | | | | | {:.0} |",
+                    "| {} | {hidden} | failed: {e} | NO | | | | | | | | | | | | {:.0} |",
                     o.case.name, o.seconds
                 );
             }

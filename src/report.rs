@@ -834,6 +834,16 @@ pub fn diagnosis(
         params(&d.fitted_params()),
         d.noise.describe()
     );
+    let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
+    let _ = writeln!(
+        md,
+        "- NRMSE over all markers beyond the noise (the part of the residual the noise does not account for: the model's own error): {beyond_before:.4} for the baseline, {beyond_after:.4} with the effects{}",
+        if beyond_before > 0.0 {
+            format!(" ({:.2} of it left)", beyond_after / beyond_before)
+        } else {
+            String::new()
+        }
+    );
     let _ = writeln!(
         md,
         "- the model's own discretisation, at the final fit: {}\n",

@@ -424,3 +424,46 @@ fn a_region_of_the_objects_material_changes_nothing() {
     assert!(!diagnose::same_model(&over, &soft));
     assert!(!diagnose::same_model(&over, &rec.scene));
 }
+
+/// The residual beyond the noise: with the noise estimated from the data
+/// (second differences, which a constant offset does not reach), a
+/// mismatch of b on x and on z comes out as sqrt(2) b, however large the
+/// noise beside it; noise alone comes out near 0, and exactly 0 when the
+/// noise given is larger than the residual.
+#[test]
+fn the_residual_beyond_the_noise_is_the_mismatch_without_the_noise() {
+    let sigma = 1e-4;
+    let offset = 1e-4;
+    let with = residuals(8, 400, sigma, |_, _| offset);
+    let noise = diagnose::estimate_noise(&with);
+    assert!((noise.object_m / sigma - 1.0).abs() < 0.05, "{noise:?}");
+    let beyond = diagnose::rms_beyond_noise(&with, &noise);
+    let expected = 2f64.sqrt() * offset;
+    // 3200 residuals: the mean square's scatter and the noise estimate's
+    // each move the result by about 3 %.
+    assert!(
+        (beyond / expected - 1.0).abs() < 0.1,
+        "{beyond} m beyond the noise, expected {expected}"
+    );
+    let total = (with
+        .iter()
+        .map(|r| r.difference().length_squared())
+        .sum::<f64>()
+        / with.len() as f64)
+        .sqrt();
+    // The total holds the noise too: sqrt(2 (sigma^2 + b^2)).
+    let with_noise = (2.0 * (sigma * sigma + offset * offset)).sqrt();
+    assert!(
+        (total / with_noise - 1.0).abs() < 0.05,
+        "{total} against {with_noise}"
+    );
+
+    let alone = residuals(8, 400, sigma, |_, _| 0.0);
+    let noise = diagnose::estimate_noise(&alone);
+    assert!(diagnose::rms_beyond_noise(&alone, &noise) < 0.3 * expected);
+    let louder = Noise {
+        object_m: 2.0 * sigma,
+        ..noise
+    };
+    assert_eq!(diagnose::rms_beyond_noise(&alone, &louder), 0.0);
+}

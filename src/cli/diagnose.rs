@@ -106,12 +106,20 @@ pub fn diagnose(
     if !d.effects.is_empty() {
         println!("effects: {}", d.effects.join(" + "));
         println!("fitted: {}", params(&d.fitted_params()));
+        let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
         println!(
-            "NRMSE {:.4} -> {:.4}; over all markers {:.4} -> {:.4}",
+            "NRMSE {:.4} -> {:.4}; over all markers {:.4} -> {:.4}; over all markers beyond the noise {:.4} -> {:.4}{}",
             d.baseline.errors.nrmse,
             d.final_fit.errors.nrmse,
             d.baseline.errors.nrmse_all,
-            d.final_fit.errors.nrmse_all
+            d.final_fit.errors.nrmse_all,
+            beyond_before,
+            beyond_after,
+            if beyond_before > 0.0 {
+                format!(" ({:.2} of it left)", beyond_after / beyond_before)
+            } else {
+                String::new()
+            }
         );
     }
     println!("evidence: {}", d.evidence);

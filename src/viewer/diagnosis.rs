@@ -203,10 +203,18 @@ impl DiagnosisSection {
             ui.label(format!("where: {}", d.location.description));
             ui.label(format!("when: {}", d.location.when));
         }
+        let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
         ui.label(format!(
             "NRMSE over all markers {:.4} -> {:.4}",
             d.baseline.errors.nrmse_all, d.final_fit.errors.nrmse_all
-        ));
+        ))
+        .on_hover_text("the recording's noise included: it cannot fall below the noise");
+        ui.label(format!(
+            "beyond the noise {beyond_before:.4} -> {beyond_after:.4}"
+        ))
+        .on_hover_text(
+            "the part of the residual the noise does not account for: the model's own error",
+        );
         if !d.effects.is_empty() {
             let fitted: Vec<String> = d
                 .fitted_params()
