@@ -75,6 +75,16 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
     ] {
         assert!(v["verdict"].get(key).is_some(), "verdict.{key}");
     }
+    // softgrip's extension: the part beyond the noise, never more than
+    // the whole, before and after.
+    for when in ["before", "after"] {
+        let all = v["verdict"][format!("nrmse_all_{when}")].as_f64();
+        let beyond = v["verdict"][format!("nrmse_all_beyond_noise_{when}")].as_f64();
+        assert!(
+            matches!((all, beyond), (Some(a), Some(b)) if (0.0..=a).contains(&b)),
+            "{when}: {all:?} in all, {beyond:?} beyond the noise"
+        );
+    }
     // One effect at most, even when a tie is fitted as a pair.
     let named = v["verdict"]["effects"].as_array().expect("effects");
     assert!(named.len() <= 1, "max_effects 1: {named:?}");

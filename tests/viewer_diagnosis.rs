@@ -104,6 +104,10 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
 
     harness.get_by_label("missing: table-friction");
     harness.get_by_label_contains("NRMSE over all markers");
+    let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
+    harness.get_by_label(&format!(
+        "beyond the noise {beyond_before:.4} -> {beyond_after:.4}"
+    ));
     harness.get_by_label_contains("where:");
     harness.get_by_label_contains("discretisation: a finer mesh");
     let image = harness.render().expect("rendered");
