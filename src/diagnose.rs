@@ -2143,6 +2143,7 @@ fn evidence_text(
 /// The spec's JSON (`diagnose --json`), with softgrip's additions
 /// (`verdict.effects`, `verdict.evidence`, `noise`, `mismatch.regions`).
 pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
+    let beyond_noise = d.nrmse_all_beyond_noise();
     let params = |f: &ModelFit| {
         serde_json::Value::Object(
             f.params
@@ -2241,8 +2242,8 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
             "nrmse_after": d.final_fit.errors.nrmse,
             "nrmse_all_before": d.baseline.errors.nrmse_all,
             "nrmse_all_after": d.final_fit.errors.nrmse_all,
-            "nrmse_all_beyond_noise_before": d.nrmse_all_beyond_noise().0,
-            "nrmse_all_beyond_noise_after": d.nrmse_all_beyond_noise().1,
+            "nrmse_all_beyond_noise_before": beyond_noise.0,
+            "nrmse_all_beyond_noise_after": beyond_noise.1,
             "evidence": d.evidence,
         }
     })
@@ -2444,15 +2445,14 @@ mod tests {
             significant: true,
             ..Location::default()
         };
-        let best_named = evidence_text(
-            &location,
-            &[
-                tried("table-friction", -30.0, 0.4, 2.5),
-                tried("load-loss", -12.0, 0.2, -2.5),
-            ],
-            &["table-friction"],
-            false,
-            &[],
+        // Two effects tried in round 1, one of them named.
+        let evidence = |a: Hypothesis, b: Hypothesis, named: &'static str, nrmse: (f64, f64)| {
+            evidence_text(&location, &[a, b], &[named], false, &[], nrmse)
+        };
+        let best_named = evidence(
+            tried("table-friction", -30.0, 0.4, 2.5),
+            tried("load-loss", -12.0, 0.2, -2.5),
+            "table-friction",
             (0.01, 0.005),
         );
         assert!(
@@ -2460,15 +2460,10 @@ mod tests {
                 && best_named.contains("closer to the data at z = 2.50"),
             "{best_named}"
         );
-        let pair_named = evidence_text(
-            &location,
-            &[
-                tried("strain-stiffening", -14.3, 0.85, 0.88),
-                tried("heterogeneous-stiffness", -10.1, 0.71, -0.88),
-            ],
-            &["heterogeneous-stiffness"],
-            false,
-            &[],
+        let pair_named = evidence(
+            tried("strain-stiffening", -14.3, 0.85, 0.88),
+            tried("heterogeneous-stiffness", -10.1, 0.71, -0.88),
+            "heterogeneous-stiffness",
             (0.0358, 0.0193),
         );
         assert!(!pair_named.contains("runner-up"), "{pair_named}");
@@ -2482,15 +2477,10 @@ mod tests {
         // Named through the pair though it scored better alone
         // (heterogeneous-stiffness-weak's figures): the runner-up, and no
         // claim that Vuong's test told them apart.
-        let tied_better = evidence_text(
-            &location,
-            &[
-                tried("heterogeneous-stiffness", -27.0, 0.20, 1.2),
-                tried("table-friction", -12.0, 0.11, -1.2),
-            ],
-            &["heterogeneous-stiffness"],
-            false,
-            &[],
+        let tied_better = evidence(
+            tried("heterogeneous-stiffness", -27.0, 0.20, 1.2),
+            tried("table-friction", -12.0, 0.11, -1.2),
+            "heterogeneous-stiffness",
             (0.00378, 0.00339),
         );
         assert!(
