@@ -164,7 +164,13 @@ impl Noise {
     /// False when both levels are at [`NOISE_FLOOR_M`]: the data showed no
     /// noise to measure moves against.
     pub fn measured(&self) -> bool {
-        self.object_m > NOISE_FLOOR_M || self.finger_m > NOISE_FLOOR_M
+        self.measured_on(MarkerRef::Object(0)) || self.measured_on(MarkerRef::Finger(0))
+    }
+
+    /// Whether the class of `marker` (object markers, fingers) showed
+    /// noise: above [`NOISE_FLOOR_M`].
+    pub fn measured_on(&self, marker: MarkerRef) -> bool {
+        self.sigma(marker) > NOISE_FLOOR_M
     }
 
     /// "0.084 mm on object markers, 0.098 mm on fingers"; a class with no

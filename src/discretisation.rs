@@ -35,8 +35,9 @@ pub struct Check {
     pub fine: f64,
     /// RMS move of the observed coordinates, fingers included (m).
     pub rms_m: f64,
-    /// The same, each coordinate over its noise level (0 when the
-    /// recording showed no noise: `noise_measured`).
+    /// The same, each coordinate over its noise level, on the classes
+    /// (object markers, fingers) that showed noise (0 when the recording
+    /// showed none: `noise_measured`).
     pub over_noise: f64,
     /// Whether the recording had noise to measure the move against (a
     /// noise-free one has not: [`Noise::measured`]).
@@ -221,7 +222,8 @@ pub fn check(
 
 /// How far the markers of replay `b` are from those of replay `a`: the
 /// RMS over the observed coordinates, fingers included (m); the same with
-/// each coordinate over its noise; and the marker that moves most, with
+/// each coordinate over its noise, over the classes (object markers,
+/// fingers) that showed noise ([`Noise::measured_on`]); and the marker that moves most, with
 /// its RMS distance over the observed axes (m, `softgrip compare`'s
 /// per-marker "rmse"). None when they are not the same observations.
 ///
@@ -247,19 +249,34 @@ pub fn moves(
             ..*ra
         });
     }
-    let weighted = weighted_residuals(&between, noise);
-    if weighted.is_empty() {
+    let observed = between
+        .iter()
+        .flat_map(|r| r.recorded.iter().filter(|x| x.is_some()))
+        .count();
+    if observed == 0 {
         return None;
     }
-    let n = weighted.len() as f64;
+    let n = observed as f64;
     let sum: f64 = between
         .iter()
         .map(|r| r.difference().length_squared())
         .sum();
-    let over: f64 = weighted.iter().map(|w| w * w).sum();
+    // Over the noise only where the class showed noise: a noise-free
+    // class's move over the 1 um floor would say nothing.
+    let noisy: Vec<Residual> = between
+        .iter()
+        .filter(|r| noise.measured_on(r.marker))
+        .copied()
+        .collect();
+    let weighted = weighted_residuals(&noisy, noise);
+    let over = if weighted.is_empty() {
+        0.0
+    } else {
+        (weighted.iter().map(|w| w * w).sum::<f64>() / weighted.len() as f64).sqrt()
+    };
     let worst = per_marker(&between)
         .into_iter()
         .max_by(|x, y| x.distance.total_cmp(&y.distance))
         .map(|m| (marker_name(recording, m.marker), m.distance))?;
-    Some(((sum / n).sqrt(), (over / n).sqrt(), worst))
+    Some(((sum / n).sqrt(), over, worst))
 }

@@ -128,6 +128,18 @@ fn the_measure_is_the_rms_move_of_the_observed_coordinates() {
     // top's RMS distance over its observed axes, x and z: 0.3 mm (its 1 mm
     // in y is not seen).
     assert!((worst.1 - 3e-4).abs() < 1e-12, "{worst:?}");
+    // Noise-free object markers beside a noisy finger: the move over the
+    // noise counts only the finger's coordinates (its 0.2 mm in z over
+    // 0.4 mm, on 2 of its 2 observed coordinates per sample), not the
+    // object's over the 1 um floor.
+    let floor = softgrip::diagnose::NOISE_FLOOR_M;
+    let (_, over_mixed, _) =
+        discretisation::moves(&rec, &a, &b, &noise(floor, sigma_finger)).expect("same");
+    let expected_mixed = (0.25 / 2.0f64).sqrt();
+    assert!(
+        (over_mixed - expected_mixed).abs() < 1e-9,
+        "{over_mixed} against {expected_mixed}"
+    );
     // No move, nothing measured; other observations, no comparison.
     let (rms0, over0, _) = discretisation::moves(&rec, &a, &a, &noise(1e-4, 1e-4)).expect("same");
     assert_eq!((rms0, over0), (0.0, 0.0));
