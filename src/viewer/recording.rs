@@ -672,7 +672,7 @@ impl RecordingPanel {
             .map(|(i, r)| [(i + 1) as f64, 1e3 * r])
             .collect();
         let current = (self.sample + 1) as f64;
-        egui_plot::Plot::new("residual per sample")
+        super::grid::with_grids(egui_plot::Plot::new("residual per sample"))
             .height(110.0)
             .x_axis_label("sample")
             .allow_scroll(false)
