@@ -44,15 +44,15 @@ fn nice_at_least(x: f64) -> f64 {
 }
 
 /// `plot` with the y grid of [`steps`].
-pub fn with_y_grid(plot: egui_plot::Plot<'_>) -> egui_plot::Plot<'_> {
+fn with_y_grid(plot: egui_plot::Plot<'_>) -> egui_plot::Plot<'_> {
     plot.grid_spacing(egui::Rangef::new(GRID_PX as f32, 300.0))
         .y_grid_spacer(egui_plot::uniform_grid_spacer(|input| {
             steps(input.base_step_size, GRID_PX, LABEL_PX_Y)
         }))
 }
 
-/// `plot` with the x and y grids of [`steps`]: for a narrow plot, whose x
-/// labels would otherwise only appear every 10.
+/// `plot` with the x and y grids of [`steps`] (egui_plot's own would label
+/// a 0..1.8 s run at 0 and 1 only, and samples 1..7 not at all).
 pub fn with_grids(plot: egui_plot::Plot<'_>) -> egui_plot::Plot<'_> {
     with_y_grid(plot).x_grid_spacer(egui_plot::uniform_grid_spacer(|input| {
         steps(input.base_step_size, GRID_PX, LABEL_PX_X)

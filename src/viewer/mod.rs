@@ -972,7 +972,7 @@ impl Panels {
                 .map(|p| p[1])
                 .filter(|v| v.is_finite())
                 .fold(0.0, f64::max);
-            grid::with_y_grid(egui_plot::Plot::new(title))
+            grid::with_grids(egui_plot::Plot::new(title))
                 .height(140.0)
                 .include_y(0.0)
                 .include_y(top * 1.2)
