@@ -109,6 +109,7 @@ struct RawModel {
     damping_ratio: Option<f64>,
     alpha: Option<f64>,
     bulk_modulus: Option<f64>,
+    bulk_pressure: Option<String>,
     limit_stiffness: Option<f64>,
     tau_s: Option<f64>,
     tau_c: Option<f64>,
@@ -262,6 +263,9 @@ pub struct ModelParams {
     /// Element volumetric stiffness (Pa); 0 = off (the thesis model). See
     /// `forces::volume`.
     pub bulk_modulus: f64,
+    /// Where the bulk term measures the volume change: per element, or
+    /// averaged over each node's elements (softgrip; `forces::volume`).
+    pub bulk_pressure: BulkPressure,
     /// Stiffness of the limit springs, as a multiple of each spring's own
     /// (a softgrip extension); 0 = the projection alone (thesis Alg. 3). See
     /// `forces::springs`.
@@ -306,6 +310,19 @@ pub struct ModelParams {
     /// Self-collision of the object's surface (softgrip;
     /// `contact::self_collision`).
     pub self_collision: bool,
+}
+
+/// `[model] bulk_pressure`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BulkPressure {
+    /// Each element's own volume change (a linear tetrahedron's constant
+    /// pressure: it locks as nu nears 1/2).
+    Element,
+    /// The volume change of each node's share of its elements, averaged to
+    /// the elements (average nodal pressure, Bonet and Burton 1998): one
+    /// volume constraint per node instead of about six, which locks much
+    /// less on the same mesh.
+    Nodal,
 }
 
 /// `[model] elasticity`.
@@ -579,6 +596,9 @@ impl Scene {
             "[model]\ndamping_ratio = {:?}\nalpha = {:?}\nbulk_modulus = {:?}\nlimit_stiffness = {:?}",
             m.damping_ratio, m.alpha, m.bulk_modulus, m.limit_stiffness
         );
+        if m.bulk_pressure == BulkPressure::Nodal {
+            let _ = writeln!(s, "bulk_pressure = \"nodal\"");
+        }
         if let Some(t) = m.tau_s {
             let _ = writeln!(s, "tau_s = {t:?}");
         }
@@ -1060,6 +1080,25 @@ impl<'a> Resolver<'a> {
             |x| x >= 0.0,
             "must be >= 0 Pa (0 = off; E / (3 (1 - 2 nu)) is the material's own bulk modulus)",
         )?;
+        let bulk_pressure_at = at("model", "bulk_pressure");
+        let bulk_pressure = match self
+            .default(
+                bulk_pressure_at,
+                m.bulk_pressure.clone(),
+                "element".to_string(),
+            )
+            .as_str()
+        {
+            "element" => BulkPressure::Element,
+            "nodal" => BulkPressure::Nodal,
+            other => {
+                return Err(self.err(
+                    bulk_pressure_at,
+                    format!("{other:?}"),
+                    "must be \"element\" (each element's own volume) or \"nodal\" (averaged over each node's elements: less locking)",
+                ));
+            }
+        };
         let limit_stiffness = self.number(
             at("model", "limit_stiffness"),
             m.limit_stiffness,
@@ -1175,6 +1214,7 @@ impl<'a> Resolver<'a> {
             damping_ratio,
             alpha,
             bulk_modulus,
+            bulk_pressure,
             limit_stiffness,
             tau_s,
             tau_c,

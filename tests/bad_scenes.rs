@@ -309,3 +309,11 @@ fn softening_out_of_range_or_on_springs() {
         &["stiffening_cubic", "3", ":7", "neo-Hookean elements only"],
     );
 }
+
+#[test]
+fn unknown_bulk_pressure() {
+    expect(
+        &format!("{BASE}[model]\nbulk_modulus = 1e6\nbulk_pressure = \"node\"\n"),
+        &["bulk_pressure", "node", ":8", "\"nodal\""],
+    );
+}

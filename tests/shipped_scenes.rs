@@ -56,6 +56,7 @@ fn thesis_scene_has_the_thesis_values() {
                 "ramp_time",
                 "guide_friction",
                 "elasticity",
+                "bulk_pressure",
                 "self_collision",
             ]
             .iter()

@@ -50,6 +50,35 @@ fn play_and_the_alpha_slider_reach_the_solver() {
     assert!(edited.state.time > 0.0, "no restart: time went on");
 }
 
+/// The bulk pressure's radio buttons reach the solver: "per node" builds
+/// the nodal term (the built-in scene has a bulk modulus), live.
+#[test]
+fn the_bulk_pressure_buttons_reach_the_solver() {
+    let mut harness = playing();
+    assert!(harness.state().edited.model.bulk_modulus > 0.0);
+    harness.get_by_label("per node").click();
+    harness.run();
+    let edited = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| {
+            f.scene.model.bulk_pressure == softgrip::scene::BulkPressure::Nodal
+        })
+        .expect("the solver got the nodal pressure");
+    let model = edited.model.as_ref().expect("model");
+    assert!(model.nodal_bulk.is_some(), "the model measures it per node");
+    harness.get_by_label("per element").click();
+    harness.run();
+    let back = harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| {
+            f.scene.model.bulk_pressure == softgrip::scene::BulkPressure::Element
+        })
+        .expect("and back");
+    assert!(back.model.as_ref().expect("model").nodal_bulk.is_none());
+}
+
 /// Acceptance 5 (for scene files; mesh files come with the importers):
 /// opening a malformed file shows its error and leaves the running scene
 /// alone; a good file replaces it.

@@ -78,6 +78,52 @@ pub struct Model {
     /// scales its bulk term as it scales its springs. Empty without
     /// regions (every element 1).
     pub element_stiffness_scale: Vec<f64>,
+    /// The bulk term per node (`[model] bulk_pressure = "nodal"`); `None`
+    /// for the element's own (`forces::volume`).
+    pub nodal_bulk: Option<NodalBulk>,
+}
+
+/// The rest volume and bulk modulus of each node's share of its elements:
+/// a quarter of each element's volume, and the modulus averaged by those
+/// volumes (`[[region]]`s scale it per element).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodalBulk {
+    pub rest_volume: Vec<f64>,
+    pub modulus: Vec<f64>,
+}
+
+impl NodalBulk {
+    /// `None` when the bulk term is off or per element.
+    pub fn new(
+        pressure: crate::scene::BulkPressure,
+        bulk_modulus: f64,
+        nodes: usize,
+        tets: &[[u32; 4]],
+        rest_volume: &[f64],
+        scale: &[f64],
+    ) -> Option<NodalBulk> {
+        if pressure != crate::scene::BulkPressure::Nodal || bulk_modulus == 0.0 {
+            return None;
+        }
+        let mut volume = vec![0.0; nodes];
+        let mut weighted = vec![0.0; nodes];
+        for (e, (tet, &v0)) in tets.iter().zip(rest_volume).enumerate() {
+            let s = scale.get(e).copied().unwrap_or(1.0);
+            for &i in tet {
+                volume[i as usize] += 0.25 * v0;
+                weighted[i as usize] += 0.25 * v0 * s;
+            }
+        }
+        let modulus = volume
+            .iter()
+            .zip(&weighted)
+            .map(|(v, w)| if *v > 0.0 { bulk_modulus * w / v } else { 0.0 })
+            .collect();
+        Some(NodalBulk {
+            rest_volume: volume,
+            modulus,
+        })
+    }
 }
 
 /// The springs' force law beyond the thesis's linear spring (softgrip
@@ -406,6 +452,26 @@ impl Model {
             )
         });
 
+        let element_stiffness_scale: Vec<f64> = if scene.regions.is_empty() {
+            Vec::new()
+        } else {
+            element_modulus
+                .iter()
+                .map(|e| e / obj.young_modulus)
+                .collect()
+        };
+        let nodal_bulk = NodalBulk::new(
+            scene.model.bulk_pressure,
+            if fem_mode {
+                0.0
+            } else {
+                scene.model.bulk_modulus
+            },
+            mesh.nodes.len(),
+            &mesh.tets,
+            &rest_volume,
+            &element_stiffness_scale,
+        );
         Ok(Model {
             rest_total_volume: rest_volume.iter().sum(),
             rest_positions: mesh.nodes,
@@ -446,14 +512,8 @@ impl Model {
             table,
             fem,
             self_collision,
-            element_stiffness_scale: if scene.regions.is_empty() {
-                Vec::new()
-            } else {
-                element_modulus
-                    .iter()
-                    .map(|e| e / obj.young_modulus)
-                    .collect()
-            },
+            nodal_bulk,
+            element_stiffness_scale,
             spring_law: SpringLaw {
                 stiffening: scene.model.stiffening,
                 compression_ratio: scene.model.compression_ratio,
@@ -519,6 +579,7 @@ impl Model {
             density: 1.0,
             table: None,
             element_stiffness_scale: Vec::new(),
+            nodal_bulk: None,
             fem: None,
             self_collision: None,
             spring_law: SpringLaw::default(),

@@ -20,7 +20,7 @@ use glam::{DVec3, Vec3};
 use crate::live::{Command, Frame, LiveSimulation, RunState};
 use crate::render::gpu::{Pipeline, Target};
 use crate::render::{self, Camera, Style, View, pick};
-use crate::scene::{Control, Elasticity, FingerShape, Scene, SupportKind};
+use crate::scene::{BulkPressure, Control, Elasticity, FingerShape, Scene, SupportKind};
 use crate::state::Pull;
 
 /// How the viewer runs.
@@ -740,6 +740,17 @@ impl Panels {
                     1e-3..=1e3,
                     "viscoelastic tau (s)",
                 );
+                ui.horizontal(|ui| {
+                    ui.label("bulk pressure");
+                    for (value, name) in [
+                        (BulkPressure::Element, "per element"),
+                        (BulkPressure::Nodal, "per node"),
+                    ] {
+                        changed |= ui
+                            .radio_value(&mut s.model.bulk_pressure, value, name)
+                            .changed();
+                    }
+                });
                 ui.horizontal(|ui| {
                     ui.label("elasticity");
                     changed |= ui
