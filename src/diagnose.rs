@@ -164,7 +164,7 @@ impl Noise {
     /// False when both levels are at [`NOISE_FLOOR_M`]: the data showed no
     /// noise to measure moves against.
     pub fn measured(&self) -> bool {
-        self.measured_on(MarkerRef::Object(0)) || self.measured_on(MarkerRef::Finger(0))
+        self.object_m > NOISE_FLOOR_M || self.finger_m > NOISE_FLOOR_M
     }
 
     /// Whether the class of `marker` (object markers, fingers) showed

@@ -685,7 +685,7 @@ fn degenerate(a: f64, b: f64) -> bool {
 }
 
 /// The 1, 2 or 5 times a power of ten at or above `raw`.
-fn nice_step(raw: f64) -> f64 {
+pub(crate) fn nice_step(raw: f64) -> f64 {
     let e = raw.log10().floor();
     let p = 10f64.powf(e);
     let f = raw / p;

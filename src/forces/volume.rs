@@ -101,19 +101,23 @@ thread_local! {
 
 /// Each node's volume change over its rest volume, times its modulus: `p_i =
 /// K_i (V_i / V0_i - 1)`, `V_i` a quarter of each element's volume around i.
-fn nodal_pressures(model: &Model, nodal: &NodalBulk, x: &[DVec3], out: &mut Vec<f64>) {
+/// Returns the object's volume (m^3), summed on the way.
+fn nodal_pressures(model: &Model, nodal: &NodalBulk, x: &[DVec3], out: &mut Vec<f64>) -> f64 {
     out.clear();
     out.resize(nodal.rest_volume.len(), 0.0);
+    let mut volume = 0.0;
     for tet in &model.tets {
         let [a, b, c, d] = tet.map(|i| i as usize);
-        let quarter = 0.25 * signed_volume(x[a], x[b], x[c], x[d]);
+        let v = signed_volume(x[a], x[b], x[c], x[d]);
+        volume += v;
         for i in [a, b, c, d] {
-            out[i] += quarter;
+            out[i] += 0.25 * v;
         }
     }
     for ((p, v0), k) in out.iter_mut().zip(&nodal.rest_volume).zip(&nodal.modulus) {
         *p = if *v0 > 0.0 { k * (*p / v0 - 1.0) } else { 0.0 };
     }
+    volume
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -222,7 +226,7 @@ pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
     if let Some(nodal) = &model.nodal_bulk {
         // The energy from the pressures: K V0 / 2 (V / V0 - 1)^2 = V0 p^2 / (2 K).
         return NODAL_PRESSURE.with_borrow_mut(|p| {
-            nodal_pressures(model, nodal, x, p);
+            let volume = nodal_pressures(model, nodal, x, p);
             let energy = p
                 .iter()
                 .zip(&nodal.rest_volume)
@@ -230,7 +234,7 @@ pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
                 .filter(|(_, k)| **k > 0.0)
                 .map(|((p, v0), k)| 0.5 * v0 * p * p / k)
                 .sum();
-            (total_volume(model, x), energy)
+            (volume, energy)
         });
     }
     // A plain loop: the iterator form compiled to code seven times slower.
@@ -247,14 +251,4 @@ pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
         };
     }
     (volume, 0.5 * model.bulk_modulus * squares)
-}
-
-/// The object's volume (m^3).
-fn total_volume(model: &Model, x: &[DVec3]) -> f64 {
-    let mut volume = 0.0;
-    for tet in &model.tets {
-        let [a, b, c, d] = tet.map(|i| i as usize);
-        volume += signed_volume(x[a], x[b], x[c], x[d]);
-    }
-    volume
 }

@@ -6,6 +6,8 @@
 //! the one that matters: a depth of 0..4.7 mm has lines 1 mm apart at 19 px,
 //! so only "0" was printed (seen by hand under Xvfb, 2026-11-26).
 
+use crate::plot::nice_step;
+
 /// Pixels between labelled lines: egui_plot hides a label closer than 20
 /// px to the next on y (60 px on x, where labels are wide) and fades it in
 /// up to 30 px (80 px on x) (`AxisHints`).
@@ -28,19 +30,9 @@ pub fn steps(base_step_size: f64, grid_px: f64, label_px: f64) -> [f64; 3] {
         return [1.0, 1.0, 1.0];
     }
     let per_px = base_step_size / grid_px;
-    let labelled = nice_at_least(per_px * label_px);
-    let thin = nice_at_least(base_step_size).min(labelled);
+    let labelled = nice_step(per_px * label_px);
+    let thin = nice_step(base_step_size).min(labelled);
     [thin, labelled, 10.0 * labelled]
-}
-
-/// The smallest of ..., 0.1, 0.2, 0.5, 1, 2, 5, 10, ... not below `x > 0`.
-fn nice_at_least(x: f64) -> f64 {
-    let decade = 10f64.powf(x.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * decade)
-        .find(|s| *s >= x * (1.0 - 1e-12))
-        .unwrap_or(10.0 * decade)
 }
 
 /// `plot` with the y grid of [`steps`].
@@ -65,12 +57,12 @@ mod tests {
 
     #[test]
     fn steps_are_one_two_five() {
-        assert_eq!(nice_at_least(0.7), 1.0);
-        assert_eq!(nice_at_least(1.0), 1.0);
-        assert_eq!(nice_at_least(1.3), 2.0);
-        assert_eq!(nice_at_least(3.0), 5.0);
-        assert_eq!(nice_at_least(6.0), 10.0);
-        assert!((nice_at_least(0.013) - 0.02).abs() < 1e-15);
+        assert_eq!(nice_step(0.7), 1.0);
+        assert_eq!(nice_step(1.0), 1.0);
+        assert_eq!(nice_step(1.3), 2.0);
+        assert_eq!(nice_step(3.0), 5.0);
+        assert_eq!(nice_step(6.0), 10.0);
+        assert!((nice_step(0.013) - 0.02).abs() < 1e-15);
     }
 
     /// The case seen by hand: 0..4.7 mm over about 90 px. The labelled
