@@ -175,7 +175,7 @@ pub fn lloyd_stiffness(volume: f64, young_modulus: f64) -> f64 {
 /// forms, `d = zeta * 2 sqrt(k mu)` with the reduced mass
 /// `mu = m_i m_j / (m_i + m_j)`: `zeta = 1` makes each spring's own mode
 /// critically damped whatever the mesh resolution, which is what the thesis's
-/// division by `l0` was meant to keep (see ARCHITECTURE.md, "Thesis pitfalls").
+/// division by `l0` was meant to keep (see ARCHITECTURE.md, choice 2).
 pub fn spring_damping(damping_ratio: f64, stiffness: f64, m_i: f64, m_j: f64) -> f64 {
     let reduced = m_i * m_j / (m_i + m_j);
     damping_ratio * 2.0 * (stiffness * reduced).sqrt()
