@@ -303,7 +303,9 @@ pub struct Outcome {
     pub truth_errors: Option<[f64; 2]>,
     /// NRMSE all of the truth itself against the (noisy) recording: what
     /// the noise leaves for a model that is exactly the truth, so the
-    /// lowest "after" any diagnosis can reach (see [`truth_error`]).
+    /// lowest "after" any diagnosis can reach, but for the little a fit's
+    /// few parameters take out of the noise itself (p of N observations:
+    /// about 2 % of this here; see [`truth_error`]).
     pub noise_floor: Option<f64>,
 }
 
@@ -597,7 +599,7 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
     });
     let _ = writeln!(
         s,
-        "**NRMSE all falls by half in {against_recording} of the {} cases named right against the recording, and in {against_truth} against the noise-free recording of the truth** (the model's own error: the noise, about 0.003 here, is a floor the first cannot go below; the columns \"truth\" below). **The truth itself, the model that made the data, halves it against the recording in {reachable}** (the column \"the truth itself\": its NRMSE all against the recording is the noise's alone, the lowest \"after\" any model can reach; where it is over half of \"before\", no diagnosis can halve the error). **Beyond the noise** (the part of the residual the diagnosis's own noise estimate does not account for, which a lab can compute without the truth; the column \"beyond the noise\"), **it falls by half in {beyond_noise}.**\n",
+        "**NRMSE all falls by half in {against_recording} of the {} cases named right against the recording, and in {against_truth} against the noise-free recording of the truth** (the model's own error: the noise, about 0.003 here, is a floor the first cannot go below; the columns \"truth\" below). **The truth itself, the model that made the data, halves it against the recording in {reachable}** (the column \"the truth itself\": its NRMSE all against the recording is the noise's alone, the lowest \"after\" any model can reach but for the few per cent a fit's parameters take out of the noise itself; where it is well over half of \"before\", no diagnosis can halve the error). **Beyond the noise** (the part of the residual the diagnosis's own noise estimate does not account for, which a lab can compute without the truth; the column \"beyond the noise\"), **it falls by half in {beyond_noise}.**\n",
         named_right.len()
     );
     s.push_str("| case | hidden | named | right | NRMSE all before | after | after / before | the truth itself (/ before) | truth before | truth after | truth after / before | beyond the noise: before, after (after / before) | recovered (hidden) | moved most by the effect | called mismatched | finer mesh, half step: move / noise | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
