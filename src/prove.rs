@@ -393,7 +393,9 @@ fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, String> {
 /// truth: the model's own error, without the noise that an error against
 /// the recording cannot fall below (0.1 mm on this 50 mm object is an
 /// NRMSE all of about 0.003 for a perfect model). Only the proof can
-/// measure it: it needs the truth.
+/// measure it: it needs the truth. Given the noisy recording and the
+/// truth's own scene, it measures that floor instead
+/// ([`Outcome::noise_floor`]).
 pub fn truth_error(scene: &Scene, clean: &Recording) -> Result<f64, String> {
     crate::replay::replay(
         clean,
