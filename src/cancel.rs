@@ -3,7 +3,7 @@
 //! The work runs inside [`scope`] with a [`Cancel`] token; the viewer
 //! keeps a clone and calls [`Cancel::cancel`] when the user stops the job
 //! or opens another recording. Every settle and time-series replay looks
-//! at the token once a step and ends with [`SimError::Cancelled`]
+//! at the token once a step and ends with [`SimError::Cancelled`](crate::error::SimError::Cancelled)
 //! (`crate::error::SimError`); [`crate::sweep::parallel_map`] hands the
 //! token to its workers and starts no new item once it is set, and the
 //! fits and the diagnosis return their own "cancelled" error instead of
