@@ -1,7 +1,7 @@
 //! The `softgrip` command line. See README.md.
 
-mod cli;
+mod commands;
 
 fn main() -> std::process::ExitCode {
-    cli::main()
+    commands::main()
 }

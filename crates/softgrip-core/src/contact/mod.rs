@@ -1,0 +1,305 @@
+//! Finger-object contact (thesis Sec. IV, Alg. 4): broad phase, narrow phase
+//! per finger shape, Hunt-Crossley normal force, stick-slip friction, and the
+//! distribution of each facet's force to its three particles (eq. 38-39) with
+//! the equal and opposite reaction on the finger.
+//!
+//! Every facet in contact carries its own force, as in the thesis. Both the
+//! normal and the tangential terms enter the implicit system through their
+//! Jacobians (rank-one in the normal, the tangent projector in the plane):
+//! contact stiffness far exceeds what an explicit step of 1 ms could carry.
+
+pub mod box_facet;
+pub mod friction;
+mod geometry;
+pub mod hunt_crossley;
+pub mod plate_facet;
+pub mod self_collision;
+pub mod sphere_facet;
+pub mod table;
+
+use glam::{DMat3, DVec3};
+
+use crate::geometry::FacetGrid;
+use crate::model::{HUNT_CROSSLEY_MIN_APPROACH_SPEED, Model};
+use crate::scene::FingerShape;
+use crate::solver::System;
+use crate::solver::system::outer;
+use crate::state::{Contact, ContactMemory, State};
+use friction::{StickSlipParams, limit_drift, stick_slip_force};
+pub use geometry::Geometry;
+use hunt_crossley::hunt_crossley_normal_force;
+
+/// Reused buffers of the contact stage.
+#[derive(Debug, Default, Clone)]
+pub struct ContactScratch {
+    pub grid: FacetGrid,
+    candidates: Vec<u32>,
+    touched: Vec<(u32, u32)>,
+}
+
+/// Contact stiffness and exponent of part `part` of a finger on a facet of
+/// the given area.
+fn stiffness_and_exponent(
+    model: &Model,
+    finger: usize,
+    part: usize,
+    facet_area: f64,
+) -> (f64, f64) {
+    let f = &model.fingers[finger];
+    let part = &f.parts[part];
+    match part.shape {
+        FingerShape::Sphere { .. } => (part.hertz_stiffness * f.contact_stiffness_scale, 1.5),
+        // A rigid flat punch of the facet's area: F = 2 a E* d (Boussinesq), exponent 1.
+        FingerShape::Plate { .. } | FingerShape::Box { .. } => (
+            2.0 * (facet_area / std::f64::consts::PI).sqrt()
+                * f.effective_modulus
+                * f.contact_stiffness_scale,
+            1.0,
+        ),
+    }
+}
+
+/// The contact geometry of one shape centred at `centre` with facet `p`.
+fn detect_shape(shape: FingerShape, centre: DVec3, p: [DVec3; 3]) -> Option<Geometry> {
+    match shape {
+        FingerShape::Sphere { radius } => sphere_facet::detect(centre, radius, p),
+        FingerShape::Plate { half_size } => {
+            plate_facet::detect(centre, half_size, 0.5 * half_size[0].min(half_size[1]), p)
+        }
+        FingerShape::Box { half_size } => box_facet::detect(centre, half_size, p),
+    }
+}
+
+/// The contact geometry of finger `k` (at `centre`) with facet `p`, if any:
+/// the deepest of its parts' (a facet has one contact per finger).
+pub fn detect(model: &Model, k: usize, centre: DVec3, p: [DVec3; 3]) -> Option<Geometry> {
+    let mut best: Option<Geometry> = None;
+    for (i, part) in model.fingers[k].parts.iter().enumerate() {
+        if let Some(mut g) = detect_shape(part.shape, centre + part.offset, p)
+            && best.is_none_or(|b| g.penetration > b.penetration)
+        {
+            g.part = i;
+            best = Some(g);
+        }
+    }
+    best
+}
+
+/// The box around one shape centred at `centre` in which facets may touch it.
+fn shape_bounds(shape: FingerShape, centre: DVec3, margin: f64) -> (DVec3, DVec3) {
+    match shape {
+        FingerShape::Sphere { radius } => (
+            centre - DVec3::splat(radius + margin),
+            centre + DVec3::splat(radius + margin),
+        ),
+        FingerShape::Plate { half_size } => {
+            let depth = 0.5 * half_size[0].min(half_size[1]);
+            (
+                centre - DVec3::new(half_size[0] + margin, half_size[1] + margin, margin),
+                centre + DVec3::new(half_size[0] + margin, half_size[1] + margin, depth + margin),
+            )
+        }
+        FingerShape::Box { half_size } => {
+            let h = DVec3::from_array(half_size) + DVec3::splat(margin);
+            (centre - h, centre + h)
+        }
+    }
+}
+
+/// The box around finger `k` (all its parts) in which facets may touch it.
+pub fn finger_bounds(model: &Model, k: usize, centre: DVec3) -> (DVec3, DVec3) {
+    let margin = 0.5 * model.edge_length;
+    model.fingers[k]
+        .parts
+        .iter()
+        .map(|p| shape_bounds(p.shape, centre + p.offset, margin))
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+        .unwrap_or((centre, centre))
+}
+
+/// Adds the contact forces of every finger and records the contacts.
+pub fn accumulate(
+    model: &Model,
+    state: &mut State,
+    force: &mut [DVec3],
+    system: &mut System,
+    scratch: &mut ContactScratch,
+) {
+    let n = model.particle_count();
+    state.contacts.clear();
+    scratch.touched.clear();
+    for fs in &mut state.fingers {
+        fs.contact_force = DVec3::ZERO;
+        fs.normal_force = 0.0;
+        fs.tangential_force = DVec3::ZERO;
+        fs.max_penetration = 0.0;
+    }
+    if model.fingers.is_empty() {
+        state.contact_memory.clear();
+        return;
+    }
+    scratch
+        .grid
+        .rebuild(2.0 * model.edge_length, &model.facets, &state.positions);
+
+    for k in 0..model.fingers.len() {
+        let finger = &model.fingers[k];
+        let centre = state.fingers[k].position;
+        let (lo, hi) = finger_bounds(model, k, centre);
+        scratch.grid.query(lo, hi, &mut scratch.candidates);
+        let params = StickSlipParams {
+            friction: finger.friction,
+            stick_velocity: finger.stick_velocity,
+            stick_stiffness: finger.stick_stiffness,
+            stick_damping: finger.stick_damping,
+        };
+        for ci in 0..scratch.candidates.len() {
+            let j = scratch.candidates[ci] as usize;
+            let tri = model.facets[j];
+            let p = tri.map(|i| state.positions[i as usize]);
+            let Some(g) = detect(model, k, centre, p) else {
+                continue;
+            };
+            let w = g.weights;
+            let v_point: DVec3 = (0..3)
+                .map(|a| w[a] * state.velocities[tri[a] as usize])
+                .sum();
+            let v_rel = v_point - state.fingers[k].velocity;
+            let penetration_rate = -g.normal.dot(v_rel);
+
+            let key = (k as u32, j as u32);
+            let memory = state.contact_memory.entry(key).or_insert(ContactMemory {
+                approach_speed: penetration_rate.max(HUNT_CROSSLEY_MIN_APPROACH_SPEED),
+                anchor_weights: w,
+                anchor_offset: g.point - centre,
+            });
+            scratch.touched.push(key);
+
+            let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+            let (stiffness, exponent) = stiffness_and_exponent(model, k, g.part, area);
+            let normal = hunt_crossley_normal_force(
+                stiffness,
+                exponent,
+                finger.restitution,
+                g.penetration,
+                penetration_rate,
+                memory.approach_speed,
+            );
+
+            // Stick anchor: the facet's material point where contact began.
+            let projector = DMat3::IDENTITY - outer(g.normal, g.normal);
+            let anchor_point: DVec3 = (0..3).map(|a| memory.anchor_weights[a] * p[a]).sum();
+            let raw_drift = projector * (anchor_point - centre - memory.anchor_offset);
+            let (drift, anchor_moved) = limit_drift(&params, normal.force, raw_drift);
+            memory.anchor_offset += anchor_moved;
+            let v_t = projector * v_rel; // eq. 33
+            let slip_speed = anchor_moved.length() / model.dt;
+            let tangential = stick_slip_force(&params, normal.force, drift, v_t, slip_speed);
+
+            // Nodal forces (eq. 37-39) and the reaction on the finger.
+            let total = normal.force * g.normal + tangential.force;
+            for a in 0..3 {
+                force[tri[a] as usize] += w[a] * total;
+            }
+            force[n + k] -= total;
+
+            // Jacobian: J = [w_0, w_1, w_2, -1] (x) Q.
+            let kq =
+                outer(g.normal, g.normal) * normal.stiffness + projector * tangential.stiffness;
+            let dq = outer(g.normal, g.normal) * normal.damping + projector * tangential.damping;
+            let vel = |dof: usize| crate::forces::velocity_of(state, dof);
+            for a in 0..3 {
+                let ia = tri[a] as usize;
+                system.add_diag(ia, kq * (w[a] * w[a]), dq * (w[a] * w[a]), &vel);
+                let b = (a + 1) % 3;
+                let ww = w[a] * w[b];
+                if ww != 0.0 {
+                    system.add_off(
+                        &model.springs,
+                        model.facet_springs[j][a],
+                        ia,
+                        tri[b] as usize,
+                        kq * ww,
+                        dq * ww,
+                        &vel,
+                    );
+                }
+                if w[a] != 0.0 {
+                    system.add_coupling(ia, n + k, kq * -w[a], dq * -w[a], &vel);
+                }
+            }
+            system.add_diag(n + k, kq, dq, &vel);
+
+            // Lever stiffness: the contact point is the foot of the finger
+            // centre on the facet, so when the facet tilts, the point (and the
+            // share w_a of the force each particle takes) slides by the lever
+            // arm (R - penetration) times the tilt. For a facet of size h this
+            // stiffness, F (R - d) grad(w_a) . grad(w_b), exceeds the springs'
+            // by R / h and, left out, makes implicit Euler oscillate at period
+            // two. It is positive semi-definite (a Gram matrix) and restoring.
+            if let FingerShape::Sphere { radius } = finger.parts[g.part].shape {
+                let grads = sphere_facet::barycentric_gradients(p, w);
+                let lever = normal.force * (radius - g.penetration).max(0.0);
+                if lever > 0.0 && grads.iter().any(|g| *g != DVec3::ZERO) {
+                    let nn = outer(g.normal, g.normal);
+                    let zero = DMat3::ZERO;
+                    for a in 0..3 {
+                        let kaa = nn * (lever * grads[a].length_squared());
+                        system.add_diag(tri[a] as usize, kaa, zero, &vel);
+                        let b = (a + 1) % 3;
+                        let kab = nn * (lever * grads[a].dot(grads[b]));
+                        system.add_off(
+                            &model.springs,
+                            model.facet_springs[j][a],
+                            tri[a] as usize,
+                            tri[b] as usize,
+                            kab,
+                            zero,
+                            &vel,
+                        );
+                    }
+                }
+            }
+
+            let fs = &mut state.fingers[k];
+            fs.contact_force -= total;
+            fs.normal_force += normal.force;
+            fs.tangential_force += tangential.force;
+            fs.max_penetration = fs.max_penetration.max(g.penetration);
+            state.contacts.push(Contact {
+                finger: k as u32,
+                facet: j as u32,
+                point: g.point,
+                normal: g.normal,
+                penetration: g.penetration,
+                normal_force: normal.force,
+                tangential_force: tangential.force,
+                stick: tangential.stick,
+                weights: w,
+                part: g.part as u32,
+                stick_energy: 0.5 * params.stick_stiffness * drift.length_squared(),
+            });
+        }
+    }
+    // Forget contacts that ended (touched is sorted: fingers, then facets in order).
+    let touched = &scratch.touched;
+    state
+        .contact_memory
+        .retain(|key, _| touched.binary_search(key).is_ok());
+}
+
+/// Elastic energy stored in the contacts of the last step, the stick springs
+/// included (J).
+pub fn energy(model: &Model, state: &State) -> f64 {
+    state
+        .contacts
+        .iter()
+        .map(|c| {
+            let tri = model.facets[c.facet as usize];
+            let p = tri.map(|i| state.positions[i as usize]);
+            let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+            let (k, e) = stiffness_and_exponent(model, c.finger as usize, c.part as usize, area);
+            hunt_crossley::elastic_energy(k, e, c.penetration) + c.stick_energy
+        })
+        .sum()
+}

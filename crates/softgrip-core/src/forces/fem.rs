@@ -1,0 +1,332 @@
+//! A continuum alternative to the springs (`[model] elasticity =
+//! "neo-hookean"`, softgrip): linear tetrahedra with the stable neo-Hookean
+//! energy of Smith, de Goes and Kim (2018), without its log term,
+//!
+//! `Psi(F) = mu / 2 (|F|^2 - 3) + lambda / 2 (J - a)^2`, `a = 1 + mu / lambda`,
+//!
+//! per unit rest volume, `F` the element's deformation gradient and `J =
+//! det F`. It is at rest at `F = I`, stays finite and pushes back through
+//! inversion (`J <= 0`), and linearises to Hooke's law with Lamé constants
+//! `(mu, lambda - mu)`: so `mu` is the shear modulus `E / (2 (1 + nu))` and
+//! `lambda` the Lamé constant plus `mu`.
+//!
+//! Forces: `f_a = -V0 P b_a` with `P = mu F + lambda (J - a) cof F` and `b_a`
+//! the gradient of the linear shape function of node a (`F = sum x_a
+//! b_a^T`), that is `f_a = -V0 mu F b_a - lambda (J - a) G_a` with `G_a =
+//! dV/dx_a`. Jacobian: `V0 mu (b_a . b_b) I + lambda / V0 G_a G_b^T`, the
+//! Gauss-Newton part of the energy's Hessian (the term `lambda (J - a) d2J`,
+//! indefinite, is left out, as for the bulk term), positive semi-definite,
+//! so conjugate gradients apply. The forces are exact; only the implicit
+//! step's linearisation is approximate.
+//!
+//! Strain stiffening (`[model] stiffening`, beta, as for the springs) adds
+//! a second-order term in `I1 = |F|^2` (Yeoh's C20 form, on `I1` rather
+//! than its isochoric part, as the energy above), and `stiffening_cubic`,
+//! gamma, a third-order one (C30), both on `s = max(I1 - 3, 0)`:
+//!
+//! `Psi_s = mu (b / 4 s^2 + c / 6 s^3)`, `P_s = mu (b s + c s^2) F`,
+//! `b = beta / 3`, `c = gamma / 9`,
+//!
+//! so the shear modulus grows to `mu phi(s)`, `phi = 1 + b s + c s^2`. In
+//! an incompressible solid under a small uniaxial strain e, `s = 3 e^2`, so
+//! `phi = 1 + beta e^2 + gamma e^4`, a spring's `k dl (1 + beta e^2)` for
+//! gamma 0 (the energy grows by the same share `beta e^2 / 2`). The `max`
+//! keeps it off under a volume change alone (`I1 < 3`), where it would
+//! soften the shear. `softening`, q in [0, 1), adds `-2 q sqrt(gamma)` to
+//! beta: filled silicones soften first and stiffen late (C20 < 0 < C30),
+//! and this form keeps `phi >= 1 - q^2 > 0` for every strain (with beta 0
+//! its lowest value is exactly `1 - q^2`), so no setting makes the shear
+//! modulus negative. The Jacobian adds `V0 2 mu phi'(s) (F b_a)(F b_b)^T`,
+//! positive semi-definite where `phi' >= 0`; where the softening makes it
+//! negative the term is left out (a Gauss-Newton step, as for the bulk
+//! term: the forces stay exact).
+//!
+//! The model shares everything else with the springs: masses, contact,
+//! supports, the implicit integrator, and the springs' dampers (each edge's
+//! `zeta 2 sqrt(k mu)` damps it, as for the springs). The lattice's own
+//! corrections (eq. 11's alpha, the bulk term, the spring limits) do not
+//! apply to it and are off.
+
+use glam::{DMat3, DVec3};
+
+use crate::mesh::{TET_EDGES, volume_gradients};
+use crate::model::Model;
+use crate::model::fem::{FemModel, Yeoh};
+use crate::solver::System;
+use crate::solver::system::outer;
+use crate::state::State;
+
+/// The deformation gradient of element `e` at positions `p`.
+#[inline]
+pub fn deformation_gradient(b: &[DVec3; 4], p: [DVec3; 4]) -> DMat3 {
+    outer(p[0], b[0]) + outer(p[1], b[1]) + outer(p[2], b[2]) + outer(p[3], b[3])
+}
+
+/// `I1 = |F|^2`.
+#[inline]
+fn first_invariant(f: DMat3) -> f64 {
+    f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared()
+}
+
+/// `max(I1 - 3, 0)`: what the stiffening terms act on.
+#[inline]
+fn stretch_invariant(f: DMat3) -> f64 {
+    (first_invariant(f) - 3.0).max(0.0)
+}
+
+/// First Piola-Kirchhoff stress of the energy at `F` (Pa), with the
+/// stiffening terms `yeoh` (`Yeoh::default()`: the plain energy).
+pub fn stress(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> DMat3 {
+    let j = f.determinant();
+    let alpha = 1.0 + mu / lambda;
+    // cof F = J F^-T, written with cross products so it exists at J = 0.
+    let (c0, c1, c2) = (f.x_axis, f.y_axis, f.z_axis);
+    let cof = DMat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
+    f * (mu * yeoh.factor(stretch_invariant(f))) + cof * (lambda * (j - alpha))
+}
+
+/// The energy per unit rest volume at `F` (Pa), zero at rest.
+pub fn energy_density(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> f64 {
+    let alpha = 1.0 + mu / lambda;
+    let j = f.determinant();
+    let i1 = first_invariant(f);
+    let s = (i1 - 3.0).max(0.0);
+    0.5 * mu * (i1 - 3.0)
+        + yeoh.energy(mu, s)
+        + 0.5 * lambda * ((j - alpha).powi(2) - (1.0 - alpha).powi(2))
+}
+
+/// Adds the elastic forces and Jacobian blocks of the elements in
+/// `elements`.
+pub fn accumulate_elements(
+    model: &Model,
+    fem: &FemModel,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    elements: std::ops::Range<usize>,
+) {
+    let dt2 = system.dt() * system.dt();
+    let (x, v) = (&state.positions, &state.velocities);
+    let yeoh = fem.yeoh;
+    for e in elements {
+        let tet = model.tets[e];
+        let idx = tet.map(|i| i as usize);
+        let p = idx.map(|i| x[i]);
+        let b = &fem.gradients[e];
+        let (mu, lambda) = (fem.mu[e], fem.lambda[e]);
+        let v0 = model.rest_volume[e];
+        let f = deformation_gradient(b, p);
+        let g = volume_gradients(p);
+        let j = g[3].dot(p[3] - p[0]) / v0; // V / V0 = det F
+        let alpha = 1.0 + mu / lambda;
+        let volumetric = lambda * (j - alpha);
+        let s = if yeoh.is_plain() {
+            0.0
+        } else {
+            stretch_invariant(f)
+        };
+        // The stiffened shear modulus, and the weight of the stiffening's
+        // Jacobian term (0 where it is off).
+        let (mu_s, stiff) = if s > 0.0 {
+            (mu * yeoh.factor(s), yeoh.slope_weight(v0, mu, s))
+        } else {
+            (mu, 0.0)
+        };
+        let fb = b.map(|ba| f * ba);
+        for a in 0..4 {
+            force[idx[a]] -= fb[a] * (v0 * mu_s) + g[a] * volumetric;
+        }
+        // Blocks weighted by dt^2 as they enter A.
+        let c = lambda / v0;
+        let rate =
+            g[0].dot(v[idx[0]]) + g[1].dot(v[idx[1]]) + g[2].dot(v[idx[2]]) + g[3].dot(v[idx[3]]);
+        // The stiffening's rate, sum_b (F b_b) . v_b.
+        let stretch_rate = if stiff > 0.0 {
+            (0..4).map(|bb| fb[bb].dot(v[idx[bb]])).sum::<f64>()
+        } else {
+            0.0
+        };
+        for a in 0..4 {
+            let shear = v0 * mu_s * b[a].dot(b[a]);
+            let mut block =
+                DMat3::from_diagonal(DVec3::splat(shear * dt2)) + outer(g[a], g[a] * (c * dt2));
+            // Kp v: the shear part sum_b V0 mu (b_a . b_b) v_b, the volumetric c G_a (G . v),
+            // the stiffening's F b_a (sum_b F b_b . v_b).
+            let mut kv = g[a] * (c * rate);
+            for (bb, &ib) in b.iter().zip(&idx) {
+                kv += v[ib] * (v0 * mu_s * b[a].dot(*bb));
+            }
+            if stiff > 0.0 {
+                block += outer(fb[a], fb[a] * (stiff * dt2));
+                kv += fb[a] * (stiff * stretch_rate);
+            }
+            system.diag[idx[a]] += block;
+            system.kv[idx[a]] += kv;
+        }
+        let slots = model.tet_springs[e];
+        for (m, [a, bb]) in TET_EDGES.into_iter().enumerate() {
+            // Block (spring.i, spring.j), spring.i < spring.j.
+            let (i, k) = if idx[a] < idx[bb] { (a, bb) } else { (bb, a) };
+            let shear = v0 * mu_s * b[i].dot(b[k]) * dt2;
+            let mut block =
+                DMat3::from_diagonal(DVec3::splat(shear)) + outer(g[i], g[k] * (c * dt2));
+            if stiff > 0.0 {
+                block += outer(fb[i], fb[k] * (stiff * dt2));
+            }
+            system.off[slots[m] as usize] += block;
+        }
+    }
+}
+
+/// The elastic energy of the elements (J), zero at rest.
+pub fn energy(model: &Model, fem: &FemModel, state: &State) -> f64 {
+    let x = &state.positions;
+    let mut total = 0.0;
+    for (e, tet) in model.tets.iter().enumerate() {
+        let p = tet.map(|i| x[i as usize]);
+        let f = deformation_gradient(&fem.gradients[e], p);
+        total += model.rest_volume[e] * energy_density(fem.mu[e], fem.lambda[e], fem.yeoh, f);
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The forces are the energy's gradient (central differences), with
+    /// and without stiffening, and the stress vanishes at rest.
+    #[test]
+    fn forces_are_the_gradient_of_the_energy() {
+        let nodes = vec![
+            DVec3::ZERO,
+            DVec3::new(0.01, 0.0, 0.0),
+            DVec3::new(0.0, 0.012, 0.0),
+            DVec3::new(0.002, 0.001, 0.009),
+        ];
+        let tets = vec![[0u32, 1, 2, 3]];
+        let fem = FemModel::new(&nodes, &tets, &[60e3], 0.45);
+        let (mu, lambda) = (fem.mu[0], fem.lambda[0]);
+        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
+        let f_at = |pos: &[DVec3]| {
+            deformation_gradient(&fem.gradients[0], [pos[0], pos[1], pos[2], pos[3]])
+        };
+        let i1 = |f: DMat3| {
+            f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared()
+        };
+        // One element squeezed (I1 < 3: the stiffening is off), one
+        // stretched (I1 > 3: on).
+        let squeezed = vec![
+            DVec3::new(0.0001, -0.0002, 0.0),
+            DVec3::new(0.0093, 0.0004, 0.0002),
+            DVec3::new(0.0003, 0.0127, -0.0005),
+            DVec3::new(0.0025, 0.0006, 0.0081),
+        ];
+        let stretched = vec![
+            DVec3::new(0.0001, -0.0002, 0.0),
+            DVec3::new(0.0112, 0.0004, 0.0002),
+            DVec3::new(0.0003, 0.0117, -0.0005),
+            DVec3::new(0.0025, 0.0006, 0.0093),
+        ];
+        assert!(i1(f_at(&squeezed)) < 3.0 && i1(f_at(&stretched)) > 3.0);
+        for deformed in [squeezed, stretched] {
+            assert!(f_at(&deformed).determinant() > 0.0);
+            // Plain, stiffening alone, and soften-then-stiffen (beta -
+            // 2 q sqrt(gamma) < 0).
+            for (beta, gamma, q) in [(0.0, 0.0, 0.0), (50.0, 0.0, 0.0), (2.0, 400.0, 0.7)] {
+                let yeoh = Yeoh::new(beta, gamma, q);
+                assert!(stress(mu, lambda, yeoh, DMat3::IDENTITY).abs_diff_eq(DMat3::ZERO, 1e-9));
+                // The energy written out here, not through `energy_density`:
+                // `mu (beta s^2 / 12 + gamma s^3 / 54)`, beta with the
+                // softening's share.
+                let b = beta - 2.0 * q * gamma.sqrt();
+                let energy_at = |pos: &[DVec3]| {
+                    let f = f_at(pos);
+                    let alpha = 1.0 + mu / lambda;
+                    let s = (i1(f) - 3.0).max(0.0);
+                    v0 * (0.5 * mu * (i1(f) - 3.0)
+                        + mu * b / 12.0 * s * s
+                        + mu * gamma / 54.0 * s * s * s
+                        + 0.5 * lambda * (f.determinant() - alpha).powi(2))
+                };
+                // f_a = -V0 P b_a
+                let p = stress(mu, lambda, yeoh, f_at(&deformed));
+                for a in 0..4 {
+                    let analytic = -(p * fem.gradients[0][a]) * v0;
+                    for k in 0..3 {
+                        let h = 1e-9;
+                        let mut plus = deformed.clone();
+                        plus[a][k] += h;
+                        let mut minus = deformed.clone();
+                        minus[a][k] -= h;
+                        let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
+                        assert!(
+                            (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
+                            "beta {beta} gamma {gamma} q {q}, node {a} axis {k}: {numeric} against {}",
+                            analytic[k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Under a small isochoric uniaxial strain e the stiffening adds the
+    /// share `beta e^2 / 2` to the energy, as it does to a spring's
+    /// (`k l0^2 (e^2 / 2 + beta e^4 / 4)`); under a volume change alone
+    /// (`I1 < 3`) it adds nothing.
+    #[test]
+    fn stiffening_adds_the_springs_share_and_nothing_under_compression_alone() {
+        let (mu, lambda) = (20e3, 200e3);
+        let beta = 100.0;
+        let (plain, stiff) = (Yeoh::default(), Yeoh::new(beta, 0.0, 0.0));
+        for e in [0.005f64, 0.01, -0.01] {
+            let l = 1.0 + e;
+            let f = DMat3::from_diagonal(DVec3::new(l, l.powf(-0.5), l.powf(-0.5)));
+            let share =
+                energy_density(mu, lambda, stiff, f) / energy_density(mu, lambda, plain, f) - 1.0;
+            let expected = beta * e * e / 2.0;
+            // The next order: `I1 - 3 = 3 e^2 (1 - 2 e / 3 + ...)`, so the
+            // share is off by about 2 |e| / 3 of itself.
+            assert!(
+                (share - expected).abs() < e.abs() * expected,
+                "e {e}: share {share}, beta e^2 / 2 = {expected}"
+            );
+        }
+        let f = DMat3::from_diagonal(DVec3::splat(0.97));
+        let soft = Yeoh::new(0.0, 30.0, 0.9);
+        for y in [stiff, soft] {
+            assert_eq!(stress(mu, lambda, y, f), stress(mu, lambda, plain, f));
+            assert_eq!(
+                energy_density(mu, lambda, y, f),
+                energy_density(mu, lambda, plain, f)
+            );
+        }
+    }
+
+    /// The two-term solid's shear modulus dips to `1 - q^2` of mu at its
+    /// lowest (beta 0: `phi = (t - q)^2 + 1 - q^2` in `t = sqrt(gamma) s /
+    /// 3`, lowest at `t = q`), never below, for q up to 0.99 and any
+    /// gamma; and then rises past 1.
+    #[test]
+    fn softening_dips_the_shear_modulus_to_one_minus_q_squared_and_never_below() {
+        for gamma in [0.5, 3.0, 30.0, 1e4] {
+            for q in [0.0, 0.3, 0.9, 0.99] {
+                let y = Yeoh::new(0.0, gamma, q);
+                // s over t in [0, 4] in steps of 1e-4 (off the lowest
+                // point by 5e-5 at most: 2.5e-9 in phi).
+                let lowest = (0..=40_000)
+                    .map(|i| y.factor(3.0 * (i as f64 * 1e-4) / gamma.sqrt()))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    (lowest - (1.0 - q * q)).abs() < 1e-8 && lowest > 0.0,
+                    "gamma {gamma}, q {q}: lowest {lowest}, 1 - q^2 = {}",
+                    1.0 - q * q
+                );
+                // Past the dip, at t = 2 q + 1: back above 1.
+                assert!(y.factor(3.0 * (2.0 * q + 1.0) / gamma.sqrt()) > 1.0);
+            }
+        }
+    }
+}

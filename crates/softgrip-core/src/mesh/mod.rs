@@ -1,0 +1,248 @@
+//! Tetrahedral meshes: the geometry the model is built from.
+//!
+//! Convention: a tetrahedron `[a, b, c, d]` is positively oriented when
+//! `(b - a) · ((c - a) × (d - a)) > 0`. Every mesh handed to the model is
+//! checked for it ([`TetMesh::validate`]).
+
+mod builtin;
+pub mod checks;
+pub mod io;
+pub mod surface;
+pub mod tetrahedralize;
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+/// A tetrahedral mesh: node positions (m) and tetrahedra as node indices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TetMesh {
+    pub nodes: Vec<DVec3>,
+    pub tets: Vec<[u32; 4]>,
+}
+
+/// Summary figures of a mesh, as printed by the CLI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshStats {
+    pub nodes: usize,
+    pub tets: usize,
+    pub boundary_facets: usize,
+    pub volume: f64,
+    /// Worst shape quality `6 sqrt(2) V / l_rms^3` (1 for a regular tetrahedron).
+    pub worst_quality: f64,
+    pub min_edge: f64,
+    pub max_edge: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    #[error("the mesh has no tetrahedra")]
+    Empty,
+    #[error("tetrahedron {tet} refers to node {node}, but the mesh has only {nodes} nodes")]
+    IndexOutOfRange { tet: usize, node: u32, nodes: usize },
+    #[error("node {node} has a non-finite coordinate {position:?}")]
+    NonFinite { node: usize, position: [f64; 3] },
+    #[error(
+        "tetrahedron {tet} is inverted or degenerate (signed volume {volume:.3e} m^3 near ({x:.4}, {y:.4}, {z:.4})): reorder its nodes or fix the mesh"
+    )]
+    Inverted {
+        tet: usize,
+        volume: f64,
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+}
+
+/// The six edges of a tetrahedron as local node pairs.
+pub const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+
+/// The four faces of a positively oriented tetrahedron, each wound so that its
+/// normal `(b - a) × (c - a)` points out of the tetrahedron.
+pub const TET_FACES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+
+/// Signed volume of the tetrahedron `a, b, c, d`.
+#[inline]
+pub fn signed_volume(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+    (b - a).dot((c - a).cross(d - a)) / 6.0
+}
+
+/// Gradient of the signed volume with respect to each of the four nodes.
+#[inline]
+pub fn volume_gradients(p: [DVec3; 4]) -> [DVec3; 4] {
+    let [a, b, c, d] = p;
+    const SIXTH: f64 = 1.0 / 6.0;
+    let gb = (c - a).cross(d - a) * SIXTH;
+    let gc = (d - a).cross(b - a) * SIXTH;
+    let gd = (b - a).cross(c - a) * SIXTH;
+    [-(gb + gc + gd), gb, gc, gd]
+}
+
+/// Axis-aligned bounds `(min, max)` of a set of points.
+pub fn bounds_of(points: &[DVec3]) -> (DVec3, DVec3) {
+    points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
+impl TetMesh {
+    pub fn tet_positions(&self, t: usize) -> [DVec3; 4] {
+        self.tets[t].map(|i| self.nodes[i as usize])
+    }
+
+    pub fn tet_volume(&self, t: usize) -> f64 {
+        let [a, b, c, d] = self.tet_positions(t);
+        signed_volume(a, b, c, d)
+    }
+
+    pub fn volume(&self) -> f64 {
+        (0..self.tets.len()).map(|t| self.tet_volume(t)).sum()
+    }
+
+    /// Scales the nodes by `scale`, then moves them so that the centre of
+    /// the bottom face of their bounding box is at `position`.
+    pub fn place(&mut self, scale: f64, position: DVec3) {
+        for p in &mut self.nodes {
+            *p *= scale;
+        }
+        let (lo, hi) = self.bounds();
+        let bottom = DVec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+        let shift = position - bottom;
+        for p in &mut self.nodes {
+            *p += shift;
+        }
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the nodes.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        bounds_of(&self.nodes)
+    }
+
+    /// Checks indices, coordinates and orientation. A tetrahedron whose volume
+    /// is below `1e-12` of the mean is degenerate.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        if self.tets.is_empty() {
+            return Err(MeshError::Empty);
+        }
+        for (i, p) in self.nodes.iter().enumerate() {
+            if !p.is_finite() {
+                return Err(MeshError::NonFinite {
+                    node: i,
+                    position: p.to_array(),
+                });
+            }
+        }
+        for (t, tet) in self.tets.iter().enumerate() {
+            for &n in tet {
+                if n as usize >= self.nodes.len() {
+                    return Err(MeshError::IndexOutOfRange {
+                        tet: t,
+                        node: n,
+                        nodes: self.nodes.len(),
+                    });
+                }
+            }
+        }
+        let mean = self.volume().abs() / self.tets.len() as f64;
+        for t in 0..self.tets.len() {
+            let v = self.tet_volume(t);
+            if v <= 1e-12 * mean {
+                let [a, b, c, d] = self.tet_positions(t);
+                let ctr = (a + b + c + d) / 4.0;
+                return Err(MeshError::Inverted {
+                    tet: t,
+                    volume: v,
+                    x: ctr.x,
+                    y: ctr.y,
+                    z: ctr.z,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The faces that belong to exactly one tetrahedron, wound outward, in a
+    /// deterministic order (sorted by their node triple).
+    pub fn boundary_facets(&self) -> Vec<[u32; 3]> {
+        let mut seen: HashMap<[u32; 3], (u32, [u32; 3])> =
+            HashMap::with_capacity(self.tets.len() * 2);
+        for tet in &self.tets {
+            for face in TET_FACES {
+                let oriented = face.map(|k| tet[k]);
+                let mut key = oriented;
+                key.sort_unstable();
+                seen.entry(key)
+                    .and_modify(|e| e.0 += 1)
+                    .or_insert((1, oriented));
+            }
+        }
+        let mut out: Vec<([u32; 3], [u32; 3])> = seen
+            .into_iter()
+            .filter(|(_, (n, _))| *n == 1)
+            .map(|(k, (_, f))| (k, f))
+            .collect();
+        out.sort_unstable_by_key(|(k, _)| *k);
+        out.into_iter().map(|(_, f)| f).collect()
+    }
+
+    /// Unique edges `[i, j]` with `i < j`, sorted.
+    pub fn edges(&self) -> Vec<[u32; 2]> {
+        let mut edges: Vec<[u32; 2]> = self
+            .tets
+            .iter()
+            .flat_map(|t| {
+                TET_EDGES.map(|[a, b]| {
+                    let (i, j) = (t[a], t[b]);
+                    if i < j { [i, j] } else { [j, i] }
+                })
+            })
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        edges
+    }
+
+    pub fn stats(&self) -> MeshStats {
+        let mut worst_quality = f64::INFINITY;
+        let (mut min_edge, mut max_edge) = (f64::INFINITY, 0.0f64);
+        for t in 0..self.tets.len() {
+            let p = self.tet_positions(t);
+            let mut sum_sq = 0.0;
+            for [a, b] in TET_EDGES {
+                let l = p[a].distance(p[b]);
+                sum_sq += l * l;
+                min_edge = min_edge.min(l);
+                max_edge = max_edge.max(l);
+            }
+            let l_rms = (sum_sq / 6.0).sqrt();
+            let q = 6.0 * std::f64::consts::SQRT_2 * self.tet_volume(t) / l_rms.powi(3);
+            worst_quality = worst_quality.min(q);
+        }
+        MeshStats {
+            nodes: self.nodes.len(),
+            tets: self.tets.len(),
+            boundary_facets: self.boundary_facets().len(),
+            volume: self.volume(),
+            worst_quality,
+            min_edge,
+            max_edge,
+        }
+    }
+}
+
+impl std::fmt::Display for MeshStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} nodes, {} tetrahedra, {} boundary facets, volume {:.4e} m^3, edges {:.2}-{:.2} mm, worst quality {:.3}",
+            self.nodes,
+            self.tets,
+            self.boundary_facets,
+            self.volume,
+            self.min_edge * 1e3,
+            self.max_edge * 1e3,
+            self.worst_quality
+        )
+    }
+}

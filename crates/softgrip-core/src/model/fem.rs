@@ -1,0 +1,99 @@
+//! The constant data of the neo-Hookean elements (`[model] elasticity = "neo-hookean"`): shape
+//! function gradients, Lamé constants and the strain-stiffening terms. Their energy, forces and
+//! Jacobians are `crate::forces::fem`'s.
+
+use glam::{DMat3, DVec3};
+
+/// The constant data of the neo-Hookean elements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FemModel {
+    /// Shape-function gradients `b_a` of each element's four nodes (1/m).
+    pub gradients: Vec<[DVec3; 4]>,
+    /// Each element's `mu` and `lambda` (Pa), see the module docs.
+    pub mu: Vec<f64>,
+    pub lambda: Vec<f64>,
+    /// The strain-stiffening terms, one for all elements.
+    pub yeoh: Yeoh,
+}
+
+impl FemModel {
+    /// From the rest positions of the elements and each element's Young's
+    /// modulus, with one Poisson ratio.
+    pub fn new(
+        nodes: &[DVec3],
+        tets: &[[u32; 4]],
+        young_modulus: &[f64],
+        poisson_ratio: f64,
+    ) -> FemModel {
+        let gradients = tets
+            .iter()
+            .map(|t| {
+                let x = t.map(|i| nodes[i as usize]);
+                let dm = DMat3::from_cols(x[1] - x[0], x[2] - x[0], x[3] - x[0]);
+                // F = Ds Dm^-1: node a (1..3) enters through row a of Dm^-1.
+                let inv = dm.inverse().transpose();
+                let (b1, b2, b3) = (inv.x_axis, inv.y_axis, inv.z_axis);
+                [-(b1 + b2 + b3), b1, b2, b3]
+            })
+            .collect();
+        let nu = poisson_ratio;
+        let mu: Vec<f64> = young_modulus
+            .iter()
+            .map(|e| e / (2.0 * (1.0 + nu)))
+            .collect();
+        let lambda = young_modulus
+            .iter()
+            .zip(&mu)
+            .map(|(e, m)| e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)) + m)
+            .collect();
+        FemModel {
+            gradients,
+            mu,
+            lambda,
+            yeoh: Yeoh::default(),
+        }
+    }
+}
+
+/// The elements' strain-stiffening terms (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Yeoh {
+    /// beta with the softening's share: `stiffening - 2 q sqrt(gamma)`.
+    pub beta: f64,
+    /// gamma, `stiffening_cubic`.
+    pub gamma: f64,
+}
+
+impl Yeoh {
+    /// From `[model] stiffening`, `stiffening_cubic` and `softening`.
+    pub fn new(stiffening: f64, stiffening_cubic: f64, softening: f64) -> Yeoh {
+        Yeoh {
+            beta: stiffening - 2.0 * softening * stiffening_cubic.sqrt(),
+            gamma: stiffening_cubic,
+        }
+    }
+
+    /// No term: the plain energy.
+    pub fn is_plain(&self) -> bool {
+        self.beta == 0.0 && self.gamma == 0.0
+    }
+
+    /// `phi(s) = 1 + beta s / 3 + gamma s^2 / 9`, the shear modulus over mu.
+    #[inline]
+    pub fn factor(&self, s: f64) -> f64 {
+        1.0 + self.beta * s / 3.0 + self.gamma * s * s / 9.0
+    }
+
+    /// `V0 2 mu phi'(s)`, the weight of the Jacobian's term, 0 where
+    /// negative (see the module docs).
+    #[inline]
+    pub(crate) fn slope_weight(&self, v0: f64, mu: f64, s: f64) -> f64 {
+        (v0 * 2.0 * mu * self.beta / 3.0 + v0 * 2.0 * mu * 2.0 * self.gamma * s / 9.0).max(0.0)
+    }
+
+    /// `Psi_s`, the terms' energy per unit rest volume.
+    #[inline]
+    pub(crate) fn energy(&self, mu: f64, s: f64) -> f64 {
+        mu * self.beta / 12.0 * s * s + mu * self.gamma / 54.0 * s * s * s
+    }
+}

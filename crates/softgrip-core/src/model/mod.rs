@@ -1,0 +1,596 @@
+//! The constant model, built once from a scene (MuJoCo's `mjModel`): particle
+//! masses, springs, elements, boundary facets, fingers and solver settings, as
+//! flat arrays. Nothing here changes while the simulation steps; a GUI slider
+//! rebuilds the affected arrays instead.
+
+pub mod fem;
+mod finger;
+pub mod self_collision;
+pub mod table;
+
+pub use finger::{AxisDrive, FingerModel, HUNT_CROSSLEY_MIN_APPROACH_SPEED, PartModel};
+
+use glam::DVec3;
+
+use crate::error::SimError;
+use crate::mesh::{TET_EDGES, TetMesh};
+use crate::scene::{Elasticity, Scene, Shape, SupportKind};
+use table::{TABLE_STIFFNESS_FACTOR, TableModel};
+
+/// A spring and its parallel damper between particles `i < j` (thesis Fig. 4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spring {
+    pub i: u32,
+    pub j: u32,
+    pub rest_length: f64,
+    /// N/m, Lloyd's formula summed over the elements sharing the edge (eq. 7-8).
+    pub stiffness: f64,
+    /// N s/m, `damping_ratio * 2 sqrt(k mu)` with the reduced mass mu (see [`spring_damping`]).
+    pub damping: f64,
+}
+
+/// The model: constant for a run.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub rest_positions: Vec<DVec3>,
+    /// Lumped masses (eq. 6), plus the share of any `[[load]]` mass.
+    pub mass: Vec<f64>,
+    pub fixed: Vec<bool>,
+    /// Constant external force per particle: gravity (eq. 5) and loads.
+    pub constant_force: Vec<DVec3>,
+    pub springs: Vec<Spring>,
+    pub tets: Vec<[u32; 4]>,
+    /// The spring of each tetrahedron edge, in [`TET_EDGES`] order.
+    pub tet_springs: Vec<[u32; 6]>,
+    pub rest_volume: Vec<f64>,
+    pub rest_total_volume: f64,
+    /// Boundary facets, wound outward.
+    pub facets: Vec<[u32; 3]>,
+    /// The springs along each facet's edges `(0,1), (1,2), (2,0)`.
+    pub facet_springs: Vec<[u32; 3]>,
+    pub fingers: Vec<FingerModel>,
+    pub gravity: DVec3,
+    pub dt: f64,
+    pub cg_tolerance: f64,
+    pub cg_max_iterations: usize,
+    pub alpha: f64,
+    pub bulk_modulus: f64,
+    /// See [`crate::scene::ModelParams::limit_stiffness`].
+    pub limit_stiffness: f64,
+    pub tau_s: Option<f64>,
+    pub tau_c: Option<f64>,
+    pub constraint_iterations: usize,
+    /// See [`crate::scene::ModelParams::constraint_tolerance`].
+    pub constraint_tolerance: Option<f64>,
+    /// Largest extent of the undeformed object (m): the NRMSE normaliser.
+    pub extent: f64,
+    /// Target edge length (m), for broad-phase cells and messages.
+    pub edge_length: f64,
+    pub young_modulus: f64,
+    pub density: f64,
+    /// The table under the object (`[support] kind = "table"`).
+    pub table: Option<TableModel>,
+    /// How a spring's force follows its length (`forces::springs`).
+    pub spring_law: SpringLaw,
+    /// Self-collision of the surface (`[model] self_collision`).
+    pub self_collision: Option<self_collision::SelfCollisionModel>,
+    /// The neo-Hookean elements (`[model] elasticity = "neo-hookean"`),
+    /// which replace the springs' elastic forces; `None` for the springs.
+    pub fem: Option<fem::FemModel>,
+    /// Each element's Young's modulus over the object's (`[[region]]`s):
+    /// scales its bulk term as it scales its springs. Empty without
+    /// regions (every element 1).
+    pub element_stiffness_scale: Vec<f64>,
+    /// The bulk term per node (`[model] bulk_pressure = "nodal"`); `None`
+    /// for the element's own (`forces::volume`).
+    pub nodal_bulk: Option<NodalBulk>,
+}
+
+/// The rest volume and bulk modulus of each node's share of its elements:
+/// a quarter of each element's volume, and the modulus averaged by those
+/// volumes (`[[region]]`s scale it per element).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodalBulk {
+    pub rest_volume: Vec<f64>,
+    pub modulus: Vec<f64>,
+}
+
+impl NodalBulk {
+    /// `None` when the bulk term is off or per element.
+    pub fn new(
+        pressure: crate::scene::BulkPressure,
+        bulk_modulus: f64,
+        nodes: usize,
+        tets: &[[u32; 4]],
+        rest_volume: &[f64],
+        scale: &[f64],
+    ) -> Option<NodalBulk> {
+        if pressure != crate::scene::BulkPressure::Nodal || bulk_modulus == 0.0 {
+            return None;
+        }
+        let mut volume = vec![0.0; nodes];
+        let mut weighted = vec![0.0; nodes];
+        for (e, (tet, &v0)) in tets.iter().zip(rest_volume).enumerate() {
+            let s = scale.get(e).copied().unwrap_or(1.0);
+            for &i in tet {
+                volume[i as usize] += 0.25 * v0;
+                weighted[i as usize] += 0.25 * v0 * s;
+            }
+        }
+        let modulus = volume
+            .iter()
+            .zip(&weighted)
+            .map(|(v, w)| if *v > 0.0 { bulk_modulus * w / v } else { 0.0 })
+            .collect();
+        Some(NodalBulk {
+            rest_volume: volume,
+            modulus,
+        })
+    }
+}
+
+/// The springs' force law beyond the thesis's linear spring (softgrip
+/// extensions; the default is the thesis's, and takes its code path).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpringLaw {
+    /// beta: `F = k dl (1 + beta (dl / l0)^2)`.
+    pub stiffening: f64,
+    /// Stiffness in compression over stiffness in tension.
+    pub compression_ratio: f64,
+    /// Prony relative modulus g and time constant tau (s).
+    pub prony_g: f64,
+    pub prony_tau: f64,
+}
+
+impl Default for SpringLaw {
+    fn default() -> Self {
+        SpringLaw {
+            stiffening: 0.0,
+            compression_ratio: 1.0,
+            prony_g: 0.0,
+            prony_tau: 1.0,
+        }
+    }
+}
+
+impl SpringLaw {
+    /// The thesis's linear elastic spring.
+    pub fn is_linear(&self) -> bool {
+        self.stiffening == 0.0 && self.compression_ratio == 1.0 && self.prony_g == 0.0
+    }
+
+    pub fn is_viscoelastic(&self) -> bool {
+        self.prony_g > 0.0
+    }
+}
+
+/// Lloyd's stiffness contribution of one element (thesis eq. 7-8):
+/// `k_e = 2 sqrt(2) / 25 * l_e * E`, `l_e = (12 V / sqrt(2))^(1/3)`.
+pub fn lloyd_stiffness(volume: f64, young_modulus: f64) -> f64 {
+    let equivalent_edge = (volume * 12.0 / std::f64::consts::SQRT_2).cbrt();
+    2.0 * std::f64::consts::SQRT_2 / 25.0 * equivalent_edge * young_modulus
+}
+
+/// Damping of one spring (thesis eq. 9, made dimensionally consistent).
+///
+/// The thesis writes `d = 2 sqrt(k (m_i + m_j)) / l0`, which is not a force per
+/// velocity. We use the critical damping of the two-body oscillator the spring
+/// forms, `d = zeta * 2 sqrt(k mu)` with the reduced mass
+/// `mu = m_i m_j / (m_i + m_j)`: `zeta = 1` makes each spring's own mode
+/// critically damped whatever the mesh resolution, which is what the thesis's
+/// division by `l0` was meant to keep (see ARCHITECTURE.md, choice 2).
+pub fn spring_damping(damping_ratio: f64, stiffness: f64, m_i: f64, m_j: f64) -> f64 {
+    let reduced = m_i * m_j / (m_i + m_j);
+    damping_ratio * 2.0 * (stiffness * reduced).sqrt()
+}
+
+impl Model {
+    /// Builds the model of a scene (meshes the object first).
+    pub fn from_scene(scene: &Scene) -> Result<Model, SimError> {
+        Model::from_mesh(scene, Model::mesh_of(scene)?)
+    }
+
+    /// The mesh a scene's object is made of.
+    pub fn mesh_of(scene: &Scene) -> Result<TetMesh, SimError> {
+        Model::load_mesh(scene).map(|(mesh, _)| mesh)
+    }
+
+    /// The mesh of `scene` and what loading it changed or noticed (a mesh
+    /// file's skipped cells, reordered tetrahedra, merged nodes...).
+    pub fn load_mesh(scene: &Scene) -> Result<(TetMesh, Vec<String>), SimError> {
+        Ok(match &scene.object.shape {
+            Shape::Cuboid { size } => (TetMesh::cuboid(*size, scene.object.edge_length), vec![]),
+            Shape::Cylinder { radius, height } => (
+                TetMesh::cylinder(*radius, *height, scene.object.edge_length),
+                vec![],
+            ),
+            Shape::Mesh {
+                path,
+                scale,
+                position,
+            } => {
+                let file = path.display().to_string();
+                let (mut mesh, mut warnings) = if crate::mesh::io::is_surface(path) {
+                    // Scaled first: the edge length is in metres.
+                    let mut surface = crate::mesh::io::read_surface(path)?;
+                    for v in &mut surface.vertices {
+                        *v *= *scale;
+                    }
+                    let mut mesh = crate::mesh::tetrahedralize::tetrahedralize(
+                        &surface,
+                        scene.object.edge_length,
+                    )
+                    .map_err(|m| crate::mesh::io::ImportError::at(&file, None, m))?;
+                    for p in &mut mesh.nodes {
+                        *p /= *scale;
+                    }
+                    let note = format!(
+                        "tetrahedralized by TetGen: {} triangles to {} tetrahedra (edge length {} m)",
+                        surface.triangles.len(),
+                        mesh.tets.len(),
+                        scene.object.edge_length
+                    );
+                    (mesh, vec![note])
+                } else {
+                    let imported = crate::mesh::io::read(path)?;
+                    (imported.mesh, imported.warnings)
+                };
+                let report =
+                    crate::mesh::checks::repair(&mut mesh).map_err(|source| SimError::Mesh {
+                        file: file.clone(),
+                        source,
+                    })?;
+                warnings.extend(report.warnings);
+                mesh.place(*scale, *position);
+                (
+                    mesh,
+                    warnings
+                        .into_iter()
+                        .map(|w| format!("{file}: {w}"))
+                        .collect(),
+                )
+            }
+        })
+    }
+
+    /// Builds the model of a scene on a given mesh.
+    pub fn from_mesh(scene: &Scene, mesh: TetMesh) -> Result<Model, SimError> {
+        let file = scene
+            .source
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| "scene".to_string());
+        mesh.validate().map_err(|source| SimError::Mesh {
+            file: file.clone(),
+            source,
+        })?;
+        let n = mesh.nodes.len();
+        let obj = &scene.object;
+
+        // Each element's material: the object's, or its `[[region]]`'s.
+        let mut element_modulus = vec![obj.young_modulus; mesh.tets.len()];
+        let mut element_density = vec![obj.density; mesh.tets.len()];
+        for (b, region) in scene.regions.iter().enumerate() {
+            let mut any = false;
+            for (t, tet) in mesh.tets.iter().enumerate() {
+                let centroid = tet.iter().map(|&p| mesh.nodes[p as usize]).sum::<DVec3>() * 0.25;
+                if region.region.contains(centroid) {
+                    element_modulus[t] = region.young_modulus;
+                    element_density[t] = region.density;
+                    any = true;
+                }
+            }
+            if !any {
+                let (lo, hi) = mesh.bounds();
+                return Err(SimError::EmptyRegion {
+                    file: file.clone(),
+                    table: "region".into(),
+                    index: b + 1,
+                    min: region.region.min.to_array(),
+                    max: region.region.max.to_array(),
+                    bounds_min: lo.to_array(),
+                    bounds_max: hi.to_array(),
+                });
+            }
+        }
+
+        // Masses (eq. 6) and rest volumes.
+        let rest_volume: Vec<f64> = (0..mesh.tets.len()).map(|t| mesh.tet_volume(t)).collect();
+        let mut mass = vec![0.0; n];
+        for ((tet, &v), &density) in mesh.tets.iter().zip(&rest_volume).zip(&element_density) {
+            for &p in tet {
+                mass[p as usize] += 0.25 * density * v;
+            }
+        }
+
+        // Fixed particles.
+        let (lo, hi) = mesh.bounds();
+        let extent = (hi - lo).max_element();
+        let mut fixed = vec![false; n];
+        if scene.support.kind == SupportKind::FixedBottom {
+            let tol = 1e-9 * extent;
+            for (f, p) in fixed.iter_mut().zip(&mesh.nodes) {
+                *f |= p.z <= lo.z + tol;
+            }
+        }
+        for (b, region) in scene.fixed.iter().enumerate() {
+            let mut any = false;
+            for (f, p) in fixed.iter_mut().zip(&mesh.nodes) {
+                if region.contains(*p) {
+                    *f = true;
+                    any = true;
+                }
+            }
+            if !any {
+                return Err(SimError::EmptyRegion {
+                    file: file.clone(),
+                    table: "fixed".into(),
+                    index: b + 1,
+                    min: region.min.to_array(),
+                    max: region.max.to_array(),
+                    bounds_min: lo.to_array(),
+                    bounds_max: hi.to_array(),
+                });
+            }
+        }
+
+        // Constant forces: gravity and loads.
+        let gravity = scene.simulation.gravity;
+        let mut constant_force: Vec<DVec3> = mass.iter().map(|&m| m * gravity).collect();
+        for (b, load) in scene.loads.iter().enumerate() {
+            let inside: Vec<usize> = (0..n)
+                .filter(|&i| load.region.contains(mesh.nodes[i]))
+                .collect();
+            if inside.is_empty() {
+                return Err(SimError::EmptyRegion {
+                    file: file.clone(),
+                    table: "load".into(),
+                    index: b + 1,
+                    min: load.region.min.to_array(),
+                    max: load.region.max.to_array(),
+                    bounds_min: lo.to_array(),
+                    bounds_max: hi.to_array(),
+                });
+            }
+            let share = 1.0 / inside.len() as f64;
+            for i in inside {
+                mass[i] += load.mass * share;
+                constant_force[i] += load.mass * share * gravity + load.force * share;
+            }
+        }
+
+        // Springs on every edge, Lloyd stiffness summed over the elements (eq. 7).
+        let edges = mesh.edges();
+        let mut springs: Vec<Spring> = edges
+            .iter()
+            .map(|&[i, j]| Spring {
+                i,
+                j,
+                rest_length: mesh.nodes[i as usize].distance(mesh.nodes[j as usize]),
+                stiffness: 0.0,
+                damping: 0.0,
+            })
+            .collect();
+        let spring_of = |a: u32, b: u32| -> u32 {
+            let key = if a < b { [a, b] } else { [b, a] };
+            // Edges are sorted and every queried pair is an edge of the mesh.
+            edges
+                .binary_search(&key)
+                .map(|s| s as u32)
+                .unwrap_or(u32::MAX)
+        };
+        let mut tet_springs = Vec::with_capacity(mesh.tets.len());
+        for ((tet, &v), &modulus) in mesh.tets.iter().zip(&rest_volume).zip(&element_modulus) {
+            let k_e = lloyd_stiffness(v, modulus);
+            let slots = TET_EDGES.map(|[a, b]| spring_of(tet[a], tet[b]));
+            for &s in &slots {
+                springs[s as usize].stiffness += k_e;
+            }
+            tet_springs.push(slots);
+        }
+        for s in &mut springs {
+            s.damping = spring_damping(
+                scene.model.damping_ratio,
+                s.stiffness,
+                mass[s.i as usize],
+                mass[s.j as usize],
+            );
+        }
+
+        let facets = mesh.boundary_facets();
+        // A mesh file's own edges, not the meshing target it ignores.
+        let edge_length = if matches!(obj.shape, Shape::Mesh { .. }) && !springs.is_empty() {
+            springs.iter().map(|s| s.rest_length).sum::<f64>() / springs.len() as f64
+        } else {
+            obj.edge_length
+        };
+        let facet_springs = facets
+            .iter()
+            .map(|f| {
+                [
+                    spring_of(f[0], f[1]),
+                    spring_of(f[1], f[2]),
+                    spring_of(f[2], f[0]),
+                ]
+            })
+            .collect();
+
+        let fingers = scene
+            .fingers
+            .iter()
+            .map(|f| FingerModel::new(f, obj.young_modulus, obj.poisson_ratio, gravity))
+            .collect();
+
+        let table = (scene.support.kind == SupportKind::Table).then(|| {
+            TableModel::new(
+                &facets,
+                scene.support.friction,
+                TABLE_STIFFNESS_FACTOR * obj.young_modulus * edge_length,
+            )
+        });
+
+        let fem_mode = scene.model.elasticity == Elasticity::NeoHookean;
+        let (mesh_nodes, mesh_tets) = (&mesh.nodes, &mesh.tets);
+        let fem = fem_mode.then(|| {
+            let mut fem =
+                fem::FemModel::new(mesh_nodes, mesh_tets, &element_modulus, obj.poisson_ratio);
+            fem.yeoh = fem::Yeoh::new(
+                scene.model.stiffening,
+                scene.model.stiffening_cubic,
+                scene.model.softening,
+            );
+            fem
+        });
+
+        let self_collision = scene.model.self_collision.then(|| {
+            self_collision::SelfCollisionModel::new(
+                mesh_nodes,
+                &facets,
+                edge_length,
+                obj.young_modulus,
+            )
+        });
+
+        let element_stiffness_scale: Vec<f64> = if scene.regions.is_empty() {
+            Vec::new()
+        } else {
+            element_modulus
+                .iter()
+                .map(|e| e / obj.young_modulus)
+                .collect()
+        };
+        let nodal_bulk = NodalBulk::new(
+            scene.model.bulk_pressure,
+            if fem_mode {
+                0.0
+            } else {
+                scene.model.bulk_modulus
+            },
+            mesh.nodes.len(),
+            &mesh.tets,
+            &rest_volume,
+            &element_stiffness_scale,
+        );
+        Ok(Model {
+            rest_total_volume: rest_volume.iter().sum(),
+            rest_positions: mesh.nodes,
+            mass,
+            fixed,
+            constant_force,
+            springs,
+            tets: mesh.tets,
+            tet_springs,
+            rest_volume,
+            facets,
+            facet_springs,
+            fingers,
+            gravity,
+            dt: scene.simulation.dt,
+            cg_tolerance: scene.simulation.cg_tolerance,
+            cg_max_iterations: scene.simulation.cg_max_iterations,
+            alpha: if fem_mode { 0.0 } else { scene.model.alpha },
+            bulk_modulus: if fem_mode {
+                0.0
+            } else {
+                scene.model.bulk_modulus
+            },
+            limit_stiffness: if fem_mode {
+                0.0
+            } else {
+                scene.model.limit_stiffness
+            },
+            tau_s: scene.model.tau_s.filter(|_| !fem_mode),
+            tau_c: scene.model.tau_c.filter(|_| !fem_mode),
+            constraint_iterations: scene.model.constraint_iterations,
+            constraint_tolerance: scene.model.constraint_tolerance,
+            extent,
+            // A mesh file's own edges, not the meshing target it ignores.
+            edge_length,
+            young_modulus: obj.young_modulus,
+            density: obj.density,
+            table,
+            fem,
+            self_collision,
+            nodal_bulk,
+            element_stiffness_scale,
+            spring_law: SpringLaw {
+                stiffening: scene.model.stiffening,
+                compression_ratio: scene.model.compression_ratio,
+                prony_g: scene.model.prony_g,
+                prony_tau: scene.model.prony_tau,
+            },
+        })
+    }
+
+    /// A bare particle-spring model without elements or facets (a chain, a
+    /// single spring): for verification against analytic results.
+    /// `springs` are `(i, j, stiffness, damping)`, rest lengths taken from
+    /// `positions`.
+    pub fn from_particles(
+        positions: Vec<DVec3>,
+        mass: Vec<f64>,
+        fixed: Vec<bool>,
+        springs: &[(u32, u32, f64, f64)],
+        gravity: DVec3,
+        dt: f64,
+    ) -> Model {
+        let springs: Vec<Spring> = springs
+            .iter()
+            .map(|&(i, j, k, d)| {
+                let (i, j) = if i < j { (i, j) } else { (j, i) };
+                Spring {
+                    i,
+                    j,
+                    rest_length: positions[i as usize].distance(positions[j as usize]),
+                    stiffness: k,
+                    damping: d,
+                }
+            })
+            .collect();
+        let (lo, hi) = crate::mesh::bounds_of(&positions);
+        Model {
+            constant_force: mass.iter().map(|&m| m * gravity).collect(),
+            rest_positions: positions,
+            mass,
+            fixed,
+            springs,
+            tets: Vec::new(),
+            tet_springs: Vec::new(),
+            rest_volume: Vec::new(),
+            rest_total_volume: 0.0,
+            facets: Vec::new(),
+            facet_springs: Vec::new(),
+            fingers: Vec::new(),
+            gravity,
+            dt,
+            cg_tolerance: 1e-12,
+            cg_max_iterations: 1000,
+            alpha: 0.0,
+            bulk_modulus: 0.0,
+            limit_stiffness: 0.0,
+            tau_s: None,
+            tau_c: None,
+            constraint_iterations: 0,
+            constraint_tolerance: None,
+            extent: (hi - lo).max_element(),
+            edge_length: (hi - lo).max_element(),
+            young_modulus: 1.0,
+            density: 1.0,
+            table: None,
+            element_stiffness_scale: Vec::new(),
+            nodal_bulk: None,
+            fem: None,
+            self_collision: None,
+            spring_law: SpringLaw::default(),
+        }
+    }
+
+    pub fn particle_count(&self) -> usize {
+        self.rest_positions.len()
+    }
+
+    /// Total mass of the object (with loads), kg.
+    pub fn total_mass(&self) -> f64 {
+        self.mass.iter().sum()
+    }
+}

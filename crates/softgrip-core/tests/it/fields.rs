@@ -1,0 +1,128 @@
+//! The fields the viewer colours the object by (`softgrip_core::fields`),
+//! against deformations whose values are known exactly.
+
+use glam::{DMat3, DVec3};
+use softgrip_core::Scene;
+use softgrip_core::Simulation;
+use softgrip_core::fields::{self, Field, colormap};
+
+fn block() -> Simulation {
+    let text = r#"
+[object]
+shape = "cuboid"
+size = [0.03, 0.02, 0.01]
+edge_length = 0.004
+[support]
+kind = "none"
+"#;
+    Simulation::new(&Scene::from_toml_str(text, "block").expect("scene")).expect("sim")
+}
+
+#[test]
+fn uniform_stretch_gives_its_strain_and_volume_change_everywhere() {
+    let mut sim = block();
+    let e = 0.03;
+    for (x, x0) in sim
+        .state
+        .positions
+        .iter_mut()
+        .zip(&sim.model.rest_positions)
+    {
+        *x = *x0 * (1.0 + e);
+    }
+    let (model, state) = (&sim.model, &sim.state);
+    for (i, v) in Field::SpringStrain
+        .particle_values(model, state)
+        .iter()
+        .enumerate()
+    {
+        assert!((v - e).abs() < 1e-12, "particle {i}: strain {v}");
+    }
+    let dv = (1.0 + e).powi(3) - 1.0;
+    for v in Field::VolumeChange.particle_values(model, state) {
+        assert!((v - dv).abs() < 1e-12, "volume change {v}, not {dv}");
+    }
+    for v in fields::element_volume_change(model, state) {
+        assert!((v - dv).abs() < 1e-12);
+    }
+    for v in fields::element_max_spring_strain(model, state) {
+        assert!((v - e).abs() < 1e-12);
+    }
+    let displacement = Field::Displacement.particle_values(model, state);
+    for (d, x0) in displacement.iter().zip(&model.rest_positions) {
+        assert!((d - e * x0.length()).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn a_rotation_strains_nothing() {
+    let mut sim = block();
+    let r = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
+    let shift = DVec3::new(0.01, -0.02, 0.03);
+    for (x, x0) in sim
+        .state
+        .positions
+        .iter_mut()
+        .zip(&sim.model.rest_positions)
+    {
+        *x = r * *x0 + shift;
+    }
+    let (model, state) = (&sim.model, &sim.state);
+    for v in Field::SpringStrain.particle_values(model, state) {
+        assert!(v.abs() < 1e-12, "strain {v}");
+    }
+    for v in Field::VolumeChange.particle_values(model, state) {
+        assert!(v.abs() < 1e-12, "volume change {v}");
+    }
+    let displacement = Field::Displacement.particle_values(model, state);
+    for (d, x0) in displacement.iter().zip(&model.rest_positions) {
+        assert!((d - (r * *x0 + shift - *x0).length()).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn contact_pressure_integrates_to_the_normal_force() {
+    let mut sim = Simulation::new(&Scene::thesis()).expect("sim");
+    sim.run_until(0.3).expect("run");
+    let (model, state) = (&sim.model, &sim.state);
+    let pressure = Field::ContactPressure.particle_values(model, state);
+    let area = fields::boundary_area(model, state);
+    let total: f64 = pressure.iter().zip(&area).map(|(p, a)| p * a).sum();
+    let normal: f64 = state.contacts.iter().map(|c| c.normal_force).sum();
+    assert!(normal > 1.0, "the finger presses: {normal} N");
+    assert!(
+        (total - normal).abs() < 1e-9 * normal,
+        "pressure integrates to {total} N, contacts carry {normal} N"
+    );
+    // Only particles of touched facets carry pressure, and none is negative.
+    assert!(pressure.iter().all(|p| *p >= 0.0));
+    let touched = pressure.iter().filter(|p| **p > 0.0).count();
+    assert!(touched > 0 && touched < model.particle_count() / 10);
+}
+
+#[test]
+fn colour_maps_run_from_their_ends_and_centre_signed_fields_on_grey() {
+    // Sequential: brightness rises from end to end.
+    let luminance = |c: [f32; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let mut last = -1.0;
+    for k in 0..=20 {
+        let l = luminance(colormap(k as f64 / 20.0, false));
+        assert!(l > last, "luminance falls at {k}");
+        last = l;
+    }
+    // Diverging: blue below, red above, neutral at the centre.
+    let mid = colormap(0.5, true);
+    assert!((mid[0] - mid[1]).abs() < 1e-6 && (mid[1] - mid[2]).abs() < 1e-6);
+    let low = colormap(0.0, true);
+    let high = colormap(1.0, true);
+    assert!(low[2] > low[0] && high[0] > high[2]);
+    // Out of range and NaN clamp instead of failing.
+    assert_eq!(colormap(-3.0, false), colormap(0.0, false));
+    assert_eq!(colormap(7.0, true), colormap(1.0, true));
+    assert_eq!(colormap(f64::NAN, false), colormap(0.0, false));
+    // Ranges: signed ones symmetric, never empty.
+    assert_eq!(fields::range(&[-0.2, 0.1], true), (-0.2, 0.2));
+    assert_eq!(fields::range(&[0.0, 3.0, 1.0], false), (0.0, 3.0));
+    let (lo, hi) = fields::range(&[0.0, 0.0], false);
+    assert!(hi > lo);
+}

@@ -1,0 +1,50 @@
+//! The helper thread changes nothing but the speed: the thesis scene on one
+//! thread and on two gives bit-identical trajectories (the work is split in
+//! the same places and summed in the same order either way). Its own test
+//! binary, so no other simulation in the process holds the helper slot
+//! (one test function: the tests of a binary run side by side).
+
+use softgrip_core::Scene;
+use softgrip_core::Simulation;
+
+#[test]
+#[ignore = "slow: two long runs"]
+fn one_thread_and_two_give_bit_identical_runs() {
+    let run = |threads: usize| {
+        let mut sim = Simulation::new(&Scene::thesis()).expect("sim");
+        sim.set_threads(threads);
+        sim.run_until(0.3).expect("run");
+        (sim.is_threaded(), sim.state)
+    };
+    let (threaded_one, one) = run(1);
+    let (threaded_two, two) = run(2);
+    assert!(!threaded_one);
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if cores >= 2 {
+        assert!(threaded_two, "a second core is there, the helper must run");
+    }
+    // Through the drop, contact and spring limits: every bit the same.
+    assert_eq!(one, two);
+
+    // On the default count a simulation gives the helper up while another
+    // one runs, and takes it again when that one ends: bit-identical still.
+    let mut sim = Simulation::new(&Scene::thesis()).expect("sim");
+    sim.run_until(0.1).expect("run");
+    let alone = sim.is_threaded();
+    let mut other = Simulation::new(&Scene::thesis()).expect("sim");
+    other.set_threads(1);
+    other.step().expect("step");
+    sim.run_until(0.2).expect("run");
+    let beside = sim.is_threaded();
+    drop(other);
+    sim.run_until(0.3).expect("run");
+    let after = sim.is_threaded();
+    if cores >= 2 {
+        assert!(alone, "alone, it takes the second core");
+        assert!(after, "it takes the second core back");
+    }
+    if cores == 2 {
+        assert!(!beside, "beside another simulation, the cores are taken");
+    }
+    assert_eq!(sim.state, one);
+}

@@ -1,0 +1,282 @@
+//! How far the model's own discretisation moves what a recording sees,
+//! against the recording's noise (`softgrip diagnose` reports it).
+//!
+//! The diagnosis fits a lattice of the scene's edge length stepped at the
+//! scene's time step; the lab's object is a continuum. So the fitted model
+//! is replayed once more on a finer mesh (edges [`FINER`] times the
+//! scene's) and, for a time series, once at half the time step (a
+//! quasi-static recording is a sequence of rest states, which do not depend
+//! on the step). The RMS move of the observed coordinates, fingers
+//! included, over the noise level says how large a mismatch the
+//! discretisation alone can make: where it is near the noise or above, a
+//! residual of that size may be the mesh's or the step's, not missing
+//! physics, and refining the scene is the cure. It is a lower estimate of
+//! the distance to the converged model (the finer model is not converged
+//! either). On the proof's cuboid (`softgrip prove`), 4 mm edges against
+//! 5 mm move the markers by 0.7 (control-3) to 1.4 (the strong creep, its
+//! truth on 5 mm) times its 0.1 mm noise (DIAGNOSIS.md).
+
+use crate::compare::{Residual, per_marker};
+use crate::diagnose::{Noise, marker_name, weighted_residuals};
+use crate::recording::{Mode, Recording};
+use crate::replay::{Replay, ReplayOptions, replay};
+use softgrip_core::quasi_static::RestTolerance;
+use softgrip_core::scene::{Scene, Shape};
+
+/// The finer mesh's edge length, as a fraction of the scene's (5 mm to
+/// 4 mm: about twice the nodes, so about twice a replay's time).
+pub const FINER: f64 = 0.8;
+
+/// One comparison: the fitted model against itself refined.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Check {
+    /// The scene's edge length or time step, and the refined one.
+    pub coarse: f64,
+    pub fine: f64,
+    /// RMS move of the observed coordinates, fingers included (m).
+    pub rms_m: f64,
+    /// The same, each coordinate over its noise level, on the classes
+    /// (object markers, fingers) that showed noise (0 when the recording
+    /// showed none: `noise_measured`).
+    pub over_noise: f64,
+    /// Whether the recording had noise to measure the move against (a
+    /// noise-free one has not: [`Noise::measured`]).
+    pub noise_measured: bool,
+    /// The marker that moves most, and its RMS distance over the observed
+    /// axes (m).
+    pub worst: (String, f64),
+}
+
+/// A check made, or why not.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    Measured(Check),
+    Skipped(String),
+}
+
+impl Outcome {
+    pub fn measured(&self) -> Option<&Check> {
+        match self {
+            Outcome::Measured(c) => Some(c),
+            Outcome::Skipped(_) => None,
+        }
+    }
+}
+
+/// Both checks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Discretisation {
+    pub mesh: Outcome,
+    pub time_step: Outcome,
+}
+
+impl Discretisation {
+    /// The larger of the two moves over the noise (0 if neither was
+    /// measured).
+    pub fn over_noise(&self) -> f64 {
+        [&self.mesh, &self.time_step]
+            .iter()
+            .filter_map(|o| o.measured())
+            .filter(|c| c.noise_measured)
+            .map(|c| c.over_noise)
+            .fold(0.0, f64::max)
+    }
+
+    /// In words, for the CLI and the report.
+    pub fn describe(&self) -> String {
+        let one = |what: &str, o: &Outcome, unit: &str| match o {
+            Outcome::Measured(c) if !c.noise_measured => format!(
+                "{what} ({} {unit} instead of {} {unit}) moves the markers by {:.3} mm RMS (most: {} by {:.3} mm); the recording shows no noise to weigh that against",
+                short(c.fine * 1e3),
+                short(c.coarse * 1e3),
+                c.rms_m * 1e3,
+                c.worst.0,
+                c.worst.1 * 1e3
+            ),
+            Outcome::Measured(c) => format!(
+                "{what} ({} {unit} instead of {} {unit}) moves the markers by {:.3} mm RMS, {:.1} times the noise (most: {} by {:.3} mm)",
+                short(c.fine * 1e3),
+                short(c.coarse * 1e3),
+                c.rms_m * 1e3,
+                c.over_noise,
+                c.worst.0,
+                c.worst.1 * 1e3
+            ),
+            Outcome::Skipped(why) => format!("{what}: not checked ({why})"),
+        };
+        format!(
+            "{}; {}",
+            one("a finer mesh", &self.mesh, "mm"),
+            one("half the time step", &self.time_step, "ms")
+        )
+    }
+
+    /// The evidence's sentence when the discretisation is at the noise's
+    /// level or above, else None.
+    pub fn caution(&self) -> Option<String> {
+        let r = self.over_noise();
+        let moves: Vec<String> = [
+            ("a finer mesh", &self.mesh),
+            ("half the step", &self.time_step),
+        ]
+        .iter()
+        .filter_map(|(what, o)| {
+            o.measured()
+                .map(|c| format!("{what} {:.3} mm RMS", c.rms_m * 1e3))
+        })
+        .collect();
+        (r >= 1.0).then(|| {
+            format!(
+                "The model's own discretisation moves the markers by up to {r:.1} times the noise ({}): a mismatch of that size may be the mesh's or the step's rather than missing physics; a finer `edge_length` or `dt` in the scene narrows it, at the cost of time.",
+                moves.join(", ")
+            )
+        })
+    }
+
+    pub fn to_json(&self) -> serde_json::Value {
+        let one = |o: &Outcome| match o {
+            Outcome::Measured(c) => serde_json::json!({
+                "coarse": c.coarse,
+                "fine": c.fine,
+                "rms_m": c.rms_m,
+                "over_noise": c.noise_measured.then_some(c.over_noise),
+                "worst_marker": c.worst.0,
+                "worst_m": c.worst.1,
+            }),
+            Outcome::Skipped(why) => serde_json::json!({"skipped": why}),
+        };
+        serde_json::json!({"mesh": one(&self.mesh), "time_step": one(&self.time_step)})
+    }
+}
+
+/// `v` with no trailing zeros: 4, 4.5, 0.25.
+fn short(v: f64) -> String {
+    let t = format!("{v:.3}");
+    t.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Replays `scene` (the fitted model, whose replay of `recording` is
+/// `coarse`) on a finer mesh and, for a time series, at half the step,
+/// and measures the moves against `noise`. A refined replay that fails is
+/// reported as skipped, with its error: the check never stops a diagnosis.
+///
+/// The refined replays come to rest as `rest` says: as `coarse` did, so
+/// that the tolerance is not taken for the mesh's move (the diagnosis's
+/// `RestTolerance::for_fits`, `softgrip compare`'s default).
+pub fn check(
+    recording: &Recording,
+    scene: &Scene,
+    coarse: &Replay,
+    noise: &Noise,
+    rest: RestTolerance,
+) -> Discretisation {
+    let refined = |s: Scene| {
+        replay(
+            recording,
+            &s,
+            ReplayOptions {
+                rest,
+                ..ReplayOptions::default()
+            },
+            |_| {},
+        )
+    };
+    let measure = |s: Scene, from: f64, to: f64| match refined(s) {
+        Ok(fine) => match moves(recording, &coarse.residuals, &fine.residuals, noise) {
+            Some((rms_m, over_noise, worst)) => Outcome::Measured(Check {
+                coarse: from,
+                fine: to,
+                rms_m,
+                over_noise: if noise.measured() { over_noise } else { 0.0 },
+                noise_measured: noise.measured(),
+                worst,
+            }),
+            None => Outcome::Skipped("the refined model sees other markers".into()),
+        },
+        Err(e) => Outcome::Skipped(format!("the refined model does not run: {e}")),
+    };
+    let mesh = match scene.object.shape {
+        Shape::Mesh { .. } => {
+            Outcome::Skipped("the object is a mesh file, which softgrip does not refine".into())
+        }
+        _ => {
+            let mut s = scene.clone();
+            let edge = s.object.edge_length;
+            s.object.edge_length = edge * FINER;
+            measure(s, edge, edge * FINER)
+        }
+    };
+    let time_step = match recording.mode {
+        Mode::QuasiStatic => {
+            Outcome::Skipped("quasi-static: rest states do not depend on the step".into())
+        }
+        Mode::TimeSeries => {
+            let mut s = scene.clone();
+            let dt = s.simulation.dt;
+            s.simulation.dt = dt / 2.0;
+            measure(s, dt, dt / 2.0)
+        }
+    };
+    Discretisation { mesh, time_step }
+}
+
+/// How far the markers of replay `b` are from those of replay `a`: the
+/// RMS over the observed coordinates, fingers included (m); the same with
+/// each coordinate over its noise, over the classes (object markers,
+/// fingers) that showed noise ([`Noise::measured_on`]); and the marker that moves most, with
+/// its RMS distance over the observed axes (m, `softgrip compare`'s
+/// per-marker "rmse"). None when they are not the same observations.
+///
+/// It is `a`'s residual against `b`'s simulated positions taken as the
+/// record, so the measures are the residuals' own (`Residual::distance`,
+/// `compare::per_marker`, `diagnose::weighted_residuals`).
+pub fn moves(
+    recording: &Recording,
+    a: &[Residual],
+    b: &[Residual],
+    noise: &Noise,
+) -> Option<(f64, f64, (String, f64))> {
+    if a.len() != b.len() || a.is_empty() {
+        return None;
+    }
+    let mut between = Vec::with_capacity(a.len());
+    for (ra, rb) in a.iter().zip(b) {
+        if ra.sample != rb.sample || ra.marker != rb.marker {
+            return None;
+        }
+        between.push(Residual {
+            recorded: std::array::from_fn(|k| ra.recorded[k].map(|_| rb.simulated[k])),
+            ..*ra
+        });
+    }
+    let observed = between
+        .iter()
+        .flat_map(|r| r.recorded.iter().filter(|x| x.is_some()))
+        .count();
+    if observed == 0 {
+        return None;
+    }
+    let n = observed as f64;
+    let sum: f64 = between
+        .iter()
+        .map(|r| r.difference().length_squared())
+        .sum();
+    // Over the noise only where the class showed noise: a noise-free
+    // class's move over the 1 um floor would say nothing.
+    let noisy: Vec<Residual> = between
+        .iter()
+        .filter(|r| noise.measured_on(r.marker))
+        .copied()
+        .collect();
+    let weighted = weighted_residuals(&noisy, noise);
+    let over = if weighted.is_empty() {
+        0.0
+    } else {
+        (weighted.iter().map(|w| w * w).sum::<f64>() / weighted.len() as f64).sqrt()
+    };
+    let worst = per_marker(&between)
+        .into_iter()
+        .max_by(|x, y| x.distance.total_cmp(&y.distance))
+        .map(|m| (marker_name(recording, m.marker), m.distance))?;
+    Some(((sum / n).sqrt(), over, worst))
+}

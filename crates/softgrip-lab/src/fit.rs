@@ -1,0 +1,1183 @@
+//! Fitting scene parameters to a recording: NRMSE minimised by a bounded
+//! search, then what the data say about the answer.
+//!
+//! - Each parameter lives in its bounds, mapped to 0..1 (logarithmically
+//!   for moduli, alpha and the spring limits, whose plausible values span
+//!   decades); trial points outside are projected onto the bounds.
+//! - First a space-filling (Halton) design, 8 points per parameter: NRMSE
+//!   is flat wherever a spring limit acts on no spring, and a local search
+//!   that starts on such a plateau never leaves it.
+//! - Then Nelder-Mead (with the dimension-adapted coefficients of Gao and
+//!   Han, 2012) from the best point: it needs no derivatives, and NRMSE has
+//!   kinks where a spring limit starts to act and a run can fail outright
+//!   (a failed run counts as infinitely bad). It restarts from its best
+//!   point until a restart gains nothing (a simplex collapsed onto a bound
+//!   gets its dimensions back) and stops when the simplex is small or the
+//!   best has not improved for a while ([`FitOptions::stall`]).
+//! - A spring limit left above every strain of the fitted run (acting
+//!   nowhere, with the modulus making up for it) is tried again just below
+//!   the largest strain, and kept if that fits better.
+//! - Uncertainty: at the fit, the Jacobian of the residual vector (central
+//!   differences, 1 % steps) gives the linearised covariance
+//!   `s^2 (J^T J)^-1` with `s^2 = SSR / (m - p)`, the noise variance the
+//!   residuals imply. The standard errors are what the noise allows
+//!   (assuming independent residuals); a parameter the residuals do not
+//!   depend on has none (infinite).
+//! - Sensitivity: NRMSE at -10 % and +10 % of each fitted value. A change
+//!   is significant when it raises the sum of squared residuals by more
+//!   than 3.84 s^2 (the 95 % point of chi-square with one degree of
+//!   freedom). Both significant: identified; otherwise weakly identified
+//!   if the standard error is under half the value, bounded on one side
+//!   only if one side is significant (e.g. a spring limit that no spring
+//!   reaches), else unidentifiable.
+//!
+//! Evaluations that can run at once (the design, a shrink, the Jacobian
+//! and sensitivity points) run in parallel, one simulation per core;
+//! results do not depend on the number of workers.
+
+use std::collections::HashMap;
+
+use crate::compare::{Errors, components};
+use crate::params::{self, Param};
+use crate::recording::Recording;
+use crate::replay::{Replay, ReplayOptions, replay};
+use crate::sweep::parallel_map;
+use softgrip_core::quasi_static::RestTolerance;
+use softgrip_core::scene::Scene;
+
+/// A parameter to fit and its bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitParam {
+    pub param: &'static Param,
+    pub lower: f64,
+    pub upper: f64,
+    /// Searched on a log scale.
+    pub log: bool,
+}
+
+impl FitParam {
+    /// The value at `u` in 0..1 of the bounds.
+    pub fn value(&self, u: f64) -> f64 {
+        let u = u.clamp(0.0, 1.0);
+        if self.log {
+            (self.lower.ln() + u * (self.upper.ln() - self.lower.ln())).exp()
+        } else {
+            self.lower + u * (self.upper - self.lower)
+        }
+    }
+
+    /// Where `v` lies in the bounds, 0..1 (clamped).
+    pub fn unit(&self, v: f64) -> f64 {
+        let u = if self.log {
+            (v.ln() - self.lower.ln()) / (self.upper.ln() - self.lower.ln())
+        } else {
+            (v - self.lower) / (self.upper - self.lower)
+        };
+        if u.is_finite() {
+            u.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Is a point at `u` (0..1 of a parameter's bounds, [`FitParam::unit`])
+/// at one of its bounds, within 0.1 % of the range?
+pub fn at_bound(u: f64) -> bool {
+    !(1e-3..=1.0 - 1e-3).contains(&u)
+}
+
+/// The bounds used when the command line gives none: around the scene's
+/// value for moduli and alpha, the physically sensible range otherwise.
+pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String> {
+    let value = params::get(scene, param.name)?;
+    let around = |factor: f64| match value {
+        Some(v) if v > 0.0 => Ok((v / factor, v * factor)),
+        _ => Err(format!(
+            "{}: the scene's value is 0 or unset, so give bounds: {}=LOW:HIGH",
+            param.name, param.name
+        )),
+    };
+    match param.name {
+        "young_modulus" | "bulk_modulus" | "limit_stiffness" | "region_young_modulus" => {
+            around(10.0)
+        }
+        "alpha" => around(100.0),
+        "density" => around(2.0),
+        "tau_s" | "tau_c" => Ok((0.02, 0.5)),
+        "poisson_ratio" => Ok((0.3, 0.499)),
+        "damping_ratio" => Ok((0.1, 3.0)),
+        "friction" | "table_friction" => Ok((0.0, 2.0)),
+        "stiffening" => Ok((0.0, 1000.0)),
+        "compression_ratio" => Ok((0.2, 5.0)),
+        "prony_g" => Ok((0.0, 0.9)),
+        "prony_tau" => Ok((0.01, 100.0)),
+        "guide_friction" => Ok((0.0, 5.0)),
+        "restitution" => Ok((0.0, 1.0)),
+        "contact_stiffness_scale" => Ok((0.1, 10.0)),
+        other => Err(format!(
+            "{other} has no default bounds; give them: {other}=LOW:HIGH"
+        )),
+    }
+}
+
+/// Parses `--params` entries: `name`, `name=LOW:HIGH`, with `:log` or
+/// `:lin` to choose the scale (default: the parameter's natural one);
+/// entries may be comma-separated.
+pub fn parse_params(entries: &[String], scene: &Scene) -> Result<Vec<FitParam>, String> {
+    let mut out: Vec<FitParam> = Vec::new();
+    for text in entries.iter().flat_map(|e| e.split(',')) {
+        let text = text.trim();
+        if text.is_empty() {
+            continue;
+        }
+        let bad = |why: &str| {
+            format!("--params {text:?}: {why}; write name or name=LOW:HIGH (add :log or :lin)")
+        };
+        let (name, spec) = match text.split_once('=') {
+            Some((n, s)) => (n.trim(), Some(s)),
+            None => (text, None),
+        };
+        let param = params::find(name)?;
+        if out.iter().any(|p| p.param.name == param.name) {
+            return Err(bad("given twice"));
+        }
+        let (lower, upper, log) = match spec {
+            None => {
+                let (lo, hi) = default_bounds(param, scene)?;
+                (lo, hi, param.log)
+            }
+            Some(spec) => {
+                let parts: Vec<&str> = spec.split(':').map(str::trim).collect();
+                let log = match parts.get(2) {
+                    None => param.log,
+                    Some(&"log") => true,
+                    Some(&"lin") => false,
+                    Some(_) => return Err(bad("the scale is log or lin")),
+                };
+                if parts.len() < 2 || parts.len() > 3 {
+                    return Err(bad("bounds are LOW:HIGH"));
+                }
+                let number = |t: &str| {
+                    t.parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| bad(&format!("{t:?} is not a number")))
+                };
+                (number(parts[0])?, number(parts[1])?, log)
+            }
+        };
+        if lower >= upper {
+            return Err(bad("LOW must be below HIGH"));
+        }
+        if log && lower <= 0.0 {
+            return Err(bad("a log scale needs positive bounds (or add :lin)"));
+        }
+        for v in [lower, upper] {
+            params::set(scene, param.name, v).map_err(|e| format!("--params {text:?}: {e}"))?;
+        }
+        out.push(FitParam {
+            param,
+            lower,
+            upper,
+            log,
+        });
+    }
+    if out.is_empty() {
+        return Err("--params: no parameter to fit; e.g. --params young_modulus,alpha".into());
+    }
+    Ok(out)
+}
+
+/// How the search runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitOptions {
+    /// Simulations at most in the search (the uncertainty and sensitivity
+    /// runs come on top: 4 per parameter).
+    pub max_evaluations: usize,
+    /// Converged when the simplex is this small in every unit coordinate...
+    pub x_tolerance: f64,
+    /// ... and its NRMSE values differ by less than this fraction of the
+    /// best; also, the search stops when the best has not improved by
+    /// this fraction in `stall` simulations (a plateau).
+    pub f_tolerance: f64,
+    /// Simulations without progress before the search stops, per
+    /// parameter plus one.
+    pub stall: usize,
+    /// Simulations at once (0: one per core).
+    pub workers: usize,
+    /// Points of the space-filling design tried before the local search,
+    /// per parameter.
+    pub design_per_param: usize,
+}
+
+impl FitOptions {
+    fn design_points(&self, params: usize) -> usize {
+        self.design_per_param * params
+    }
+}
+
+impl Default for FitOptions {
+    fn default() -> FitOptions {
+        FitOptions {
+            max_evaluations: 400,
+            x_tolerance: 1e-3,
+            f_tolerance: 1e-5,
+            stall: 20,
+            workers: 0,
+            design_per_param: 8,
+        }
+    }
+}
+
+/// Point `k` (from 1) of the Halton sequence in `dims` dimensions: a
+/// deterministic, evenly spread design in the unit box.
+pub fn halton(k: usize, dims: usize) -> Vec<f64> {
+    const PRIMES: [usize; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+    (0..dims)
+        .map(|d| {
+            let base = PRIMES[d % PRIMES.len()];
+            let (mut f, mut r, mut i) = (1.0, 0.0, k);
+            while i > 0 {
+                f /= base as f64;
+                r += f * (i % base) as f64;
+                i /= base;
+            }
+            r
+        })
+        .collect()
+}
+
+/// What the data say about one fitted parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Identifiability {
+    /// Both +/-10 % changes raise the error significantly.
+    Identified,
+    /// Neither does, but the standard error is under half the value: the
+    /// 95 % interval is wider than +/-10 %.
+    Weak,
+    /// Only one side does (the data give a bound, not a value).
+    OneSided,
+    /// Neither does: the recording cannot tell this parameter.
+    Unidentifiable,
+}
+
+impl Identifiability {
+    pub fn label(self) -> &'static str {
+        match self {
+            Identifiability::Identified => "identified",
+            Identifiability::Weak => "weakly identified (95 % interval wider than +/-10 %)",
+            Identifiability::OneSided => "bounded on one side only",
+            Identifiability::Unidentifiable => "UNIDENTIFIABLE",
+        }
+    }
+}
+
+/// NRMSE at -10 % and +10 % of a fitted value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sensitivity {
+    /// `None`: the value is not allowed or the run failed.
+    pub minus: Option<f64>,
+    pub plus: Option<f64>,
+    pub verdict: Identifiability,
+}
+
+/// The noise-implied uncertainty of the fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uncertainty {
+    /// Scalar residuals (observed coordinates) in the fit.
+    pub residuals: usize,
+    /// The noise the residuals imply, sqrt(SSR / (m - p)) (m).
+    pub sigma_m: f64,
+    /// One per parameter, in its units; infinite when the residuals do
+    /// not depend on it (or only together with another).
+    pub standard_errors: Vec<f64>,
+    /// Correlation of the estimates (p x p; NaN where undefined).
+    pub correlations: Vec<Vec<f64>>,
+}
+
+/// One simulation of the search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trial {
+    pub values: Vec<f64>,
+    /// NRMSE, or why the run failed.
+    pub nrmse: Result<f64, String>,
+}
+
+/// A fit and its evidence.
+#[derive(Debug, Clone)]
+pub struct Fit {
+    pub params: Vec<FitParam>,
+    pub start: Vec<f64>,
+    pub before: Errors,
+    pub fitted: Vec<f64>,
+    pub after: Errors,
+    /// The replays at the start and at the fit.
+    pub start_replay: Replay,
+    pub replay: Replay,
+    /// Every simulation of the search, in order.
+    pub trials: Vec<Trial>,
+    /// The search converged or stopped improving (not stopped by its
+    /// budget).
+    pub converged: bool,
+    /// Fitted values at (within 0.1 % of) a bound.
+    pub at_bound: Vec<bool>,
+    pub uncertainty: Uncertainty,
+    pub sensitivity: Vec<Sensitivity>,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FitError {
+    #[error("the starting point does not run: {0}")]
+    Start(String),
+    /// Stopped through its `softgrip_core::cancel` token.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// `FitError::Cancelled` once the fit's cancel token is set (its
+/// simulations then fail at once, which must not read as bad points).
+fn check_cancel() -> Result<(), FitError> {
+    softgrip_core::cancel::check_scope(|| FitError::Cancelled)
+}
+
+/// A run's error as the fit's: cancelled, or the start's.
+fn start_error(e: String) -> FitError {
+    check_cancel().err().unwrap_or(FitError::Start(e))
+}
+
+/// `scene` with `params` set to `values`.
+pub fn scene_with(scene: &Scene, params: &[FitParam], values: &[f64]) -> Result<Scene, String> {
+    let mut s = scene.clone();
+    for (p, v) in params.iter().zip(values) {
+        s = params::set(&s, p.param.name, *v)?;
+    }
+    Ok(s)
+}
+
+/// A fit's replay, on the default thread count: one simulation per core
+/// while a batch has several, both cores for the last one left
+/// (`Simulation::set_threads`).
+fn run(recording: &Recording, scene: &Scene) -> Result<Replay, String> {
+    let options = ReplayOptions {
+        rest: RestTolerance::for_fits(),
+        ..ReplayOptions::default()
+    };
+    replay(recording, scene, options, |_| {}).map_err(|e| e.to_string())
+}
+
+/// Progress of a fit: simulations done and the best NRMSE so far.
+pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
+
+/// Fits `params` of the recording's scene to the recording, starting
+/// from the scene's values (clamped into the bounds; the middle of the
+/// bounds for a spring limit that is off).
+pub fn fit(
+    recording: &Recording,
+    params: &[FitParam],
+    options: FitOptions,
+    progress: Progress,
+) -> Result<Fit, FitError> {
+    let scene = &recording.scene;
+    let start: Vec<f64> = params
+        .iter()
+        .map(|p| {
+            let v = params::get(scene, p.param.name).ok().flatten();
+            v.map_or_else(|| p.value(0.5), |v| p.value(p.unit(v)))
+        })
+        .collect();
+    let at_values = |values: &[f64]| -> Result<Replay, String> {
+        run(recording, &scene_with(scene, params, values)?)
+    };
+    let first = at_values(&start).map_err(start_error)?;
+    let before = first.errors;
+    let mut trials = vec![Trial {
+        values: start.clone(),
+        nrmse: Ok(before.nrmse),
+    }];
+    let mut cache: HashMap<Vec<u64>, f64> = HashMap::new();
+    let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    let u0: Vec<f64> = params.iter().zip(&start).map(|(p, v)| p.unit(*v)).collect();
+    cache.insert(key(&u0), before.nrmse);
+    let best_so_far = std::sync::Mutex::new(before.nrmse);
+    let mut evaluate = |points: &[Vec<f64>]| -> Vec<f64> {
+        let todo: Vec<Vec<f64>> = points
+            .iter()
+            .filter(|u| !cache.contains_key(&key(u)))
+            .cloned()
+            .collect();
+        let done_before = trials.len();
+        let results = parallel_map(
+            &todo,
+            options.workers,
+            |u| {
+                let values: Vec<f64> = params.iter().zip(u).map(|(p, x)| p.value(*x)).collect();
+                let r = at_values(&values).map(|r| r.errors.nrmse);
+                if let (Ok(f), Ok(mut b)) = (&r, best_so_far.lock()) {
+                    *b = b.min(*f);
+                }
+                (values, r)
+            },
+            &|n| {
+                let best = best_so_far.lock().map_or(f64::NAN, |b| *b);
+                progress(done_before + n, best);
+            },
+        );
+        for (u, (values, r)) in todo.iter().zip(results) {
+            let f = r.as_ref().map_or(f64::INFINITY, |f| *f);
+            cache.insert(key(u), f);
+            trials.push(Trial { values, nrmse: r });
+        }
+        points
+            .iter()
+            .map(|u| cache.get(&key(u)).copied().unwrap_or(f64::INFINITY))
+            .collect()
+    };
+    // A space-filling design first: NRMSE is flat wherever a spring limit
+    // acts on no spring, and a local search that starts on such a plateau
+    // never leaves it.
+    let (mut best_u, mut best_f) = (u0, before.nrmse);
+    let design: Vec<Vec<f64>> = (1..=options.design_points(params.len()))
+        .map(|k| halton(k, params.len()))
+        .collect();
+    for (u, f) in design.iter().zip(evaluate(&design)) {
+        if f < best_f {
+            (best_u, best_f) = (u.clone(), f);
+        }
+    }
+    let mut spent = 1 + design.len();
+    let mut converged;
+    let first_search = minimize(
+        &mut evaluate,
+        &best_u,
+        best_f,
+        options.max_evaluations.saturating_sub(spent),
+        options,
+    );
+    spent += first_search.evaluations;
+    (best_u, best_f, converged) = (first_search.x, first_search.f, first_search.converged);
+    let value_at =
+        |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
+    let mut fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
+    // A spring limit above every strain of the fitted run acts nowhere, and
+    // NRMSE is flat in it: the search may have settled there with the
+    // modulus making up for it. Try again with such limits just below the
+    // largest strain (so that they act), and keep what fits better.
+    for _ in 0..2 {
+        let mut retry = best_u.clone();
+        let mut changed = false;
+        for (i, p) in params.iter().enumerate() {
+            let largest = match p.param.name {
+                "tau_s" => fitted_replay.largest_strain[0],
+                "tau_c" => fitted_replay.largest_strain[1],
+                _ => continue,
+            };
+            if p.value(best_u[i]) > largest && largest > 0.0 {
+                retry[i] = p.unit(0.8 * largest);
+                changed |= retry[i] != best_u[i];
+            }
+        }
+        if !changed || spent >= options.max_evaluations {
+            break;
+        }
+        let f = evaluate(std::slice::from_ref(&retry))[0];
+        spent += 1;
+        let r = minimize(
+            &mut evaluate,
+            &retry,
+            f,
+            options.max_evaluations.saturating_sub(spent),
+            options,
+        );
+        spent += r.evaluations;
+        if r.f >= best_f {
+            break;
+        }
+        (best_u, best_f, converged) = (r.x, r.f, r.converged);
+        fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
+    }
+    let fitted = value_at(&best_u);
+    let at_bound = best_u.iter().map(|u| at_bound(*u)).collect();
+    let after = fitted_replay.errors;
+    check_cancel()?;
+    let (uncertainty, sensitivity) = evidence(recording, params, &fitted, &fitted_replay, options);
+    check_cancel()?;
+    Ok(Fit {
+        params: params.to_vec(),
+        start,
+        before,
+        fitted,
+        after,
+        start_replay: first,
+        replay: fitted_replay,
+        trials,
+        converged,
+        at_bound,
+        uncertainty,
+        sensitivity,
+    })
+}
+
+/// The uncertainty and the sensitivity at the fit.
+fn evidence(
+    recording: &Recording,
+    params: &[FitParam],
+    fitted: &[f64],
+    at_fit: &Replay,
+    options: FitOptions,
+) -> (Uncertainty, Vec<Sensitivity>) {
+    let p = params.len();
+    let r0 = components(&at_fit.residuals);
+    let m = r0.len();
+    let ssr: f64 = r0.iter().map(|x| x * x).sum();
+    let dof = m.saturating_sub(p).max(1) as f64;
+    // A floor far below any measurement keeps a perfect fit well defined.
+    let sigma2 = (ssr / dof).max(1e-24);
+    // Central-difference steps, then the +/-10 % points.
+    let steps: Vec<f64> = params
+        .iter()
+        .zip(fitted)
+        .map(|(q, v)| {
+            if *v != 0.0 {
+                0.01 * v.abs()
+            } else {
+                0.01 * (q.upper - q.lower)
+            }
+        })
+        .collect();
+    let mut points: Vec<Vec<f64>> = Vec::with_capacity(4 * p);
+    for i in 0..p {
+        for delta in [-steps[i], steps[i], -0.1 * fitted[i], 0.1 * fitted[i]] {
+            let mut v = fitted.to_vec();
+            v[i] += delta;
+            points.push(v);
+        }
+    }
+    let runs = parallel_map(
+        &points,
+        options.workers,
+        |values| scene_with(&recording.scene, params, values).and_then(|s| run(recording, &s)),
+        &|_| {},
+    );
+    let mut jacobian: Vec<Option<Vec<f64>>> = Vec::with_capacity(p);
+    let mut sensitivity: Vec<(Option<f64>, Option<f64>, bool, bool)> = Vec::with_capacity(p);
+    // The rise of the sum of squared residuals against chi-square's 95 %.
+    let significant = |e: Option<&Errors>| {
+        e.is_some_and(|e| {
+            let rise = e.count as f64 * e.rmse_m.powi(2) - ssr;
+            rise > 3.84 * sigma2
+        })
+    };
+    for i in 0..p {
+        let run_at = |k: usize| runs[4 * i + k].as_ref().ok();
+        let column = match (run_at(0), run_at(1)) {
+            (Some(a), Some(b)) => {
+                let (ra, rb) = (components(&a.residuals), components(&b.residuals));
+                (ra.len() == m && rb.len() == m).then(|| {
+                    ra.iter()
+                        .zip(&rb)
+                        .map(|(x, y)| (y - x) / (2.0 * steps[i]))
+                        .collect()
+                })
+            }
+            _ => None,
+        };
+        jacobian.push(column);
+        let (minus, plus) = (run_at(2).map(|r| &r.errors), run_at(3).map(|r| &r.errors));
+        sensitivity.push((
+            minus.map(|e| e.nrmse),
+            plus.map(|e| e.nrmse),
+            significant(minus),
+            significant(plus),
+        ));
+    }
+    let (standard_errors, correlations) = covariance(&jacobian, m, sigma2);
+    let sensitivity = sensitivity
+        .into_iter()
+        .enumerate()
+        .map(|(i, (minus, plus, low, high))| {
+            let relative = standard_errors[i] / fitted[i].abs();
+            let verdict = match (low, high) {
+                (true, true) => Identifiability::Identified,
+                _ if relative < 0.5 => Identifiability::Weak,
+                (false, false) => Identifiability::Unidentifiable,
+                _ => Identifiability::OneSided,
+            };
+            Sensitivity {
+                minus,
+                plus,
+                verdict,
+            }
+        })
+        .collect();
+    (
+        Uncertainty {
+            residuals: m,
+            sigma_m: sigma2.sqrt(),
+            standard_errors,
+            correlations,
+        },
+        sensitivity,
+    )
+}
+
+/// Standard errors and correlations from Jacobian columns (`None`: not
+/// available) and the noise variance: `sigma2 (J^T J)^-1`, leaving out the
+/// columns that are missing or zero (infinite error).
+fn covariance(columns: &[Option<Vec<f64>>], m: usize, sigma2: f64) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let p = columns.len();
+    let norms: Vec<f64> = columns
+        .iter()
+        .map(|c| {
+            c.as_ref()
+                .map_or(0.0, |c| c.iter().map(|x| x * x).sum::<f64>().sqrt())
+        })
+        .collect();
+    let largest = norms.iter().copied().fold(0.0, f64::max);
+    let kept: Vec<usize> = (0..p)
+        .filter(|&i| norms[i] > 1e-12 * largest && norms[i] > 0.0)
+        .collect();
+    let mut se = vec![f64::INFINITY; p];
+    let mut corr = vec![vec![f64::NAN; p]; p];
+    let k = kept.len();
+    if k == 0 {
+        return (se, corr);
+    }
+    // Normal matrix of the unit-scaled columns (better conditioned).
+    let mut a = vec![vec![0.0; k]; k];
+    for (x, &i) in kept.iter().enumerate() {
+        for (y, &j) in kept.iter().enumerate() {
+            let (ci, cj) = match (&columns[i], &columns[j]) {
+                (Some(ci), Some(cj)) => (ci, cj),
+                _ => return (se, corr),
+            };
+            a[x][y] = (0..m).map(|r| ci[r] * cj[r]).sum::<f64>() / (norms[i] * norms[j]);
+        }
+    }
+    let Some(inv) = invert(a) else {
+        return (se, corr);
+    };
+    for (x, &i) in kept.iter().enumerate() {
+        se[i] = (sigma2 * inv[x][x]).sqrt() / norms[i];
+        for (y, &j) in kept.iter().enumerate() {
+            corr[i][j] = inv[x][y] / (inv[x][x] * inv[y][y]).sqrt();
+        }
+    }
+    (se, corr)
+}
+
+/// Gauss-Jordan inverse with partial pivoting; `None` when singular (a
+/// pivot below 1e-10 of the unit-diagonal matrix's scale).
+fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
+    let n = a.len();
+    let mut inv: Vec<Vec<f64>> = (0..n)
+        .map(|i| (0..n).map(|j| if i == j { 1.0 } else { 0.0 }).collect())
+        .collect();
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+        if a[pivot][col].abs() < 1e-10 {
+            return None;
+        }
+        a.swap(col, pivot);
+        inv.swap(col, pivot);
+        let d = a[col][col];
+        for j in 0..n {
+            a[col][j] /= d;
+            inv[col][j] /= d;
+        }
+        for row in 0..n {
+            if row != col {
+                let f = a[row][col];
+                if f != 0.0 {
+                    for j in 0..n {
+                        a[row][j] -= f * a[col][j];
+                        inv[row][j] -= f * inv[col][j];
+                    }
+                }
+            }
+        }
+    }
+    Some(inv)
+}
+
+/// Nelder-Mead from `x0`, restarted from its best point with a fresh
+/// simplex until a restart gains nothing: a simplex that collapsed (onto
+/// a bound, or along a plateau) gets its dimensions back. `converged`:
+/// the last run converged or stalled rather than running out of budget.
+pub fn minimize(
+    f: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>,
+    x0: &[f64],
+    f0: f64,
+    budget: usize,
+    options: FitOptions,
+) -> Minimum {
+    let mut best = Minimum {
+        x: x0.to_vec(),
+        f: f0,
+        evaluations: 0,
+        converged: false,
+        stalled: false,
+    };
+    let mut step = 0.1;
+    loop {
+        let left = budget.saturating_sub(best.evaluations);
+        if left == 0 {
+            best.converged = false;
+            break;
+        }
+        let r = nelder_mead(f, &best.x, best.f, step, left, options);
+        best.evaluations += r.evaluations;
+        let gained = best.f - r.f;
+        if r.f <= best.f {
+            (best.x, best.f) = (r.x, r.f);
+        }
+        best.converged = r.converged || r.stalled;
+        best.stalled = r.stalled;
+        if !best.converged || gained <= options.f_tolerance * best.f.abs() {
+            break;
+        }
+        step = 0.05;
+    }
+    best
+}
+
+/// A batch of points in, their residual vectors out (`None`: failed).
+pub type ResidualBatch<'a> = dyn FnMut(&[Vec<f64>]) -> Vec<Option<Vec<f64>>> + 'a;
+
+/// Bounded Levenberg-Marquardt on the unit box for a least-squares cost:
+/// `f` maps a batch of points to their residual vectors (`None` where the
+/// simulation failed); the cost is the sum of squares. The Jacobian comes
+/// from forward differences of `jacobian_step` (stepped inward at a
+/// bound), and each iteration tries two damping factors at once (a batch
+/// of two runs on two cores costs one). Stops when a step gains less than
+/// `f_tolerance` of the cost, moves less than `x_tolerance`, or the
+/// `budget` of new evaluations is spent.
+pub fn levenberg_marquardt(
+    f: &mut ResidualBatch,
+    x0: &[f64],
+    r0: Vec<f64>,
+    budget: usize,
+    options: FitOptions,
+    jacobian_step: f64,
+) -> Minimum {
+    let n = x0.len();
+    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    let (mut x, mut r) = (x0.to_vec(), r0);
+    let mut fx = cost(&r);
+    let mut evaluations = 0;
+    let mut lambda = 1e-2;
+    let mut converged = false;
+    while evaluations + n + 2 <= budget {
+        // Jacobian, column by column.
+        let steps: Vec<f64> = x
+            .iter()
+            .map(|&v| {
+                if v + jacobian_step <= 1.0 {
+                    jacobian_step
+                } else {
+                    -jacobian_step
+                }
+            })
+            .collect();
+        let probes: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                let mut p = x.clone();
+                p[i] += steps[i];
+                p
+            })
+            .collect();
+        let columns = f(&probes);
+        evaluations += n;
+        let mut jac: Vec<Vec<f64>> = Vec::with_capacity(n);
+        for (i, c) in columns.into_iter().enumerate() {
+            match c {
+                Some(c) if c.len() == r.len() => {
+                    jac.push(c.iter().zip(&r).map(|(a, b)| (a - b) / steps[i]).collect())
+                }
+                _ => jac.push(vec![0.0; r.len()]),
+            }
+        }
+        // Normal equations.
+        let jtj: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| jac[i].iter().zip(&jac[j]).map(|(a, b)| a * b).sum())
+                    .collect()
+            })
+            .collect();
+        let jtr: Vec<f64> = (0..n)
+            .map(|i| jac[i].iter().zip(&r).map(|(a, b)| a * b).sum())
+            .collect();
+        // A parameter that does nothing where it stands (a relaxation
+        // time while the relaxing share is 0) has a zero column: it is
+        // held for this step instead of making the system singular, and
+        // the others move. The system is scaled to its largest diagonal.
+        let scale = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
+        let inert: Vec<bool> = (0..n).map(|i| jtj[i][i] <= 1e-12 * scale).collect();
+        let step_for = |lambda: f64| -> Option<Vec<f64>> {
+            if scale <= 0.0 || !scale.is_finite() {
+                return None;
+            }
+            let a: Vec<Vec<f64>> = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| match (inert[i] || inert[j], i == j) {
+                            (true, true) => 1.0,
+                            (true, false) => 0.0,
+                            (false, true) => jtj[i][i] / scale * (1.0 + lambda),
+                            (false, false) => jtj[i][j] / scale,
+                        })
+                        .collect()
+                })
+                .collect();
+            let inv = invert(a)?;
+            Some(
+                (0..n)
+                    .map(|i| {
+                        let d: f64 = (0..n)
+                            .filter(|&j| !inert[j])
+                            .map(|j| -inv[i][j] * jtr[j] / scale)
+                            .sum();
+                        (x[i] + d).clamp(0.0, 1.0)
+                    })
+                    .collect(),
+            )
+        };
+        let mut improved = false;
+        for _ in 0..6 {
+            if evaluations + 2 > budget {
+                break;
+            }
+            let lambdas = [lambda, lambda * 10.0];
+            let trials: Vec<Vec<f64>> = lambdas.iter().filter_map(|&l| step_for(l)).collect();
+            if trials.is_empty() {
+                break;
+            }
+            // Steps within the tolerance are not worth a run: where the
+            // model says to move less than `x_tolerance`, this is the
+            // minimum (a step that small would end the search anyway).
+            let moves = |t: &Vec<f64>| {
+                t.iter()
+                    .zip(&x)
+                    .any(|(a, b)| (a - b).abs() > options.x_tolerance)
+            };
+            if !trials.iter().any(moves) {
+                converged = true;
+                break;
+            }
+            let results = f(&trials);
+            evaluations += trials.len();
+            let best = trials
+                .iter()
+                .zip(results)
+                .enumerate()
+                .filter_map(|(k, (t, res))| res.map(|res| (k, t.clone(), cost(&res), res)))
+                .min_by(|a, b| a.2.total_cmp(&b.2));
+            match best {
+                Some((k, t, c, res)) if c < fx => {
+                    let moved = t
+                        .iter()
+                        .zip(&x)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max);
+                    let gained = fx - c;
+                    (x, r, fx) = (t, res, c);
+                    lambda = if k == 0 { lambda / 5.0 } else { lambda * 2.0 };
+                    lambda = lambda.max(1e-7);
+                    improved = true;
+                    if gained <= options.f_tolerance * fx || moved <= options.x_tolerance {
+                        converged = true;
+                    }
+                    break;
+                }
+                _ => lambda *= 100.0,
+            }
+        }
+        if !improved || converged {
+            converged = converged || !improved;
+            break;
+        }
+    }
+    Minimum {
+        x,
+        f: fx,
+        evaluations,
+        converged,
+        stalled: false,
+    }
+}
+
+/// What one Nelder-Mead run found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Minimum {
+    pub x: Vec<f64>,
+    pub f: f64,
+    pub evaluations: usize,
+    pub converged: bool,
+    /// Stopped because the best did not improve for a while.
+    pub stalled: bool,
+}
+
+/// Bounded Nelder-Mead on the unit box: minimises `f` (given batches of
+/// points, evaluated together) from `x0` (where `f0` is known), with a
+/// first simplex of edge `step`, at most `budget` new evaluations.
+pub fn nelder_mead(
+    f: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>,
+    x0: &[f64],
+    f0: f64,
+    step: f64,
+    budget: usize,
+    options: FitOptions,
+) -> Minimum {
+    let n = x0.len();
+    let nf = n as f64;
+    let (reflect, expand) = (1.0, 1.0 + 2.0 / nf);
+    let (contract, shrink) = (0.75 - 1.0 / (2.0 * nf), 1.0 - 1.0 / nf);
+    let clamp = |x: Vec<f64>| -> Vec<f64> { x.into_iter().map(|v| v.clamp(0.0, 1.0)).collect() };
+    let mut simplex: Vec<Vec<f64>> = vec![x0.to_vec()];
+    for i in 0..n {
+        let mut x = x0.to_vec();
+        x[i] = if x[i] + step <= 1.0 {
+            x[i] + step
+        } else {
+            x[i] - step
+        };
+        simplex.push(x);
+    }
+    let mut values = vec![f0];
+    values.extend(f(&simplex[1..]));
+    let mut evaluations = n;
+    let (mut converged, mut stalled) = (false, false);
+    // The best value and the evaluation count when it last improved.
+    let mut progress_at = (f64::INFINITY, 0);
+    let combine = |a: &[f64], b: &[f64], t: f64| -> Vec<f64> {
+        a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect()
+    };
+    loop {
+        let mut order: Vec<usize> = (0..=n).collect();
+        order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+        simplex = order.iter().map(|&i| simplex[i].clone()).collect();
+        values = order.iter().map(|&i| values[i]).collect();
+        let size = simplex[1..]
+            .iter()
+            .flat_map(|x| x.iter().zip(&simplex[0]).map(|(a, b)| (a - b).abs()))
+            .fold(0.0, f64::max);
+        let spread = values[n] - values[0];
+        let tolerance = options.f_tolerance * values[0].abs();
+        if size <= options.x_tolerance && spread <= tolerance {
+            converged = true;
+            break;
+        }
+        if values[0] < progress_at.0 - tolerance {
+            progress_at = (values[0], evaluations);
+        }
+        if evaluations - progress_at.1 >= options.stall * (n + 1) {
+            stalled = true;
+            break;
+        }
+        if evaluations >= budget {
+            break;
+        }
+        let centroid: Vec<f64> = (0..n)
+            .map(|k| simplex[..n].iter().map(|x| x[k]).sum::<f64>() / nf)
+            .collect();
+        let worst = simplex[n].clone();
+        let xr = clamp(combine(&centroid, &worst, -reflect));
+        let fr = f(std::slice::from_ref(&xr))[0];
+        evaluations += 1;
+        if fr < values[0] {
+            let xe = clamp(combine(&centroid, &worst, -reflect * expand));
+            let fe = f(std::slice::from_ref(&xe))[0];
+            evaluations += 1;
+            if fe < fr {
+                (simplex[n], values[n]) = (xe, fe);
+            } else {
+                (simplex[n], values[n]) = (xr, fr);
+            }
+            continue;
+        }
+        if fr < values[n - 1] {
+            (simplex[n], values[n]) = (xr, fr);
+            continue;
+        }
+        let (xc, limit) = if fr < values[n] {
+            (clamp(combine(&centroid, &xr, contract)), fr)
+        } else {
+            (clamp(combine(&centroid, &worst, contract)), values[n])
+        };
+        let fc = f(std::slice::from_ref(&xc))[0];
+        evaluations += 1;
+        if fc < limit {
+            (simplex[n], values[n]) = (xc, fc);
+            continue;
+        }
+        let best = simplex[0].clone();
+        for x in &mut simplex[1..] {
+            *x = combine(&best, x, shrink);
+        }
+        let shrunk = f(&simplex[1..]);
+        values[1..].copy_from_slice(&shrunk);
+        evaluations += n;
+    }
+    Minimum {
+        x: simplex[0].clone(),
+        f: values[0],
+        evaluations,
+        converged,
+        stalled,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A model curve y = a (1 - exp(-b t)) with a, b mapped from the unit
+    /// box; noise-free data from known values are fitted back to them.
+    #[test]
+    fn levenberg_marquardt_recovers_an_exponential_rise() {
+        let ts: Vec<f64> = (0..20).map(|k| 0.1 * k as f64).collect();
+        let model = |u: &[f64]| -> Vec<f64> {
+            let (a, b) = (1.0 + 4.0 * u[0], 0.5 + 5.0 * u[1]);
+            ts.iter().map(|t| a * (1.0 - (-b * t).exp())).collect()
+        };
+        let truth = model(&[0.3, 0.6]);
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            points
+                .iter()
+                .map(|u| Some(model(u).iter().zip(&truth).map(|(m, d)| m - d).collect()))
+                .collect()
+        };
+        let x0 = [0.8, 0.1];
+        let r0 = f(&[x0.to_vec()]).remove(0).unwrap_or_default();
+        let options = FitOptions {
+            x_tolerance: 1e-9,
+            f_tolerance: 1e-12,
+            ..FitOptions::default()
+        };
+        let m = levenberg_marquardt(&mut f, &x0, r0, 200, options, 1e-6);
+        assert!((m.x[0] - 0.3).abs() < 1e-4, "{:?}", m.x);
+        assert!((m.x[1] - 0.6).abs() < 1e-4, "{:?}", m.x);
+        assert!(m.evaluations <= 200);
+    }
+
+    /// Started at the minimum of a noisy fit (the residual does not
+    /// vanish), the search spends the Jacobian and stops: the steps it
+    /// would try are within the tolerance, and are not run. Started away
+    /// from it, it gets there.
+    #[test]
+    fn levenberg_marquardt_does_not_run_steps_within_the_tolerance() {
+        let ts: Vec<f64> = (0..20).map(|k| 0.1 * k as f64).collect();
+        // A straight line fitted to a sine: a minimum with a residual.
+        let data: Vec<f64> = ts.iter().map(|t| (3.0 * t).sin()).collect();
+        let model = |u: &[f64]| -> Vec<f64> {
+            let (a, b) = (-2.0 + 4.0 * u[0], -2.0 + 4.0 * u[1]);
+            ts.iter().map(|t| a + b * t).collect()
+        };
+        // The least-squares line, in closed form.
+        let n = ts.len() as f64;
+        let (st, sy) = (ts.iter().sum::<f64>(), data.iter().sum::<f64>());
+        let stt = ts.iter().map(|t| t * t).sum::<f64>();
+        let sty = ts.iter().zip(&data).map(|(t, y)| t * y).sum::<f64>();
+        let b = (n * sty - st * sy) / (n * stt - st * st);
+        let a = (sy - b * st) / n;
+        let best = [(a + 2.0) / 4.0, (b + 2.0) / 4.0];
+        let runs = std::cell::Cell::new(0usize);
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            runs.set(runs.get() + points.len());
+            points
+                .iter()
+                .map(|u| Some(model(u).iter().zip(&data).map(|(m, d)| m - d).collect()))
+                .collect()
+        };
+        let options = FitOptions {
+            x_tolerance: 2e-3,
+            f_tolerance: 1e-4,
+            ..FitOptions::default()
+        };
+        let r0 = f(&[best.to_vec()]).remove(0).unwrap_or_default();
+        runs.set(0);
+        let m = levenberg_marquardt(&mut f, &best, r0, 100, options, 1e-2);
+        assert!(m.converged);
+        assert_eq!(m.evaluations, 2, "the Jacobian's two columns only");
+        assert_eq!(runs.get(), 2);
+        assert_eq!(m.x, best.to_vec());
+        let start = [0.9, 0.1];
+        let r0 = f(&[start.to_vec()]).remove(0).unwrap_or_default();
+        let m = levenberg_marquardt(&mut f, &start, r0, 100, options, 1e-2);
+        assert!(m.converged);
+        for (x, b) in m.x.iter().zip(best) {
+            assert!((x - b).abs() < 2e-3, "{:?} against {best:?}", m.x);
+        }
+    }
+
+    /// A parameter with no effect at the start (the time constant of an
+    /// amplitude that starts at 0) neither stalls the search nor stops
+    /// the other: the amplitude moves first, then the time constant.
+    #[test]
+    fn levenberg_marquardt_moves_past_a_parameter_that_starts_inert() {
+        let ts: Vec<f64> = (1..30).map(|k| 0.1 * k as f64).collect();
+        let model = |u: &[f64]| -> Vec<f64> {
+            let (a, tau) = (2.0 * u[0], 0.2 + 2.0 * u[1]);
+            ts.iter().map(|t| a * (-t / tau).exp()).collect()
+        };
+        let truth = model(&[0.6, 0.3]);
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            points
+                .iter()
+                .map(|u| Some(model(u).iter().zip(&truth).map(|(m, d)| m - d).collect()))
+                .collect()
+        };
+        let x0 = [0.0, 0.5];
+        let r0 = f(&[x0.to_vec()]).remove(0).unwrap_or_default();
+        let options = FitOptions {
+            x_tolerance: 1e-9,
+            f_tolerance: 1e-12,
+            ..FitOptions::default()
+        };
+        let m = levenberg_marquardt(&mut f, &x0, r0, 300, options, 1e-6);
+        assert!((m.x[0] - 0.6).abs() < 1e-3, "{:?}", m.x);
+        assert!((m.x[1] - 0.3).abs() < 1e-3, "{:?}", m.x);
+    }
+
+    /// The optimum outside the box: the search ends on the bound.
+    #[test]
+    fn levenberg_marquardt_stops_on_a_bound() {
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            points
+                .iter()
+                .map(|u| Some(vec![u[0] - 1.5, 2.0 * (u[1] - 0.25)]))
+                .collect()
+        };
+        let r0 = f(&[vec![0.5, 0.5]]).remove(0).unwrap_or_default();
+        let m = levenberg_marquardt(&mut f, &[0.5, 0.5], r0, 100, FitOptions::default(), 1e-4);
+        assert!((m.x[0] - 1.0).abs() < 1e-9, "{:?}", m.x);
+        assert!((m.x[1] - 0.25).abs() < 1e-3, "{:?}", m.x);
+    }
+
+    #[test]
+    fn covariance_of_orthogonal_columns_is_sigma_over_their_norms() {
+        // r = J theta + noise with J's columns orthogonal: the standard
+        // errors are sigma / |J_i| and the estimates are uncorrelated.
+        let columns = vec![
+            Some(vec![1.0, 1.0, 0.0, 0.0]),
+            Some(vec![0.0, 0.0, 2.0, -2.0]),
+            None,
+        ];
+        let (se, corr) = covariance(&columns, 4, 0.25);
+        assert!((se[0] - 0.5 / 2f64.sqrt()).abs() < 1e-12, "{se:?}");
+        assert!((se[1] - 0.5 / 8f64.sqrt()).abs() < 1e-12, "{se:?}");
+        assert!(se[2].is_infinite());
+        assert!(corr[0][1].abs() < 1e-12 && (corr[0][0] - 1.0).abs() < 1e-12);
+        // Two equal columns cannot be told apart: no finite error.
+        let same = vec![Some(vec![1.0, 2.0]), Some(vec![1.0, 2.0])];
+        let (se, _) = covariance(&same, 2, 1.0);
+        assert!(se.iter().all(|s| s.is_infinite()), "{se:?}");
+        // Correlated but separable: the textbook 2x2 inverse.
+        let cols = vec![Some(vec![1.0, 0.0, 1.0]), Some(vec![1.0, 1.0, 0.0])];
+        let (se, corr) = covariance(&cols, 3, 1.0);
+        // J^T J = [[2, 1], [1, 2]], inverse [[2, -1], [-1, 2]] / 3.
+        assert!((se[0] - (2.0f64 / 3.0).sqrt()).abs() < 1e-12, "{se:?}");
+        assert!((corr[0][1] + 0.5).abs() < 1e-12, "{corr:?}");
+    }
+}

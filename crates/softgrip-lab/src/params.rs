@@ -1,0 +1,339 @@
+//! Scene parameters by name, for sweeps and fits (`--param tau_c=...`):
+//! reading one, setting one with the scene file's own range checks (a bad
+//! value is an error naming the parameter and the allowed range), and the
+//! grids of `softgrip sweep`.
+
+use softgrip_core::scene::Scene;
+
+/// A parameter that sweeps and fits may vary.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Param {
+    pub name: &'static str,
+    pub unit: &'static str,
+    /// Natural on a log scale (moduli, alpha, the spring limits: their
+    /// plausible values span decades, and a search needs as many trials
+    /// at 0.02 to 0.05, where a limit acts, as at 0.2 to 0.5, where it
+    /// often does not).
+    pub log: bool,
+    pub about: &'static str,
+}
+
+pub const PARAMS: &[Param] = &[
+    Param {
+        name: "young_modulus",
+        unit: "Pa",
+        log: true,
+        about: "[object] young_modulus",
+    },
+    Param {
+        name: "poisson_ratio",
+        unit: "",
+        log: false,
+        about: "[object] poisson_ratio",
+    },
+    Param {
+        name: "density",
+        unit: "kg/m^3",
+        log: false,
+        about: "[object] density",
+    },
+    Param {
+        name: "alpha",
+        unit: "",
+        log: true,
+        about: "[model] alpha, the volume-preservation force scale",
+    },
+    Param {
+        name: "tau_s",
+        unit: "",
+        log: true,
+        about: "[model] tau_s, the over-stretch limit",
+    },
+    Param {
+        name: "tau_c",
+        unit: "",
+        log: true,
+        about: "[model] tau_c, the over-compression limit",
+    },
+    Param {
+        name: "damping_ratio",
+        unit: "",
+        log: false,
+        about: "[model] damping_ratio",
+    },
+    Param {
+        name: "bulk_modulus",
+        unit: "Pa",
+        log: true,
+        about: "[model] bulk_modulus (softgrip)",
+    },
+    Param {
+        name: "limit_stiffness",
+        unit: "",
+        log: true,
+        about: "[model] limit_stiffness (softgrip)",
+    },
+    Param {
+        name: "stiffening",
+        unit: "",
+        log: false,
+        about: "[model] stiffening, strain stiffening of the springs or the neo-Hookean elements (softgrip)",
+    },
+    Param {
+        name: "stiffening_cubic",
+        unit: "",
+        log: false,
+        about: "[model] stiffening_cubic, the third-order strain stiffening of the neo-Hookean elements (softgrip)",
+    },
+    Param {
+        name: "softening",
+        unit: "",
+        log: false,
+        about: "[model] softening, the early softening of the neo-Hookean elements before stiffening_cubic (softgrip)",
+    },
+    Param {
+        name: "compression_ratio",
+        unit: "",
+        log: true,
+        about: "[model] compression_ratio, spring stiffness in compression over tension (softgrip)",
+    },
+    Param {
+        name: "prony_g",
+        unit: "",
+        log: false,
+        about: "[model] prony_g, the share of the stiffness that relaxes (softgrip)",
+    },
+    Param {
+        name: "prony_tau",
+        unit: "s",
+        log: true,
+        about: "[model] prony_tau, the relaxation time constant (softgrip)",
+    },
+    Param {
+        name: "region_young_modulus",
+        unit: "Pa",
+        log: true,
+        about: "every [[region]] young_modulus (softgrip)",
+    },
+    Param {
+        name: "friction",
+        unit: "",
+        log: false,
+        about: "every [[finger]] friction",
+    },
+    Param {
+        name: "table_friction",
+        unit: "",
+        log: false,
+        about: "[support] friction, object-table (with kind = \"table\")",
+    },
+    Param {
+        name: "guide_friction",
+        unit: "N",
+        log: false,
+        about: "every [[finger]] guide_friction, Coulomb friction in the finger's guide (softgrip)",
+    },
+    Param {
+        name: "restitution",
+        unit: "",
+        log: false,
+        about: "every [[finger]] restitution",
+    },
+    Param {
+        name: "contact_stiffness_scale",
+        unit: "",
+        log: true,
+        about: "every [[finger]] contact_stiffness_scale (softgrip)",
+    },
+    Param {
+        name: "dt",
+        unit: "s",
+        log: true,
+        about: "[simulation] dt",
+    },
+];
+
+/// The parameter called `name`, or an error listing the known ones.
+pub fn find(name: &str) -> Result<&'static Param, String> {
+    PARAMS.iter().find(|p| p.name == name).ok_or_else(|| {
+        format!(
+            "unknown parameter {name:?}; known: {}",
+            PARAMS.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+        )
+    })
+}
+
+/// The parameter's value in `scene` (`None`: a limit that is off, or a
+/// finger parameter in a scene without fingers).
+pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, String> {
+    find(name)?;
+    let first = scene.fingers.first();
+    Ok(match name {
+        "young_modulus" => Some(scene.object.young_modulus),
+        "poisson_ratio" => Some(scene.object.poisson_ratio),
+        "density" => Some(scene.object.density),
+        "alpha" => Some(scene.model.alpha),
+        "tau_s" => scene.model.tau_s,
+        "tau_c" => scene.model.tau_c,
+        "damping_ratio" => Some(scene.model.damping_ratio),
+        "bulk_modulus" => Some(scene.model.bulk_modulus),
+        "limit_stiffness" => Some(scene.model.limit_stiffness),
+        "stiffening" => Some(scene.model.stiffening),
+        "stiffening_cubic" => Some(scene.model.stiffening_cubic),
+        "softening" => Some(scene.model.softening),
+        "compression_ratio" => Some(scene.model.compression_ratio),
+        "prony_g" => Some(scene.model.prony_g),
+        "prony_tau" => Some(scene.model.prony_tau),
+        "region_young_modulus" => scene.regions.first().map(|r| r.young_modulus),
+        "friction" => first.map(|f| f.friction),
+        "table_friction" => (scene.support.kind == softgrip_core::scene::SupportKind::Table)
+            .then_some(scene.support.friction),
+        "restitution" => first.map(|f| f.restitution),
+        "guide_friction" => first.map(|f| f.guide_friction),
+        "contact_stiffness_scale" => first.map(|f| f.contact_stiffness_scale),
+        "dt" => Some(scene.simulation.dt),
+        _ => None,
+    })
+}
+
+/// `scene` with `name` set to `value`, checked as a scene file is: a value
+/// the file would reject is an error naming the parameter and the rule.
+pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
+    find(name)?;
+    let mut s = scene.clone();
+    match name {
+        "young_modulus" => s.object.young_modulus = value,
+        "poisson_ratio" => s.object.poisson_ratio = value,
+        "density" => s.object.density = value,
+        "alpha" => s.model.alpha = value,
+        "tau_s" => s.model.tau_s = Some(value),
+        "tau_c" => s.model.tau_c = Some(value),
+        "damping_ratio" => s.model.damping_ratio = value,
+        "bulk_modulus" => s.model.bulk_modulus = value,
+        "limit_stiffness" => s.model.limit_stiffness = value,
+        "stiffening" => s.model.stiffening = value,
+        "stiffening_cubic" => s.model.stiffening_cubic = value,
+        "softening" => s.model.softening = value,
+        "compression_ratio" => s.model.compression_ratio = value,
+        "prony_g" => s.model.prony_g = value,
+        "prony_tau" => s.model.prony_tau = value,
+        "region_young_modulus" => {
+            if s.regions.is_empty() {
+                return Err("region_young_modulus needs a [[region]] in the scene".into());
+            }
+            for r in &mut s.regions {
+                r.young_modulus = value;
+            }
+        }
+        "table_friction" => {
+            if s.support.kind != softgrip_core::scene::SupportKind::Table {
+                return Err(
+                    "table_friction needs a table: the scene's [support] kind is not \"table\""
+                        .into(),
+                );
+            }
+            s.support.friction = value;
+        }
+        "friction" | "restitution" | "contact_stiffness_scale" | "guide_friction" => {
+            if s.fingers.is_empty() {
+                return Err(format!(
+                    "{name} is a finger parameter and the scene has no finger"
+                ));
+            }
+            for f in &mut s.fingers {
+                match name {
+                    "friction" => f.friction = value,
+                    "restitution" => f.restitution = value,
+                    "guide_friction" => f.guide_friction = value,
+                    _ => f.contact_stiffness_scale = value,
+                }
+            }
+        }
+        "dt" => s.simulation.dt = value,
+        _ => {}
+    }
+    let mut checked = Scene::from_toml_str(&s.to_toml(), "parameter").map_err(|e| {
+        let message = e.to_string();
+        let rule = message
+            .split_once("is not allowed: ")
+            .map_or(message.as_str(), |(_, r)| r);
+        format!("{name} = {value}: not allowed: {rule}")
+    })?;
+    checked.source.clone_from(&scene.source);
+    if let (
+        softgrip_core::scene::Shape::Mesh { path: a, .. },
+        softgrip_core::scene::Shape::Mesh { path: b, .. },
+    ) = (&mut checked.object.shape, &scene.object.shape)
+    {
+        a.clone_from(b);
+    }
+    Ok(checked)
+}
+
+/// One axis of a sweep: a parameter and its values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    pub param: &'static Param,
+    pub values: Vec<f64>,
+}
+
+/// Parses `name=start:end:count`, with `:log` for log spacing (e.g.
+/// `tau_c=0.01:0.25:25`, `alpha=1e5:1e8:7:log`), or `name=v1,v2,...`.
+pub fn parse_axis(text: &str) -> Result<Axis, String> {
+    let bad = |why: &str| {
+        format!(
+            "--param {text:?}: {why}; write name=start:end:count (add :log for log spacing) or name=v1,v2,..."
+        )
+    };
+    let (name, spec) = text.split_once('=').ok_or_else(|| bad("no '='"))?;
+    let param = find(name.trim())?;
+    let number = |t: &str| -> Result<f64, String> {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(&format!("{t:?} is not a number")))
+    };
+    let values = if spec.contains(':') {
+        let parts: Vec<&str> = spec.split(':').collect();
+        let log = match parts.len() {
+            3 => false,
+            4 if parts[3].trim() == "log" => true,
+            _ => return Err(bad("a range has start:end:count")),
+        };
+        let (a, b) = (number(parts[0])?, number(parts[1])?);
+        let n: usize = parts[2]
+            .trim()
+            .parse()
+            .ok()
+            .filter(|n| (1..=10_000).contains(n))
+            .ok_or_else(|| bad("the count must be a whole number from 1 to 10000"))?;
+        if log && (a <= 0.0 || b <= 0.0) {
+            return Err(bad("a log range needs positive ends"));
+        }
+        (0..n)
+            .map(|k| {
+                let t = if n == 1 {
+                    0.0
+                } else {
+                    k as f64 / (n - 1) as f64
+                };
+                if k == 0 {
+                    a
+                } else if k + 1 == n {
+                    b
+                } else if log {
+                    (a.ln() + t * (b.ln() - a.ln())).exp()
+                } else {
+                    a + t * (b - a)
+                }
+            })
+            .collect()
+    } else {
+        spec.split(',').map(number).collect::<Result<Vec<_>, _>>()?
+    };
+    if values.is_empty() {
+        return Err(bad("no values"));
+    }
+    Ok(Axis { param, values })
+}

@@ -1,0 +1,210 @@
+//! Simulating a recording: the scene run as the recording says, sampled
+//! where the recording has samples, and compared with it.
+//!
+//! - Quasi-static: each sample's load on the first force-controlled finger
+//!   (along its scene `force` direction), then steps until at rest; the
+//!   next load starts from there (warm start), so loading then unloading
+//!   follows the path.
+//! - Time-series: from rest (the undeformed scene at t = 0) or from
+//!   equilibrium (settled under the first sample's load with
+//!   velocity-driven finger axes held still, then t = 0). A sample's load
+//!   holds from its time until the next sample's; positions are taken at
+//!   each sample's time, before its own load change acts.
+
+use std::sync::Arc;
+
+use crate::compare::{Attachment, Errors, Residual, attach, errors, marker_position};
+use crate::recording::{Mode, Recording, Start};
+use softgrip_core::error::SimError;
+use softgrip_core::model::AxisDrive;
+use softgrip_core::quasi_static::RestTolerance;
+use softgrip_core::scene::Scene;
+use softgrip_core::step::Simulation;
+
+/// A marker's reference farther than this fraction of the object's
+/// largest extent from its surface is an error: the recording and the
+/// scene do not describe the same object (units, frame or size). Marker
+/// centres a few millimetres off a 100 mm beam still attach.
+pub const OFF_SURFACE: f64 = 0.1;
+
+/// What simulating a recording gives.
+#[derive(Debug, Clone)]
+pub struct Replay {
+    pub attachments: Vec<Attachment>,
+    pub residuals: Vec<Residual>,
+    pub errors: Errors,
+    /// Volume error |V - V0| / V0 at each sample (thesis eq. 47-48).
+    pub volume_errors: Vec<f64>,
+    /// The largest spring stretch and compression (strain, positive) at
+    /// any sample: a limit tau_s or tau_c above them never acted.
+    pub largest_strain: [f64; 2],
+    /// With [`ReplayOptions::keep_states`]: the particle and finger
+    /// positions at each sample (for showing a sample in the viewer).
+    pub states: Vec<SampleState>,
+}
+
+/// The object and the fingers where a sample was taken.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampleState {
+    pub positions: Vec<glam::DVec3>,
+    pub fingers: Vec<glam::DVec3>,
+}
+
+/// Options of a replay.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ReplayOptions {
+    pub rest: RestTolerance,
+    /// Threads for the simulation (see `Simulation::set_threads`; 0 =
+    /// up to 2, as the machine has cores free: see
+    /// `Simulation::set_threads`).
+    pub threads: usize,
+    /// Keep each sample's positions in [`Replay::states`].
+    pub keep_states: bool,
+}
+
+/// Simulates `recording` on `scene` (its own scene, or one with other
+/// parameters for fitting); `progress` gets the number of samples done.
+pub fn replay(
+    recording: &Recording,
+    scene: &Scene,
+    options: ReplayOptions,
+    mut progress: impl FnMut(usize),
+) -> Result<Replay, SimError> {
+    let mut sim = Simulation::new(scene)?;
+    sim.set_threads(options.threads);
+    let references: Vec<_> = recording.markers.iter().map(|m| m.reference).collect();
+    let attachments = attach(&sim.model, &references);
+    let limit = OFF_SURFACE * sim.model.extent;
+    if let Some((m, a)) = recording
+        .markers
+        .iter()
+        .zip(&attachments)
+        .find(|(_, a)| a.distance > limit)
+    {
+        return Err(SimError::MarkerOffSurface {
+            file: recording.source.display().to_string(),
+            marker: m.name.clone(),
+            reference: m.reference.to_array(),
+            distance_mm: 1e3 * a.distance,
+            limit_mm: 1e3 * limit,
+        });
+    }
+    let loaded = sim.load_finger();
+    let load = recording
+        .samples
+        .iter()
+        .map(|s| s.load.abs())
+        .fold(0.0, f64::max);
+    if load > 0.0 {
+        let why = match loaded {
+            None => Some("the scene has no force-controlled finger".to_string()),
+            Some(k) if sim.model.fingers[k].load_direction == glam::DVec3::ZERO => Some(format!(
+                "finger #{} has force = [0, 0, 0], which gives no direction",
+                k + 1
+            )),
+            Some(_) => None,
+        };
+        if let Some(why) = why {
+            return Err(SimError::NoLoadDirection {
+                file: scene
+                    .source
+                    .as_ref()
+                    .map_or("the scene".into(), |p| p.display().to_string()),
+                load,
+                why,
+            });
+        }
+    }
+    let set_load = |sim: &mut Simulation, load: f64| {
+        if let Some(k) = loaded {
+            sim.set_load(k, load);
+        }
+    };
+    let mut residuals = Vec::new();
+    let mut volume_errors = Vec::with_capacity(recording.samples.len());
+    let mut largest_strain = [0.0f64; 2];
+    let mut states = Vec::new();
+    let mut strains = |sim: &Simulation| {
+        for e in softgrip_core::fields::spring_strain(&sim.model, &sim.state) {
+            largest_strain[0] = largest_strain[0].max(e);
+            largest_strain[1] = largest_strain[1].max(-e);
+        }
+        if options.keep_states {
+            states.push(SampleState {
+                positions: sim.state.positions.clone(),
+                fingers: sim.state.fingers.iter().map(|f| f.position).collect(),
+            });
+        }
+    };
+    let record = |sim: &Simulation, i: usize, residuals: &mut Vec<Residual>| {
+        for o in &recording.samples[i].observations {
+            if let Some(p) = marker_position(&sim.model, &sim.state, &attachments, o.marker) {
+                residuals.push(Residual {
+                    sample: i,
+                    marker: o.marker,
+                    simulated: p,
+                    recorded: o.position,
+                });
+            }
+        }
+    };
+    match recording.mode {
+        Mode::QuasiStatic => {
+            for (i, sample) in recording.samples.iter().enumerate() {
+                set_load(&mut sim, sample.load);
+                sim.settle(options.rest, |_| {})?;
+                record(&sim, i, &mut residuals);
+                volume_errors.push(sim.state.stats.volume_error);
+                strains(&sim);
+                progress(i + 1);
+            }
+        }
+        Mode::TimeSeries => {
+            let first = recording.samples.first().map_or(0.0, |s| s.load);
+            set_load(&mut sim, first);
+            if recording.start == Start::Equilibrium {
+                settle_still(&mut sim, options.rest)?;
+                sim.state.time = 0.0;
+                sim.state.step = 0;
+            }
+            for (i, sample) in recording.samples.iter().enumerate() {
+                let t = sample.time.unwrap_or(0.0);
+                sim.run_until(t)?;
+                record(&sim, i, &mut residuals);
+                volume_errors.push(sim.state.stats.volume_error);
+                strains(&sim);
+                set_load(&mut sim, sample.load);
+                progress(i + 1);
+            }
+        }
+    }
+    let errors = errors(&residuals, sim.model.extent);
+    Ok(Replay {
+        attachments,
+        residuals,
+        errors,
+        volume_errors,
+        largest_strain,
+        states,
+    })
+}
+
+/// Settles with every velocity-driven finger axis held still.
+fn settle_still(sim: &mut Simulation, rest: RestTolerance) -> Result<(), SimError> {
+    let moving = Arc::clone(&sim.model);
+    let mut still = (*moving).clone();
+    for f in &mut still.fingers {
+        for d in &mut f.drive {
+            if let AxisDrive::Velocity(_) = d {
+                *d = AxisDrive::Velocity(0.0);
+            }
+        }
+    }
+    sim.model = Arc::new(still);
+    let settled = sim.settle(rest, |_| {});
+    sim.model = moving;
+    for f in &mut sim.state.fingers {
+        f.travelled = 0.0;
+    }
+    settled.map(|_| ())
+}

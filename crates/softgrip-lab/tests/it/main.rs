@@ -1,0 +1,17 @@
+//! The integration tests, one binary: one module per subject.
+
+mod cancel;
+mod compare;
+mod diagnose;
+mod diagnose_run;
+mod discretisation;
+mod fit;
+mod grasp;
+mod modulus;
+mod plot;
+mod prove;
+mod recordings;
+mod regions;
+mod replay;
+mod sweep;
+mod table;

@@ -1,0 +1,98 @@
+//! `softgrip grasp`: run a grasp-and-lift scene, say whether friction held
+//! the object, and (with `--boundary`) find the least friction that does.
+
+use std::path::Path;
+
+use anyhow::Result;
+use softgrip_core::scene::Scene;
+use softgrip_lab::grasp::{self, GraspOptions};
+
+pub fn grasp(
+    scene: &Scene,
+    hold: f64,
+    slip_bound: f64,
+    boundary: bool,
+    json: Option<&Path>,
+) -> Result<()> {
+    anyhow::ensure!(
+        hold.is_finite() && hold >= 0.0,
+        "--hold {hold}: must be >= 0 s"
+    );
+    anyhow::ensure!(
+        slip_bound.is_finite() && slip_bound > 0.0,
+        "--slip-bound {slip_bound}: must be > 0 m"
+    );
+    let options = GraspOptions { hold, slip_bound };
+    let model = softgrip_core::model::Model::from_scene(scene)?;
+    let end = grasp::lift_end(&model).map_err(anyhow::Error::msg)?;
+    let balance = grasp::force_balance_friction(&model);
+
+    let bar = super::progress_bar(1000, "per mille");
+    bar.set_message("grasp and lift");
+    let run = grasp::lift(scene, options, |f| bar.set_position((f * 1000.0) as u64))?;
+    bar.finish_and_clear();
+    let friction = scene.fingers.first().map_or(0.0, |f| f.friction);
+    println!(
+        "friction {friction}: fingers rose {:.2} mm by t = {:.2} s, the object's centre {:.2} mm; over the {hold} s hold it slid {:.3} mm down the fingers (bound {:.3} mm); {}",
+        run.finger_rise * 1e3,
+        run.lift_end,
+        run.object_rise * 1e3,
+        run.hold_slip * 1e3,
+        slip_bound * 1e3,
+        if run.held {
+            "HELD"
+        } else if run.off_table {
+            "SLIPPING"
+        } else {
+            "DROPPED (left on the table)"
+        }
+    );
+    if let Some(b) = balance {
+        println!("force balance: weight / squeeze = {b:.4} (the least friction that can hold it)");
+    }
+    let mut found = None;
+    if boundary {
+        let high = (2.0 * friction).max(1.0);
+        let bar = super::progress_bar(1, "lifts");
+        bar.set_message("bisecting the friction");
+        let b = grasp::boundary_friction(scene, options, (0.0, high), 0.002, |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        })?;
+        bar.finish_and_clear();
+        print!(
+            "boundary friction {:.4} (dropped at {:.4}, held at {:.4}; {} lifts)",
+            b.estimate(),
+            b.dropped,
+            b.held,
+            b.tries.len()
+        );
+        match balance {
+            Some(bal) => println!(
+                "; force balance {bal:.4} ({:+.1} %)",
+                100.0 * (b.estimate() / bal - 1.0)
+            ),
+            None => println!(),
+        }
+        found = Some(b);
+    }
+    if let Some(path) = json {
+        let value = serde_json::json!({
+            "friction": friction,
+            "lift_end_s": end,
+            "finger_rise_m": run.finger_rise,
+            "object_rise_m": run.object_rise,
+            "hold_s": hold,
+            "hold_slip_m": run.hold_slip,
+            "slip_bound_m": slip_bound,
+            "off_table": run.off_table,
+            "held": run.held,
+            "force_balance_friction": balance,
+            "boundary_friction": found.as_ref().map(|b| b.estimate()),
+            "boundary_tries": found.as_ref().map(|b| &b.tries),
+        });
+        std::fs::write(path, serde_json::to_string_pretty(&value)? + "\n")
+            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
