@@ -3,7 +3,7 @@
 
 What it makes
 -------------
-* Test fixtures, in ``tests/data/meshes/`` (small, coarse, for the Rust mesh
+* Test fixtures, in ``crates/softgrip-core/tests/data/meshes/`` (small, coarse, for the Rust mesh
   importers):
 
   - ``cube_v22.msh``, ``cube.msh``, ``cube_binary.msh``, ``cube_binary22.msh``:
@@ -41,7 +41,7 @@ What it makes
   axes 30, 30, 25 mm), ``cylinder.msh`` (radius 20 mm, height 50 mm, axis z),
   ``rounded_box.msh`` (60 x 40 x 30 mm box, every edge filleted with 5 mm).
 
-* ``tests/data/meshes/README.md`` and ``assets/meshes/README.md``: the figures
+* ``crates/softgrip-core/tests/data/meshes/README.md`` and ``assets/meshes/README.md``: the figures
   a test should check (counts by cell type, volumes), computed by reading every
   written file back with meshio and checked against what Gmsh holds in memory.
 
@@ -105,7 +105,7 @@ except ImportError as exc:
 
 HERE = Path(__file__).resolve().parent  # assets/meshes
 REPO = HERE.parent.parent
-TESTDATA = REPO / "tests" / "data" / "meshes"
+TESTDATA = REPO / "crates" / "softgrip-core" / "tests" / "data" / "meshes"
 ASSETS = HERE
 
 GMSH_VERSION_USED = "4.15.2"
@@ -993,7 +993,7 @@ def write_assets_readme(gv, mv, np_v, obj_rows) -> None:
     L.append("  (OpenCASCADE `addBox` + `fillet`).")
     L.append("")
     L.append("Made by `make_meshes.py` in this folder (it also makes the importer test")
-    L.append("fixtures in `tests/data/meshes/`):")
+    L.append("fixtures in `crates/softgrip-core/tests/data/meshes/`):")
     L.append("")
     L.append("    pip install gmsh==4.15.2 meshio==5.3.5 numpy")
     L.append("    python3 assets/meshes/make_meshes.py")
