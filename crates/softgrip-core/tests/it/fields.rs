@@ -6,30 +6,26 @@ use softgrip_core::Scene;
 use softgrip_core::Simulation;
 use softgrip_core::fields::{self, Field, colormap};
 
-fn block() -> Simulation {
-    let text = r#"
-[object]
-shape = "cuboid"
-size = [0.03, 0.02, 0.01]
-edge_length = 0.004
-[support]
-kind = "none"
-"#;
-    Simulation::new(&Scene::from_toml_str(text, "block").expect("scene")).expect("sim")
-}
+use crate::support::{free_block, simulation};
 
-#[test]
-fn uniform_stretch_gives_its_strain_and_volume_change_everywhere() {
-    let mut sim = block();
-    let e = 0.03;
+/// A free block with every particle moved from its rest position `x0` to `map(x0)`.
+fn deformed(map: impl Fn(DVec3) -> DVec3) -> Simulation {
+    let mut sim = simulation(&free_block("", ""), "block");
     for (x, x0) in sim
         .state
         .positions
         .iter_mut()
         .zip(&sim.model.rest_positions)
     {
-        *x = *x0 * (1.0 + e);
+        *x = map(*x0);
     }
+    sim
+}
+
+#[test]
+fn uniform_stretch_gives_its_strain_and_volume_change_everywhere() {
+    let e = 0.03;
+    let sim = deformed(|x0| x0 * (1.0 + e));
     let (model, state) = (&sim.model, &sim.state);
     for (i, v) in Field::SpringStrain
         .particle_values(model, state)
@@ -56,17 +52,9 @@ fn uniform_stretch_gives_its_strain_and_volume_change_everywhere() {
 
 #[test]
 fn a_rotation_strains_nothing() {
-    let mut sim = block();
     let r = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
     let shift = DVec3::new(0.01, -0.02, 0.03);
-    for (x, x0) in sim
-        .state
-        .positions
-        .iter_mut()
-        .zip(&sim.model.rest_positions)
-    {
-        *x = r * *x0 + shift;
-    }
+    let sim = deformed(|x0| r * x0 + shift);
     let (model, state) = (&sim.model, &sim.state);
     for v in Field::SpringStrain.particle_values(model, state) {
         assert!(v.abs() < 1e-12, "strain {v}");
