@@ -4,7 +4,7 @@
 //! keeps a clone and calls [`Cancel::cancel`] when the user stops the job
 //! or opens another recording. Every settle and time-series replay looks
 //! at the token once a step and ends with [`SimError::Cancelled`](crate::error::SimError::Cancelled)
-//! (`crate::error::SimError`); [`crate::sweep::parallel_map`] hands the
+//! (`crate::error::SimError`); `softgrip_lab::sweep::parallel_map` hands the
 //! token to its workers and starts no new item once it is set, and the
 //! fits and the diagnosis return their own "cancelled" error instead of
 //! taking the failed simulations as bad points. Work outside a scope (the

@@ -257,3 +257,36 @@ pub fn range(values: &[f64], signed: bool) -> (f64, f64) {
     let m = if largest > 0.0 { largest } else { 1e-12 };
     if signed { (-m, m) } else { (0.0, m) }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::colormap;
+    use crate::fields;
+
+    #[test]
+    fn colour_maps_run_from_their_ends_and_centre_signed_fields_on_grey() {
+        // Sequential: brightness rises from end to end.
+        let luminance = |c: [f32; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let mut last = -1.0;
+        for k in 0..=20 {
+            let l = luminance(colormap(k as f64 / 20.0, false));
+            assert!(l > last, "luminance falls at {k}");
+            last = l;
+        }
+        // Diverging: blue below, red above, neutral at the centre.
+        let mid = colormap(0.5, true);
+        assert!((mid[0] - mid[1]).abs() < 1e-6 && (mid[1] - mid[2]).abs() < 1e-6);
+        let low = colormap(0.0, true);
+        let high = colormap(1.0, true);
+        assert!(low[2] > low[0] && high[0] > high[2]);
+        // Out of range and NaN clamp instead of failing.
+        assert_eq!(colormap(-3.0, false), colormap(0.0, false));
+        assert_eq!(colormap(7.0, true), colormap(1.0, true));
+        assert_eq!(colormap(f64::NAN, false), colormap(0.0, false));
+        // Ranges: signed ones symmetric, never empty.
+        assert_eq!(fields::range(&[-0.2, 0.1], true), (-0.2, 0.2));
+        assert_eq!(fields::range(&[0.0, 3.0, 1.0], false), (0.0, 3.0));
+        let (lo, hi) = fields::range(&[0.0, 0.0], false);
+        assert!(hi > lo);
+    }
+}

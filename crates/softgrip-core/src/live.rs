@@ -1,26 +1,12 @@
-//! A simulation that runs on its own thread while something else (the
-//! viewer) watches it and changes it: rerun's and MuJoCo's viewer split.
+//! A simulation that runs on its own thread while something else (the viewer) watches it and
+//! changes it: rerun's and MuJoCo's viewer split.
 //!
-//! The solver thread (`softgrip-solver`) owns the [`Simulation`]. Others
-//! talk to it through a bounded channel of [`Command`]s, which they send
-//! without ever blocking ([`LiveSimulation::send`] fails with
-//! [`SendError::Busy`] rather than wait), and read the latest published
-//! [`Frame`] ([`LiveSimulation::latest`]): latest wins, frames nobody read
-//! are dropped, and publishing never waits for a reader. So the viewer never
-//! waits for the solver, and the solver never waits for the viewer.
-//!
-//! Changing a parameter is sending the edited [`Scene`]
-//! ([`Command::SetScene`]). The solver thread checks it as a scene file is
-//! checked (an invalid value is an error in the frame, and the run goes on
-//! with the scene it had), then rebuilds what the change affects: the model
-//! (masses, springs, fingers, limits...) on the mesh it already has, keeping
-//! the state, when the object's shape and edge length are unchanged; a new
-//! mesh and a fresh start otherwise (the frame says it is re-meshing while it
-//! does). A step that fails (the solver diverged) pauses the run with the
-//! error in the frame; [`Command::Reset`] or a new scene goes on from there.
-//!
-//! The core has no GUI dependency, and neither has this: it is tested with
-//! `--no-default-features` (`tests/live.rs`).
+//! The solver thread owns the [`Simulation`]; others send it [`Command`]s without ever blocking
+//! ([`LiveSimulation::send`] fails with [`SendError::Busy`] rather than wait) and read the
+//! latest published [`Frame`] ([`LiveSimulation::latest`]). A parameter change is an edited
+//! [`Scene`] ([`Command::SetScene`]), checked as a scene file is and applied on the mesh the
+//! run has when it can. No GUI dependency (tested with `--no-default-features`). More:
+//! `docs/design/live-simulation.md`.
 
 use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
 use std::sync::{Arc, Mutex, MutexGuard};

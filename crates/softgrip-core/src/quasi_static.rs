@@ -52,9 +52,9 @@ impl RestTolerance {
     /// does not settle: the default, but a load that is not calming down
     /// after 5 simulated seconds is given up on (the probe's cost is then
     /// infinite, as after 20 s). In a diagnosis of the suite's
-    /// heterogeneous-stiffness-strong recording (2026-11-24, timed with a
-    /// throwaway trace, BENCHMARKS.md) the slowest
-    /// of the loads that came to rest took 2.7 s; the 5 that did not were
+    /// heterogeneous-stiffness-strong recording (timed with a throwaway
+    /// trace, BENCHMARKS.md) the slowest of the loads that came to rest
+    /// took 2.7 s; the 5 that did not were
     /// still moving at 2e-2 to 7e-2 m/s after 20 s (an oscillation that
     /// does not decay) and cost 10,000 steps each, 40 % of that
     /// diagnosis's time. A load that calms down fast enough to come to

@@ -1,19 +1,12 @@
-//! Self-collision of the object's surface (`[model] self_collision = true`,
-//! softgrip; the thesis's last recommendation): boundary particles against
-//! boundary facets.
+//! Self-collision of the object's surface (`[model] self_collision = true`, softgrip; the
+//! thesis's last recommendation): boundary particles against boundary facets.
 //!
-//! A particle closer than the contact thickness `d` (a quarter of the mean
-//! edge length) to a facet, on its outer side or less than `d` behind it, is
-//! pushed out along the facet's normal by a penalty spring `k (d - s)`, `s`
-//! its signed height over the facet, with a critically damped dashpot; the
-//! reaction goes to the facet's particles by the closest point's
-//! barycentric weights (as a finger's does, eq. 37-39). Both enter the
-//! implicit step: the particle-facet blocks go to the system's coupling
-//! list, the facet's own to its edges' blocks.
-//!
-//! Pairs already within `d` at rest (a particle and the facets around it,
-//! or across a sharp edge) never collide: they are the surface's own
-//! neighbours. Broad phase: the facet grid of the finger contact.
+//! A particle closer than the contact thickness `d` (a quarter of the mean edge length) to a
+//! facet, on its outer side or less than `d` behind it, is pushed out along the facet's normal
+//! by a critically damped penalty spring `k (d - s)`; the reaction goes to the facet's
+//! particles by barycentric weights (as a finger's, eq. 37-39). Pairs already within `d` at
+//! rest never collide. Broad phase: the facet grid of the finger contact. More:
+//! `docs/design/self-collision.md`.
 
 use glam::DVec3;
 

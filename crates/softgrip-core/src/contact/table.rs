@@ -1,29 +1,13 @@
-//! The table (`[support] kind = "table"`): the plane z = 0 under the object,
-//! unilateral, with Coulomb friction (`[support] friction`) that sticks and
-//! slips. A softgrip addition; the thesis pins the bottom face.
+//! The table (`[support] kind = "table"`): the plane z = 0 under the object, unilateral, with
+//! Coulomb friction (`[support] friction`) that sticks and slips. A softgrip addition; the
+//! thesis pins the bottom face.
 //!
-//! Each boundary particle is its own contact (the plane is convex, so no
-//! facet can pass through it without a particle doing so):
-//!
-//! - **Normal**: a penalty spring `k` on the penetration `-z` with a
-//!   critically damped dashpot `2 sqrt(k m)` for the particle's mass `m`.
-//!   The total never pulls: a particle leaving faster than the spring
-//!   pushes is free (it can be lifted off).
-//! - **Stick**: the particle is tied to an anchor on the table by a
-//!   tangential spring `k` and dashpot `2 sqrt(k m)`. When the spring
-//!   would pull harder than `mu F_n` the contact slips.
-//! - **Slip**: the kinetic Coulomb force `mu F_n` against the sliding
-//!   direction, exactly, with no spring and no dashpot along it (a stick
-//!   spring dragged along as for the fingers would add `k v dt + c v` to it:
-//!   at 0.1 m/s on a 4 mm mesh that is a hundred times `mu F_n`). Its
-//!   Jacobian `mu F_n / |v_t| (P - t t^T)` turns the direction with the
-//!   velocity. The contact sticks again when the sliding velocity reverses
-//!   or falls below [`SLIP_REST_SPEED`], with the anchor placed so that the
-//!   stick spring carries on with the same force (no jump).
-//!
-//! Modes are chosen at the start of a step from the state then (the normal
-//! force of that state sets the friction limit); forces and Jacobians then
-//! enter the implicit step like every other force.
+//! Each boundary particle is its own contact: a critically damped penalty spring along the
+//! normal that never pulls; a tangential stick spring to an anchor until it would pull harder
+//! than `mu F_n`; then the kinetic force `mu F_n` against the sliding, until the sliding
+//! reverses or slows below [`SLIP_REST_SPEED`]. Modes are chosen at the start of a step; the
+//! forces and Jacobians enter the implicit step like any other. The details:
+//! `docs/design/table-contact.md`.
 
 use glam::{DMat3, DVec3};
 

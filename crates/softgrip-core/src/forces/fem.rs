@@ -1,51 +1,14 @@
-//! A continuum alternative to the springs (`[model] elasticity =
-//! "neo-hookean"`, softgrip): linear tetrahedra with the stable neo-Hookean
-//! energy of Smith, de Goes and Kim (2018), without its log term,
+//! A continuum alternative to the springs (`[model] elasticity = "neo-hookean"`, softgrip):
+//! linear tetrahedra with the stable neo-Hookean energy of Smith, de Goes and Kim (2018),
+//! without its log term, `Psi(F) = mu / 2 (|F|^2 - 3) + lambda / 2 (J - a)^2` with
+//! `a = 1 + mu / lambda`, per unit rest volume; plus the strain stiffening of `[model]
+//! stiffening`, `stiffening_cubic` and `softening` (Yeoh's C20 and C30 forms). The forces are
+//! exact; the Jacobian is the Gauss-Newton part of the energy's Hessian (positive
+//! semi-definite, so conjugate gradients apply). Everything else (masses, contact, supports,
+//! the integrator, the springs' dampers) is shared with the springs; eq. 11's alpha, the bulk
+//! term and the spring limits are off.
 //!
-//! `Psi(F) = mu / 2 (|F|^2 - 3) + lambda / 2 (J - a)^2`, `a = 1 + mu / lambda`,
-//!
-//! per unit rest volume, `F` the element's deformation gradient and `J =
-//! det F`. It is at rest at `F = I`, stays finite and pushes back through
-//! inversion (`J <= 0`), and linearises to Hooke's law with Lamé constants
-//! `(mu, lambda - mu)`: so `mu` is the shear modulus `E / (2 (1 + nu))` and
-//! `lambda` the Lamé constant plus `mu`.
-//!
-//! Forces: `f_a = -V0 P b_a` with `P = mu F + lambda (J - a) cof F` and `b_a`
-//! the gradient of the linear shape function of node a (`F = sum x_a
-//! b_a^T`), that is `f_a = -V0 mu F b_a - lambda (J - a) G_a` with `G_a =
-//! dV/dx_a`. Jacobian: `V0 mu (b_a . b_b) I + lambda / V0 G_a G_b^T`, the
-//! Gauss-Newton part of the energy's Hessian (the term `lambda (J - a) d2J`,
-//! indefinite, is left out, as for the bulk term), positive semi-definite,
-//! so conjugate gradients apply. The forces are exact; only the implicit
-//! step's linearisation is approximate.
-//!
-//! Strain stiffening (`[model] stiffening`, beta, as for the springs) adds
-//! a second-order term in `I1 = |F|^2` (Yeoh's C20 form, on `I1` rather
-//! than its isochoric part, as the energy above), and `stiffening_cubic`,
-//! gamma, a third-order one (C30), both on `s = max(I1 - 3, 0)`:
-//!
-//! `Psi_s = mu (b / 4 s^2 + c / 6 s^3)`, `P_s = mu (b s + c s^2) F`,
-//! `b = beta / 3`, `c = gamma / 9`,
-//!
-//! so the shear modulus grows to `mu phi(s)`, `phi = 1 + b s + c s^2`. In
-//! an incompressible solid under a small uniaxial strain e, `s = 3 e^2`, so
-//! `phi = 1 + beta e^2 + gamma e^4`, a spring's `k dl (1 + beta e^2)` for
-//! gamma 0 (the energy grows by the same share `beta e^2 / 2`). The `max`
-//! keeps it off under a volume change alone (`I1 < 3`), where it would
-//! soften the shear. `softening`, q in [0, 1), adds `-2 q sqrt(gamma)` to
-//! beta: filled silicones soften first and stiffen late (C20 < 0 < C30),
-//! and this form keeps `phi >= 1 - q^2 > 0` for every strain (with beta 0
-//! its lowest value is exactly `1 - q^2`), so no setting makes the shear
-//! modulus negative. The Jacobian adds `V0 2 mu phi'(s) (F b_a)(F b_b)^T`,
-//! positive semi-definite where `phi' >= 0`; where the softening makes it
-//! negative the term is left out (a Gauss-Newton step, as for the bulk
-//! term: the forces stay exact).
-//!
-//! The model shares everything else with the springs: masses, contact,
-//! supports, the implicit integrator, and the springs' dampers (each edge's
-//! `zeta 2 sqrt(k mu)` damps it, as for the springs). The lattice's own
-//! corrections (eq. 11's alpha, the bulk term, the spring limits) do not
-//! apply to it and are off.
+//! The derivation: `docs/design/neo-hookean.md`.
 
 use glam::{DMat3, DVec3};
 

@@ -1,41 +1,13 @@
-//! Volume-preservation correction forces (thesis eq. 10-12, Alg. 2), after
-//! Mollemans et al.
+//! Volume-preservation forces. Thesis eq. 10-12 (Alg. 2, after Mollemans et al.): each element
+//! pushes its particles away from its barycentre when it has lost volume and pulls them in when
+//! it has gained some, `f_i = alpha (V0 - V) (u_i - mean(u))`. The element volumetric stiffness
+//! (`[model] bulk_modulus`, softgrip, off by default): the gradient of the energy
+//! `K V0 / 2 (V / V0 - 1)^2`, with the volume change measured per element or, with
+//! `bulk_pressure = "nodal"`, per node (average nodal pressure, Bonet and Burton 1998). Each
+//! comes with a positive semi-definite Jacobian for the implicit step.
 //!
-//! Each element pushes its four particles away from its barycentre when it has
-//! lost volume and pulls them in when it has gained some:
-//! `f_i = alpha (V0 - V) (u_i - mean(u))`, `u_i` the unit vector from the
-//! barycentre to particle i. Two departures from the printed text, both
-//! documented in ARCHITECTURE.md: the sign is written so the force restores
-//! the volume whatever the orientation convention (eq. 11's `V - V0` restores
-//! only with Alg. 2's negatively signed determinant), and the element's mean
-//! direction is removed so the four forces sum to zero (the unit vectors of a
-//! distorted element do not, which would let a free object push itself along).
-//!
-//! Jacobian: `-df_i/dx_k ~ alpha u_i (dV/dx_k)^T`, symmetrised as
-//! `alpha / g G_i G_k^T` with `G_i = dV/dx_i` and `g` the mean |G_i| (exact in
-//! direction for a regular element, positive semi-definite, translation
-//! invariant). It lets the implicit step carry these forces stably.
-//!
-//! Element volumetric stiffness (`[model] bulk_modulus`, a softgrip
-//! extension, off by default): the linear-elastic volumetric energy
-//! `K V0 / 2 (V / V0 - 1)^2` of each element, so
-//! `f_i = -K (V / V0 - 1) dV/dx_i`. Unlike eq. 11 it is the gradient of an
-//! energy (it conserves momentum and energy), its strength does not depend on
-//! the mesh size, and it pushes an inverted element back along the true
-//! volume gradient. Jacobian `K / V0 G_i G_k^T` (the term with the Hessian of
-//! V, indefinite, is left out).
-//!
-//! With `[model] bulk_pressure = "nodal"` the volume change is measured per
-//! node instead: `V_i` is a quarter of the volume of each element around
-//! node i, the energy `sum_i K_i V0_i / 2 (V_i / V0_i - 1)^2`, and its
-//! gradient gives each element the mean of its four nodes' pressures
-//! `p_i = K_i (V_i / V0_i - 1)`: `f_k = -mean(p) dV/dx_k` (average nodal
-//! pressure, Bonet and Burton 1998). About one constraint per node instead
-//! of six per node, so a nearly incompressible mesh locks much less. The
-//! exact Jacobian couples nodes two edges apart, which the system has no
-//! blocks for; the element's `K / V0 G_i G_k^T` stands in for it. That is
-//! stiffer than the nodal term, which only damps the implicit step more:
-//! rest states do not depend on it.
+//! The departures from the printed text (ARCHITECTURE.md) and the Jacobians:
+//! `docs/design/volume-forces.md`.
 
 use glam::DVec3;
 

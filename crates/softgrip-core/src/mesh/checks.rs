@@ -240,3 +240,35 @@ pub fn shape_figures(mesh: &TetMesh) -> (f64, f64) {
     }
     (min_angle, worst_aspect)
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use crate::mesh::TetMesh;
+    use crate::mesh::checks;
+
+    #[test]
+    fn shape_figures_of_a_regular_tetrahedron() {
+        let s = 1.0 / 2f64.sqrt();
+        let m = TetMesh {
+            nodes: vec![
+                DVec3::new(1.0, 0.0, -s),
+                DVec3::new(-1.0, 0.0, -s),
+                DVec3::new(0.0, 1.0, s),
+                DVec3::new(0.0, -1.0, s),
+            ],
+            tets: vec![[0, 1, 2, 3]],
+        };
+        let (angle, aspect) = checks::shape_figures(&m);
+        // Dihedral angle acos(1/3); edge 2 over height 2 sqrt(2/3).
+        assert!(
+            (angle - (1.0f64 / 3.0).acos().to_degrees()).abs() < 1e-9,
+            "{angle}"
+        );
+        assert!(
+            (aspect - 2.0 / (2.0 * (2.0f64 / 3.0).sqrt())).abs() < 1e-9,
+            "{aspect}"
+        );
+    }
+}

@@ -1,27 +1,13 @@
-//! Spring limits tau_s / tau_c (thesis eq. 13-17, Alg. 3): after integration,
-//! springs stretched beyond `(1 + tau_s) l0` or compressed below
-//! `(1 - tau_c) l0` are projected back.
+//! Spring limits tau_s / tau_c (thesis eq. 13-17, Alg. 3): after integration, springs stretched
+//! beyond `(1 + tau_s) l0` or compressed below `(1 - tau_c) l0` are projected back, in Jacobi
+//! sweeps that average each particle's corrections over its *active* constraints; velocities
+//! take the same displacement over dt. With `[model] constraint_tolerance` the sweeps go on
+//! until no spring is out by more than that fraction of its rest length, up to
+//! [`MAX_SWEEPS_FACTOR`] times `constraint_iterations`. With the limit springs of
+//! `crate::forces::springs` (the default) the projection only caps what went past them by
+//! more than [`PROJECTION_BAND`].
 //!
-//! Jacobi iterations as in Alg. 3. Each particle moves by the mean of its
-//! corrections; we average over the constraints *active* at that particle
-//! (eq. 13 divides by all its edges, which shrinks every correction by the
-//! particle's degree, ~14, so that 10 iterations leave most of the violation
-//! in place). A pinned particle, or one a finger is pressing, does not move;
-//! its partner takes the whole correction. Velocities take the same displacement divided by dt, as in
-//! position-based dynamics, so the projected motion is not undone by the next
-//! step's velocity.
-//!
-//! The thesis runs a fixed number of sweeps (`constraint_iterations`). Where
-//! a whole object's weight hangs on springs at their limit (Fig. 5), ten
-//! Jacobi sweeps leave several per cent of violation; with the extension key
-//! `[model] constraint_tolerance` the sweeps go on until no spring is outside
-//! its limits by more than that fraction of its rest length, up to
-//! [`MAX_SWEEPS_FACTOR`] times `constraint_iterations`.
-//!
-//! With the limit springs of `crate::forces::springs` (the default), the
-//! projection only caps what a transient pushed past them by more than
-//! [`PROJECTION_BAND`]; the violation it reports is always against the
-//! limits themselves.
+//! The departures from Alg. 3 and why: `docs/design/spring-limits.md`.
 
 use glam::DVec3;
 

@@ -1,28 +1,11 @@
-//! The second core: a helper thread that takes half of each step's heavy
-//! work.
+//! The second core: a helper thread that takes half of each step's heavy work (the spring pass
+//! and half the element pass, and half the spring blocks of CG's product `A x`).
 //!
-//! A step's work splits in two places: the force passes (the helper runs the
-//! spring pass and the first half of the element pass into its own force
-//! vector and partial [`System`], which the main thread then adds to its
-//! own), and the product `A x` inside CG (the helper multiplies the second
-//! half of the spring blocks). The helper is started once per simulation,
-//! spins between jobs while a run is going and parks when idle.
-//!
-//! Results never depend on whether the helper runs: without it (one core,
-//! or `Simulation::set_threads(1)`) the main thread does the helper's share
-//! itself, on the same buffers and in the same order, so the sums are the
-//! same bit for bit (`tests/threads.rs`).
-//!
-//! Hand-offs use atomic counters and spin-waits: on this kind of machine
-//! a spin round trip costs ~0.1 us, while waking a parked thread costs
-//! ~50 us, more than the whole product it would share. A posted job is
-//! *claimed* by whichever thread gets to it first: when the main thread has
-//! done its own half and the helper has not yet started the other (it is
-//! descheduled: another process, a second simulation, the viewer's render
-//! thread wants the core), the main thread takes it back and does it
-//! itself instead of waiting. Without that, two simulations with helpers
-//! on two cores ran 50 times slower than one thread (each hand-off waited
-//! for a scheduler time slice).
+//! Results never depend on whether the helper runs: without it (one core, or
+//! `Simulation::set_threads(1)`) the main thread does the helper's share itself, on the same
+//! buffers and in the same order, so the sums are the same bit for bit (`tests/it/threads.rs`).
+//! Hand-offs are atomic counters and spin-waits, and a posted job is claimed by whichever
+//! thread gets to it first; why: `docs/design/second-core.md`.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock, RwLock, RwLockReadGuard, RwLockWriteGuard};

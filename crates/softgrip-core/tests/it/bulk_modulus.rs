@@ -6,6 +6,8 @@
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
 
+use crate::support::{WEIGHTLESS, cuboid_scene, shipped_scene, simulation, strict_rest};
+
 fn loaded_thesis_cuboid(bulk_modulus: f64) -> Simulation {
     loaded(bulk_modulus, Scene::thesis().model.limit_stiffness)
 }
@@ -68,15 +70,8 @@ fn the_thesis_model_alone_collapses() {
 /// node; `perturbed`: its nodes moved off the lattice by a fixed
 /// pseudo-random field.
 fn bulk_block(pressure: &str, perturbed: bool) -> Simulation {
-    let text = format!(
-        r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-[object]
-shape = "cuboid"
-size = [0.02, 0.015, 0.01]
-edge_length = 0.005
-[model]
+    let model = format!(
+        r#"[model]
 alpha = 0.0
 bulk_modulus = 1e6
 bulk_pressure = "{pressure}"
@@ -84,8 +79,8 @@ bulk_pressure = "{pressure}"
 kind = "none"
 "#
     );
-    let scene = Scene::from_toml_str(&text, "bulk block").expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
+    let text = cuboid_scene(WEIGHTLESS, [0.02, 0.015, 0.01], 0.005, &model);
+    let mut sim = simulation(&text, "bulk block");
     if !perturbed {
         return sim;
     }
@@ -180,30 +175,16 @@ fn nodal_and_element_pressure_agree_under_uniform_compression() {
 /// The light guide's cuboid under 9 N at 5 and 4 mm edges: per element the
 /// nearly incompressible lattice locks, so the coarse mesh indents less;
 /// per node the two meshes agree better (`-- --nocapture` prints the
-/// depths: 0.21 mm apart per element, 0.07 mm per node, on 2026-11-26).
+/// depths: 0.21 mm apart per element, 0.07 mm per node).
 #[test]
 fn nodal_pressure_makes_the_indentation_depend_less_on_the_mesh() {
     let depth = |edge: f64, pressure: softgrip_core::scene::BulkPressure| {
-        let path = concat!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-            "/assets/scenes/thesis_cuboid_light_guide.toml"
-        );
-        let text = std::fs::read_to_string(path).expect("scene");
-        let mut scene = Scene::from_toml_str(&text, path).expect("scene");
+        let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
         scene.object.edge_length = edge;
         scene.model.bulk_pressure = pressure;
         let mut sim = Simulation::new(&scene).expect("sim");
         sim.set_load(0, 9.0);
-        sim.settle(
-            softgrip_core::quasi_static::RestTolerance {
-                speed: 1e-6,
-                consecutive_steps: 50,
-                max_seconds: 20.0,
-                give_up_after: None,
-            },
-            |_| {},
-        )
-        .expect("rest");
+        sim.settle(strict_rest(), |_| {}).expect("rest");
         sim.indentation(0)
     };
     use softgrip_core::scene::BulkPressure::{Element, Nodal};

@@ -1,38 +1,31 @@
 //! Regression tests named after what broke.
 
-use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+
+use crate::support::{WEIGHTLESS, cuboid_scene, rest_within, shipped_scene, simulation};
 
 /// Without the lever stiffness in the contact Jacobian, particles under a
 /// 15 mm sphere on a 3 mm mesh oscillated at period two from about 3 N and
 /// never came to rest.
 #[test]
 fn sphere_on_fine_mesh_comes_to_rest_at_5n_without_period_two_oscillation() {
-    let text = r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-[object]
-shape = "cuboid"
-size = [0.06, 0.06, 0.03]
-edge_length = 0.003
-[model]
+    let text = cuboid_scene(
+        WEIGHTLESS,
+        [0.06, 0.06, 0.03],
+        0.003,
+        r#"[model]
 alpha = 0.0
 [[finger]]
 radius = 0.015
 position = [0.0, 0.0, 0.045]
 force = [0.0, 0.0, -5.0]
 friction = 0.0
-"#;
-    let scene = Scene::from_toml_str(text, "fine block").expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
-    let tol = RestTolerance {
-        speed: 1e-6,
-        consecutive_steps: 20,
-        max_seconds: 3.0,
-        give_up_after: None,
-    };
-    let rest = sim.settle(tol, |_| {}).expect("comes to rest");
+"#,
+    );
+    let mut sim = simulation(&text, "fine block");
+    let rest = sim
+        .settle(rest_within(1e-6, 3.0), |_| {})
+        .expect("comes to rest");
     assert!((sim.state.fingers[0].contact_force.z - 5.0).abs() < 0.01 * 5.0);
     assert!(rest.steps < 3000);
 }
@@ -41,20 +34,11 @@ friction = 0.0
 /// pressing them; the finger never came to rest, even at 1 N.
 #[test]
 fn spring_limits_do_not_fight_the_finger_at_1n() {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_no_bulk.toml"
-    );
-    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let scene = shipped_scene("thesis_cuboid_no_bulk.toml");
     let mut sim = Simulation::new(&scene).expect("sim");
     sim.set_load(0, 1.0);
-    let tol = RestTolerance {
-        speed: 1e-5,
-        consecutive_steps: 20,
-        max_seconds: 3.0,
-        give_up_after: None,
-    };
-    sim.settle(tol, |_| {}).expect("comes to rest");
+    sim.settle(rest_within(1e-5, 3.0), |_| {})
+        .expect("comes to rest");
     let finger = sim.state.fingers[0];
     assert!((finger.contact_force.z - 1.0).abs() < 0.01);
     assert!(finger.max_penetration < 0.05 * 0.015);

@@ -4,20 +4,11 @@
 //! (Hertz, exponent 3/2) as the scale to the power 2/3, while the contact
 //! force still balances the load.
 
-use softgrip_core::Scene;
-use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+use crate::support::{WEIGHTLESS, cuboid_scene, rest_within, simulation};
 
 fn penetration_at_rest(shape: &str, scale: f64) -> (f64, f64) {
-    let text = format!(
-        r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-[object]
-shape = "cuboid"
-size = [0.03, 0.03, 0.012]
-edge_length = 0.005
-[model]
+    let finger = format!(
+        r#"[model]
 alpha = 0.0
 [[finger]]
 {shape}
@@ -27,15 +18,10 @@ friction = 0.0
 contact_stiffness_scale = {scale:?}
 "#
     );
-    let scene = Scene::from_toml_str(&text, "contact stiffness").expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
-    let tol = RestTolerance {
-        speed: 1e-6,
-        consecutive_steps: 20,
-        max_seconds: 3.0,
-        give_up_after: None,
-    };
-    sim.settle(tol, |_| {}).expect("comes to rest");
+    let text = cuboid_scene(WEIGHTLESS, [0.03, 0.03, 0.012], 0.005, &finger);
+    let mut sim = simulation(&text, "contact stiffness");
+    sim.settle(rest_within(1e-6, 3.0), |_| {})
+        .expect("comes to rest");
     let f = sim.state.fingers[0];
     (f.max_penetration, f.contact_force.z)
 }

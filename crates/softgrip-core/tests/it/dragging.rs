@@ -5,23 +5,15 @@
 use glam::DVec3;
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::state::Pull;
 use softgrip_core::step::integrate::{HOLD_SPEED, HOLD_TIME};
+
+use crate::support::{WEIGHTLESS_EXACT, free_block as free_block_text, rest, simulation};
 
 fn thesis(edge: f64) -> Simulation {
     let mut scene = Scene::thesis();
     scene.object.edge_length = edge;
     Simulation::new(&scene).expect("thesis scene")
-}
-
-fn rest() -> RestTolerance {
-    RestTolerance {
-        speed: 1e-5,
-        consecutive_steps: 20,
-        max_seconds: 5.0,
-        give_up_after: None,
-    }
 }
 
 #[test]
@@ -119,18 +111,7 @@ fn released_finger_returns_to_its_load() {
 }
 
 fn free_block() -> Simulation {
-    let text = r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-cg_tolerance = 1e-13
-[object]
-shape = "cuboid"
-size = [0.03, 0.02, 0.01]
-edge_length = 0.004
-[support]
-kind = "none"
-"#;
-    Simulation::new(&Scene::from_toml_str(text, "free block").expect("scene")).expect("sim")
+    simulation(&free_block_text(WEIGHTLESS_EXACT, ""), "free block")
 }
 
 /// The facet of the face z = `top` nearest the centre line, and its centroid.

@@ -2,9 +2,9 @@
 //! "neo-hookean"`): uniaxial compression against the energy's analytic
 //! solution, and the thesis scene's indentation under mesh refinement.
 
-use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+
+use crate::support::{WEIGHTLESS, cuboid_scene, shipped_scene, simulation, strict_rest};
 
 const E: f64 = 60e3;
 const NU: f64 = 0.45;
@@ -51,16 +51,7 @@ fn analytic(stretch: f64, (beta, gamma, q): (f64, f64, f64)) -> (f64, f64) {
 const PLAIN: (f64, f64, f64) = (0.0, 0.0, 0.0);
 
 fn settle(sim: &mut Simulation) {
-    sim.settle(
-        RestTolerance {
-            speed: 1e-6,
-            consecutive_steps: 50,
-            max_seconds: 20.0,
-            give_up_after: None,
-        },
-        |_| {},
-    )
-    .expect("rest");
+    sim.settle(strict_rest(), |_| {}).expect("rest");
 }
 
 /// A 20 mm cube on a frictionless table under a frictionless plate: the
@@ -111,16 +102,8 @@ fn uniaxial_compression_of_a_softening_solid_follows_its_analytic_stress() {
 fn uniaxial(force: f64, terms: (f64, f64, f64)) -> f64 {
     let (beta, gamma, q) = terms;
     {
-        let text = format!(
-            r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-
-[object]
-shape = "cuboid"
-size = [0.02, 0.02, 0.02]
-edge_length = 0.0025
-young_modulus = {E}
+        let more = format!(
+            r#"young_modulus = {E}
 poisson_ratio = {NU}
 
 [model]
@@ -142,8 +125,8 @@ friction = 0.0
 contact_stiffness_scale = 10
 "#
         );
-        let scene = Scene::from_toml_str(&text, "uniaxial.toml").expect("scene");
-        let mut sim = Simulation::new(&scene).expect("sim");
+        let text = cuboid_scene(WEIGHTLESS, [0.02, 0.02, 0.02], 0.0025, &more);
+        let mut sim = simulation(&text, "uniaxial.toml");
         settle(&mut sim);
         let m = &sim.model;
         let mean = |pick: &dyn Fn(glam::DVec3) -> bool, axis: usize| {
@@ -180,12 +163,7 @@ contact_stiffness_scale = 10
 }
 
 fn thesis_depth(edge: f64, elasticity: &str) -> f64 {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
-    );
-    let text = std::fs::read_to_string(path).expect("scene");
-    let mut scene = Scene::from_toml_str(&text, path).expect("scene");
+    let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
     scene.object.edge_length = edge;
     if elasticity == "neo-hookean" {
         scene.model.elasticity = softgrip_core::scene::Elasticity::NeoHookean;

@@ -4,7 +4,8 @@
 use glam::DVec3;
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+
+use crate::support::rest;
 
 fn scene(text: &str) -> Scene {
     Scene::from_toml_str(text, "shapes.toml").expect("scene")
@@ -64,15 +65,6 @@ fn a_box_pressing_with_its_bottom_face_is_the_plate() {
         fb.contact_force
     );
     assert!(fa.position.z < 0.0199, "and it pressed in");
-}
-
-fn rest() -> RestTolerance {
-    RestTolerance {
-        speed: 1e-5,
-        consecutive_steps: 20,
-        max_seconds: 5.0,
-        give_up_after: None,
-    }
 }
 
 /// Two boxes squeeze a block from either side along x: each face pushes

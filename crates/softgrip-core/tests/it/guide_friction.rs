@@ -2,16 +2,12 @@
 //! finger's guide makes loading and unloading take different paths; at the
 //! same depth the loads differ by twice the friction force.
 
-use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+
+use crate::support::{rest_within, shipped_scene};
 
 fn light_guide(guide_friction: f64) -> Simulation {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
-    );
-    let mut scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
     scene.object.edge_length = 0.006;
     // Nothing else path-dependent: no contact friction, no spring limits.
     scene.fingers[0].friction = 0.0;
@@ -23,12 +19,7 @@ fn light_guide(guide_friction: f64) -> Simulation {
 
 /// Loads up, then down; the depth at rest after each.
 fn loop_path(sim: &mut Simulation, up: &[f64], down: &[f64]) -> (Vec<f64>, Vec<f64>) {
-    let tol = RestTolerance {
-        speed: 1e-5,
-        consecutive_steps: 20,
-        max_seconds: 10.0,
-        give_up_after: None,
-    };
+    let tol = rest_within(1e-5, 10.0);
     let mut at = |load: f64| {
         sim.set_load(0, load);
         sim.settle(tol, |_| {}).expect("rest");

@@ -3,21 +3,14 @@
 //! simulated to predicted elongation and its change under refinement are
 //! reported in ACCURACY.md; Lloyd's stiffness aims at a ratio near 1.
 
-use softgrip_core::Scene;
-use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+use crate::support::{cuboid_scene, rest_within, simulation};
 
 const LENGTH: f64 = 0.06;
 
 /// Simulated / predicted elongation at one edge length.
 pub fn elongation_ratio(edge_length: f64) -> f64 {
-    let text = format!(
-        r#"
-[object]
-shape = "cuboid"
-size = [0.02, 0.02, {LENGTH}]
-edge_length = {edge_length}
-density = 1070.0
+    let more = format!(
+        r#"density = 1070.0
 young_modulus = 57.6e3
 [model]
 alpha = 0.0
@@ -29,15 +22,10 @@ max = [1.0, 1.0, 1.0]
 "#,
         LENGTH - 1e-6
     );
-    let scene = Scene::from_toml_str(&text, "hanging cuboid").expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
-    let tol = RestTolerance {
-        speed: 1e-7,
-        consecutive_steps: 20,
-        max_seconds: 10.0,
-        give_up_after: None,
-    };
-    sim.settle(tol, |_| {}).expect("comes to rest");
+    let text = cuboid_scene("", [0.02, 0.02, LENGTH], edge_length, &more);
+    let mut sim = simulation(&text, "hanging cuboid");
+    sim.settle(rest_within(1e-7, 10.0), |_| {})
+        .expect("comes to rest");
     let bottom: Vec<usize> = (0..sim.model.particle_count())
         .filter(|&i| sim.model.rest_positions[i].z < 1e-9)
         .collect();

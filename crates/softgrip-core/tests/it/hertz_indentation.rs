@@ -2,24 +2,15 @@
 //! Hertz's force-depth law F = 4/3 E* sqrt(R) d^1.5: the fitted exponent is
 //! 1.5 +/- 0.15. The prefactor ratio is reported (ACCURACY.md).
 
-use softgrip_core::Scene;
-use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+use crate::support::{WEIGHTLESS, cuboid_scene, rest_within, simulation};
 
 const RADIUS: f64 = 0.015;
 const TOP: f64 = 0.03;
 
 /// Depths (m) at the given loads (N), loaded in sequence to rest.
 pub fn indentation_curve(edge_length: f64, loads: &[f64]) -> Vec<f64> {
-    let text = format!(
-        r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-[object]
-shape = "cuboid"
-size = [0.06, 0.06, {TOP}]
-edge_length = {edge_length}
-young_modulus = 57.6e3
+    let more = format!(
+        r#"young_modulus = 57.6e3
 poisson_ratio = 0.49
 [model]
 alpha = 0.0
@@ -31,14 +22,9 @@ force = [0.0, 0.0, -{}]
         TOP + RADIUS,
         loads[0]
     );
-    let scene = Scene::from_toml_str(&text, "hertz block").expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
-    let tol = RestTolerance {
-        speed: 1e-6,
-        consecutive_steps: 20,
-        max_seconds: 10.0,
-        give_up_after: None,
-    };
+    let text = cuboid_scene(WEIGHTLESS, [0.06, 0.06, TOP], edge_length, &more);
+    let mut sim = simulation(&text, "hertz block");
+    let tol = rest_within(1e-6, 10.0);
     loads
         .iter()
         .map(|&f| {

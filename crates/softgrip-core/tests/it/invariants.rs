@@ -5,30 +5,16 @@ use glam::DVec3;
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
 
+use crate::support::{WEIGHTLESS_EXACT, free_block as free_block_text, simulation};
+
 fn free_block(alpha: f64, limits: bool, rigid: bool) -> Simulation {
     let limits = if limits {
         "tau_s = 0.16\ntau_c = 0.155"
     } else {
         ""
     };
-    let text = format!(
-        r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
-cg_tolerance = 1e-13
-[object]
-shape = "cuboid"
-size = [0.03, 0.02, 0.01]
-edge_length = 0.004
-[model]
-alpha = {alpha}
-{limits}
-[support]
-kind = "none"
-"#
-    );
-    let scene = Scene::from_toml_str(&text, "free block").expect("scene");
-    let mut sim = Simulation::new(&scene).expect("sim");
+    let text = free_block_text(WEIGHTLESS_EXACT, &format!("alpha = {alpha}\n{limits}"));
+    let mut sim = simulation(&text, "free block");
     // A pure strain rate (internal motion), plus a drift and a spin when `rigid`.
     for (v, x) in sim
         .state

@@ -9,6 +9,8 @@ use softgrip_core::Simulation;
 use softgrip_core::live::{Command, Frame, LiveSimulation, RunState};
 use softgrip_core::scene::Control;
 
+use crate::support::shipped_scene;
+
 /// Generous: the solver answers a command within milliseconds; CI machines
 /// are slow and shared.
 const PATIENCE: Duration = Duration::from_secs(10);
@@ -69,11 +71,7 @@ fn play_runs_until_pause() {
 #[test]
 fn an_alpha_edit_acts_without_a_restart() {
     // The thesis model alone, whose volume error alpha governs.
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_no_bulk.toml"
-    );
-    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let scene = shipped_scene("thesis_cuboid_no_bulk.toml");
     let run = |edit: bool| {
         let live = started(scene.clone());
         send(&live, Command::Step(150));

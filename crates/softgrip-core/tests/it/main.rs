@@ -23,6 +23,7 @@ mod solver_tolerance;
 mod spring_laws;
 mod spring_limits;
 mod spring_oscillator;
+mod support;
 mod surface_meshes;
 mod threads;
 mod volume_alpha;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use softgrip_core::mesh::TetMesh;
-use softgrip_core::mesh::checks::{self, repair};
+use softgrip_core::mesh::checks::repair;
 use softgrip_core::mesh::io::{self, Format, read_bytes_as};
 
 fn fixture(name: &str) -> PathBuf {
@@ -183,30 +183,6 @@ fn checks_reorder_inside_out_merge_duplicates_drop_unused_count_parts() {
     assert!(
         e.contains("tetrahedron 1") && e.contains("degenerate"),
         "{e}"
-    );
-}
-
-#[test]
-fn shape_figures_of_a_regular_tetrahedron() {
-    let s = 1.0 / 2f64.sqrt();
-    let m = tet_mesh(
-        &[
-            [1.0, 0.0, -s],
-            [-1.0, 0.0, -s],
-            [0.0, 1.0, s],
-            [0.0, -1.0, s],
-        ],
-        &[[0, 1, 2, 3]],
-    );
-    let (angle, aspect) = checks::shape_figures(&m);
-    // Dihedral angle acos(1/3); edge 2 over height 2 sqrt(2/3).
-    assert!(
-        (angle - (1.0f64 / 3.0).acos().to_degrees()).abs() < 1e-9,
-        "{angle}"
-    );
-    assert!(
-        (aspect - 2.0 / (2.0 * (2.0f64 / 3.0).sqrt())).abs() < 1e-9,
-        "{aspect}"
     );
 }
 

@@ -3,20 +3,11 @@
 //! or at `position`), keep the volume Gmsh reports, and the scenes come to
 //! a rest where the support carries the weight and the fingers' loads.
 
-use std::path::Path;
-
 use glam::DVec3;
 use softgrip_core::Model;
-use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
 
-fn scene(name: &str) -> Scene {
-    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .join("assets/scenes")
-        .join(name);
-    Scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
-}
+use crate::support::{rest_within, shipped_scene};
 
 #[test]
 fn shipped_meshes_keep_their_volume_and_are_placed_as_the_scene_says() {
@@ -26,7 +17,7 @@ fn shipped_meshes_keep_their_volume_and_are_placed_as_the_scene_says() {
         ("cylinder_pinch.toml", 6.25965611673087e-05),
         ("rounded_box_plate.toml", 6.90096417146987e-05),
     ] {
-        let s = scene(name);
+        let s = shipped_scene(name);
         let (mesh, warnings) = Model::load_mesh(&s).expect("mesh");
         assert!((mesh.volume() - volume).abs() < 1e-12 * volume, "{name}");
         let (lo, hi) = mesh.bounds();
@@ -67,18 +58,10 @@ fn mesh_scenes_rest_with_the_support_carrying_weight_and_loads() {
         "cylinder_pinch.toml",
         "rounded_box_plate.toml",
     ] {
-        let s = scene(name);
+        let s = shipped_scene(name);
         let mut sim = Simulation::new(&s).expect("sim");
-        sim.settle(
-            RestTolerance {
-                speed: 1e-5,
-                consecutive_steps: 20,
-                max_seconds: 4.0,
-                give_up_after: None,
-            },
-            |_| {},
-        )
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        sim.settle(rest_within(1e-5, 4.0), |_| {})
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         let weight: DVec3 = sim.model.constant_force.iter().copied().sum();
         let fingers: DVec3 = sim.state.fingers.iter().map(|f| -f.contact_force).sum();
         let reaction = sim.support_reaction();

@@ -2,16 +2,13 @@
 //! (thesis Fig. 5.10), then hold; at steady state their contact forces are
 //! equal and opposite within 5 %.
 
-use softgrip_core::Scene;
 use softgrip_core::Simulation;
+
+use crate::support::shipped_scene;
 
 #[test]
 fn pinch_forces_balance_at_steady_state() {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/pinch.toml"
-    );
-    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let scene = shipped_scene("pinch.toml");
     let mut sim = Simulation::new(&scene).expect("sim");
     // 2 s of squeezing (4 mm each at 2 mm/s), then hold.
     sim.run_until(2.6).expect("run");

@@ -8,12 +8,10 @@ use softgrip_core::SimError;
 use softgrip_core::Simulation;
 use softgrip_core::quasi_static::{HOPELESS_SPEED_RATIO, RestTolerance};
 
+use crate::support::shipped_scene;
+
 fn light_guide() -> Scene {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
-    );
-    let mut scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
     scene.object.edge_length = 0.006;
     scene.simulation.dt = 2e-3;
     scene

@@ -7,17 +7,11 @@ use softgrip_core::Scene;
 use softgrip_core::Simulation;
 use softgrip_core::state::Pull;
 
-fn strip(self_collision: bool) -> Simulation {
-    let text = format!(
-        r#"
-[simulation]
-gravity = [0.0, 0.0, 0.0]
+use crate::support::{WEIGHTLESS, cuboid_scene, simulation};
 
-[object]
-shape = "cuboid"
-size = [0.08, 0.01, 0.003]
-edge_length = 0.0015
-young_modulus = 20e3
+fn strip(self_collision: bool) -> Simulation {
+    let more = format!(
+        r#"young_modulus = 20e3
 poisson_ratio = 0.45
 
 [model]
@@ -32,8 +26,10 @@ min = [-0.041, -0.01, -0.001]
 max = [-0.030, 0.01, 0.004]
 "#
     );
-    let scene = Scene::from_toml_str(&text, "strip.toml").expect("scene");
-    Simulation::new(&scene).expect("strip")
+    simulation(
+        &cuboid_scene(WEIGHTLESS, [0.08, 0.01, 0.003], 0.0015, &more),
+        "strip.toml",
+    )
 }
 
 /// Boundary particles inside an element they do not belong to: the surface

@@ -4,6 +4,8 @@
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
 
+use crate::support::rest_within;
+
 #[test]
 fn every_shipped_scene_builds_and_steps() {
     let dir = concat!(
@@ -87,13 +89,8 @@ fn built_in_scene_at_rest_balances_the_weight_and_keeps_the_finger_on_the_surfac
         let mut scene = Scene::thesis();
         scene.fingers[0].contact_stiffness_scale = scale;
         let mut sim = Simulation::new(&scene).expect("sim");
-        let tol = softgrip_core::quasi_static::RestTolerance {
-            speed: 1e-5,
-            consecutive_steps: 20,
-            max_seconds: 3.0,
-            give_up_after: None,
-        };
-        sim.settle(tol, |_| {}).expect("comes to rest");
+        sim.settle(rest_within(1e-5, 3.0), |_| {})
+            .expect("comes to rest");
         sim.state.fingers[0]
     };
     let radius = 0.015;

@@ -7,8 +7,9 @@ use softgrip_core::Scene;
 use softgrip_core::Simulation;
 use softgrip_core::forces::springs;
 use softgrip_core::model::{Model, SpringLaw};
-use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::solver::System;
+
+use crate::support::{rest_within, shipped_scene};
 
 /// The general spring pass under the thesis's law gives the linear pass's
 /// forces and blocks to the last bit, on states along a thesis run (the
@@ -51,11 +52,7 @@ fn the_general_spring_law_at_zero_is_the_thesis_spring_bit_for_bit() {
 }
 
 fn light_guide(stiffening: f64) -> Simulation {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
-    );
-    let mut scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
     scene.object.edge_length = 0.006;
     scene.model.stiffening = stiffening;
     // No spring limits: they stiffen the linear model where it reaches them.
@@ -65,12 +62,7 @@ fn light_guide(stiffening: f64) -> Simulation {
 }
 
 fn depths(sim: &mut Simulation, loads: &[f64]) -> Vec<f64> {
-    let tol = RestTolerance {
-        speed: 1e-5,
-        consecutive_steps: 20,
-        max_seconds: 10.0,
-        give_up_after: None,
-    };
+    let tol = rest_within(1e-5, 10.0);
     loads
         .iter()
         .map(|&load| {

@@ -13,6 +13,8 @@ use softgrip_core::Scene;
 use softgrip_core::Simulation;
 use softgrip_core::step::constraints::{PROJECTION_BAND, max_violation};
 
+use crate::support::shipped_scene;
+
 const TOLERANCE: f64 = 1e-3;
 
 fn max_stretch(sim: &Simulation) -> f64 {
@@ -66,11 +68,7 @@ fn assert_within_limits(scene: &Scene) {
 #[test]
 #[ignore = "slow: a long settle"]
 fn hung_object_springs_stay_within_tau_s() {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/hang_two_corners.toml"
-    );
-    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let scene = shipped_scene("hang_two_corners.toml");
     let tau_s = scene.model.tau_s.expect("tau_s set");
 
     // Without the limit the corner springs stretch well past it ...
@@ -146,11 +144,7 @@ fn hung_object_springs_stay_within_tau_s() {
 
 #[test]
 fn pulled_object_springs_stay_within_tau_c_and_tau_s() {
-    let path = concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/fixed_top_pull_bottom.toml"
-    );
-    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let scene = shipped_scene("fixed_top_pull_bottom.toml");
     assert_within_limits(&scene);
 }
 

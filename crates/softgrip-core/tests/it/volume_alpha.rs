@@ -11,7 +11,8 @@
 
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
-use softgrip_core::quasi_static::RestTolerance;
+
+use crate::support::rest_within;
 
 const ALPHAS: [f64; 4] = [0.0, 1e5, 1e6, 1e7];
 
@@ -31,13 +32,8 @@ fn thesis_scene_volume_error_falls_as_alpha_rises() {
                 scene.model.alpha = alpha;
                 s.spawn(move || {
                     let mut sim = Simulation::new(&scene).expect("sim");
-                    let tol = RestTolerance {
-                        speed: 1e-5,
-                        consecutive_steps: 20,
-                        max_seconds: 4.0,
-                        give_up_after: None,
-                    };
-                    sim.settle(tol, |_| {}).expect("comes to rest");
+                    sim.settle(rest_within(1e-5, 4.0), |_| {})
+                        .expect("comes to rest");
                     assert_eq!(sim.state.inverted_elements(&sim.model), 0);
                     sim.state.stats.volume_error
                 })

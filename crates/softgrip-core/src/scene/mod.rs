@@ -1,0 +1,303 @@
+//! Scene files: the interchange contract of `shared/spec/scene-and-recording.md`, with
+//! softgrip's compatible extensions (listed in `docs/design/scene-files.md`).
+//!
+//! The stages, in order: `raw` mirrors the TOML exactly (every key optional, an unknown key an
+//! error that names it and the file); `resolve` applies the documented defaults, records which
+//! it applied and checks every value against its allowed range, giving the [`Scene`] below;
+//! `read` holds the entry points ([`Scene::load`], [`Scene::from_toml_str`]); `to_toml` writes
+//! a scene back through the same raw structs, so the keys have one source.
+
+// Errors first: every stage reports through them.
+mod error;
+
+// The file as written, and the values its absent keys take.
+mod defaults;
+mod raw;
+
+// Reading: text -> raw -> resolved.
+mod read;
+mod resolve;
+
+// Writing: resolved -> raw -> text.
+mod to_toml;
+mod toml_text;
+
+pub use defaults::{DEFAULT_CG_TOLERANCE, DEFAULT_LIMIT_STIFFNESS, THESIS_SCENE};
+pub use error::{SceneError, describe_toml_error};
+
+use std::path::PathBuf;
+
+use glam::DVec3;
+
+// ---------------------------------------------------------------------------
+// Resolved layer: every value present and checked.
+// ---------------------------------------------------------------------------
+
+/// A fully resolved scene: defaults applied, every value in range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub simulation: Simulation,
+    pub object: Object,
+    pub model: ModelParams,
+    pub support: Support,
+    pub fixed: Vec<AaBox>,
+    pub loads: Vec<Load>,
+    pub fingers: Vec<Finger>,
+    /// `[[region]]`: boxes of other material (softgrip).
+    pub regions: Vec<Region>,
+    /// Where the scene came from (for error messages and relative mesh paths).
+    pub source: Option<PathBuf>,
+    /// `table.key = value` of every default the resolver applied.
+    pub defaults_applied: Vec<String>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Simulation {
+    pub dt: f64,
+    pub duration: f64,
+    pub gravity: DVec3,
+    pub cg_tolerance: f64,
+    pub cg_max_iterations: usize,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    Cuboid {
+        size: DVec3,
+    },
+    Cylinder {
+        radius: f64,
+        height: f64,
+    },
+    /// A mesh file, its coordinates times `scale` (0.001 for a file in
+    /// millimetres), placed with the centre of its bounding box's bottom
+    /// face at `position` (default the origin: centred at x = y = 0,
+    /// bottom at z = 0, as the built-in shapes).
+    Mesh {
+        path: PathBuf,
+        scale: f64,
+        position: DVec3,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Object {
+    pub shape: Shape,
+    pub edge_length: f64,
+    pub density: f64,
+    pub young_modulus: f64,
+    pub poisson_ratio: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelParams {
+    pub damping_ratio: f64,
+    pub alpha: f64,
+    /// Element volumetric stiffness (Pa); 0 = off (the thesis model). See
+    /// `forces::volume`.
+    pub bulk_modulus: f64,
+    /// Where the bulk term measures the volume change: per element, or
+    /// averaged over each node's elements (softgrip; `forces::volume`).
+    pub bulk_pressure: BulkPressure,
+    /// Stiffness of the limit springs, as a multiple of each spring's own
+    /// (a softgrip extension); 0 = the projection alone (thesis Alg. 3). See
+    /// `forces::springs`.
+    pub limit_stiffness: f64,
+    /// Over-stretch limit; `None` = no limit (the key omitted).
+    pub tau_s: Option<f64>,
+    /// Over-compression limit; `None` = no limit (the key omitted).
+    pub tau_c: Option<f64>,
+    pub constraint_iterations: usize,
+    /// Keep projecting past `constraint_iterations` until no spring is
+    /// outside its limits by more than this fraction of its rest length
+    /// (a softgrip extension; `None` = exactly `constraint_iterations`
+    /// sweeps, as the thesis).
+    pub constraint_tolerance: Option<f64>,
+    /// Strain stiffening, beta: each spring's `F = k dl (1 + beta e^2)`
+    /// with `e = dl / l0`, or for neo-Hookean elements the energy's
+    /// `mu beta / 12 max(I1 - 3, 0)^2` (the same share at small uniaxial
+    /// strain, `forces::fem`); 0 = the thesis's linear spring (softgrip).
+    pub stiffening: f64,
+    /// Neo-Hookean elements only: a third-order term, gamma, the energy's
+    /// `mu gamma / 54 max(I1 - 3, 0)^3` (Yeoh's C30 form; at small uniaxial
+    /// strain the shear modulus grows by `gamma e^4`) ...
+    pub stiffening_cubic: f64,
+    /// ... and an early softening q in [0, 1): a second-order term of
+    /// `-2 q sqrt(gamma)` beside `stiffening`, so that the shear modulus
+    /// first dips (to `1 - q^2` of mu at the lowest, with `stiffening` 0)
+    /// and then stiffens, as filled silicones do (a two-term Yeoh solid
+    /// with C20 < 0 < C30); never below zero for any q < 1
+    /// (`forces::fem`). 0 = none (softgrip).
+    pub softening: f64,
+    /// A spring's stiffness in compression over its stiffness in tension;
+    /// 1 = symmetric, the thesis (softgrip).
+    pub compression_ratio: f64,
+    /// Viscoelastic springs, one Prony term: the relative modulus g that
+    /// relaxes (0 = elastic, the thesis) ...
+    pub prony_g: f64,
+    /// ... with this time constant (s) (softgrip).
+    pub prony_tau: f64,
+    /// The elastic model: the thesis's springs, or neo-Hookean elements
+    /// (softgrip; `forces::fem`).
+    pub elasticity: Elasticity,
+    /// Self-collision of the object's surface (softgrip;
+    /// `contact::self_collision`).
+    pub self_collision: bool,
+}
+
+/// `[model] bulk_pressure`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BulkPressure {
+    /// Each element's own volume change (a linear tetrahedron's constant
+    /// pressure: it locks as nu nears 1/2).
+    Element,
+    /// The volume change of each node's share of its elements, averaged to
+    /// the elements (average nodal pressure, Bonet and Burton 1998): one
+    /// volume constraint per node instead of about six, which locks much
+    /// less on the same mesh.
+    Nodal,
+}
+
+/// `[model] elasticity`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Elasticity {
+    /// The thesis's mass-spring lattice (eq. 3-12).
+    Springs,
+    /// Linear tetrahedra with the stable neo-Hookean energy.
+    NeoHookean,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SupportKind {
+    FixedBottom,
+    Table,
+    None,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Support {
+    pub kind: SupportKind,
+    pub friction: f64,
+}
+
+/// An axis-aligned box, closed (a point on the boundary is inside).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AaBox {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl AaBox {
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+}
+
+/// A box of other material (`[[region]]`, softgrip): the elements whose
+/// centroid lies inside take its Young's modulus and density (the last
+/// region containing them wins).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Region {
+    pub region: AaBox,
+    pub young_modulus: f64,
+    pub density: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Load {
+    pub region: AaBox,
+    pub mass: f64,
+    pub force: DVec3,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FingerShape {
+    Sphere {
+        radius: f64,
+    },
+    /// A rigid square plate, face normal -z; `half_size` are half its x, y extents.
+    Plate {
+        half_size: [f64; 2],
+    },
+    /// A rigid axis-aligned box (cuboid) centred on the finger; `half_size`
+    /// are half its x, y, z extents (softgrip).
+    Box {
+        half_size: [f64; 3],
+    },
+}
+
+/// One more rigid shape of a compound finger (`[[finger.part]]`), carried
+/// at `offset` from the finger's position (softgrip).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerPart {
+    pub shape: FingerShape,
+    pub offset: DVec3,
+}
+
+impl FingerShape {
+    /// How far the finger's pressing surface lies from its centre (m): the
+    /// sphere's radius; 0 for a plate, whose centre is on its face.
+    pub fn reach(&self) -> f64 {
+        self.reach_along(DVec3::NEG_Z)
+    }
+
+    /// How far the finger's surface lies from its centre along the unit
+    /// direction `d` (m): the radius, 0 for a plate, the box's support
+    /// distance `sum |d_i| h_i` (its half height for -z).
+    pub fn reach_along(&self, d: DVec3) -> f64 {
+        match *self {
+            FingerShape::Sphere { radius } => radius,
+            FingerShape::Plate { .. } => 0.0,
+            FingerShape::Box { half_size } => d.abs().dot(DVec3::from_array(half_size)),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    Force,
+    Velocity,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finger {
+    pub shape: FingerShape,
+    /// More shapes moving with it (a compound finger); empty for one shape.
+    pub parts: Vec<FingerPart>,
+    pub position: DVec3,
+    pub free_axes: [bool; 3],
+    pub control: Control,
+    pub force: DVec3,
+    pub velocity: DVec3,
+    pub mass: f64,
+    pub young_modulus: f64,
+    pub poisson_ratio: f64,
+    pub restitution: f64,
+    pub friction: f64,
+    pub stick_velocity: f64,
+    pub stick_stiffness: f64,
+    pub stick_damping: f64,
+    /// Velocity control: stop after this distance (m); `None` = never stop.
+    pub travel: Option<f64>,
+    /// Velocity-driven axes hold still until this time (s).
+    pub start_time: f64,
+    /// ... and then reach their velocity linearly over this time (s).
+    pub ramp_time: f64,
+    /// Coulomb friction in the finger's guide (N) on its force-driven axes:
+    /// against its motion, and holding it while the forces on it are
+    /// smaller (softgrip).
+    pub guide_friction: f64,
+    /// Mass-less force control: approach speed before contact (m/s).
+    pub guide_speed: f64,
+    /// Multiplies the contact stiffness of thesis eq. 27 (1 = the thesis).
+    pub contact_stiffness_scale: f64,
+}
+
+impl Finger {
+    /// Is `axis` driven by velocity (true) or by force (false)? Only meaningful
+    /// for free axes. The spec: under velocity control a free axis with a
+    /// non-zero force component stays force-driven.
+    pub fn axis_is_velocity_driven(&self, axis: usize) -> bool {
+        self.control == Control::Velocity && self.force[axis] == 0.0
+    }
+}

@@ -1,0 +1,47 @@
+//! The entry points: the built-in scene, a scene file, scene text. Each parses the text into the
+//! raw layer and resolves it.
+
+use std::path::Path;
+
+use super::defaults::THESIS_SCENE;
+use super::error::{SceneError, describe_toml_error};
+use super::raw::RawScene;
+use super::resolve::resolve;
+use super::{Scene, Shape};
+
+impl Scene {
+    /// The built-in thesis scene (see [`THESIS_SCENE`]).
+    pub fn thesis() -> Scene {
+        match Scene::from_toml_str(THESIS_SCENE, "<built-in thesis scene>") {
+            Ok(scene) => scene,
+            // The built-in text is checked by a test; this cannot happen in a release.
+            Err(e) => panic!("built-in thesis scene is invalid: {e}"),
+        }
+    }
+
+    /// Reads and resolves a scene file.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut scene = Scene::from_toml_str(&text, &path.display().to_string())?;
+        scene.source = Some(path.to_path_buf());
+        if let Shape::Mesh { path: mesh, .. } = &mut scene.object.shape
+            && mesh.is_relative()
+            && let Some(dir) = path.parent()
+        {
+            *mesh = dir.join(&*mesh);
+        }
+        Ok(scene)
+    }
+
+    /// Parses and resolves scene text; `file` names it in errors.
+    pub fn from_toml_str(text: &str, file: &str) -> Result<Scene, SceneError> {
+        let raw: RawScene = toml::from_str(text).map_err(|e| SceneError::Syntax {
+            file: file.to_string(),
+            message: describe_toml_error(text, &e),
+        })?;
+        resolve(raw, text, file)
+    }
+}
