@@ -1,49 +1,30 @@
 //! Fitting scene parameters to a recording: NRMSE minimised by a bounded
 //! search, then what the data say about the answer.
 //!
-//! - Each parameter lives in its bounds, mapped to 0..1 (logarithmically
-//!   for moduli, alpha and the spring limits, whose plausible values span
-//!   decades); trial points outside are projected onto the bounds.
-//! - First a space-filling (Halton) design, 8 points per parameter: NRMSE
-//!   is flat wherever a spring limit acts on no spring, and a local search
-//!   that starts on such a plateau never leaves it.
-//! - Then Nelder-Mead (with the dimension-adapted coefficients of Gao and
-//!   Han, 2012) from the best point: it needs no derivatives, and NRMSE has
-//!   kinks where a spring limit starts to act and a run can fail outright
-//!   (a failed run counts as infinitely bad). It restarts from its best
-//!   point until a restart gains nothing (a simplex collapsed onto a bound
-//!   gets its dimensions back) and stops when the simplex is small or the
-//!   best has not improved for a while ([`FitOptions::stall`]).
-//! - A spring limit left above every strain of the fitted run (acting
-//!   nowhere, with the modulus making up for it) is tried again just below
-//!   the largest strain, and kept if that fits better.
-//! - Uncertainty: at the fit, the Jacobian of the residual vector (central
-//!   differences, 1 % steps) gives the linearised covariance
-//!   `s^2 (J^T J)^-1` with `s^2 = SSR / (m - p)`, the noise variance the
-//!   residuals imply. The standard errors are what the noise allows
-//!   (assuming independent residuals); a parameter the residuals do not
-//!   depend on has none (infinite).
-//! - Sensitivity: NRMSE at -10 % and +10 % of each fitted value. A change
-//!   is significant when it raises the sum of squared residuals by more
-//!   than 3.84 s^2 (the 95 % point of chi-square with one degree of
-//!   freedom). Both significant: identified; otherwise weakly identified
-//!   if the standard error is under half the value, bounded on one side
-//!   only if one side is significant (e.g. a spring limit that no spring
-//!   reaches), else unidentifiable.
-//!
-//! Evaluations that can run at once (the design, a shrink, the Jacobian
-//! and sensitivity points) run in parallel, one simulation per core;
-//! results do not depend on the number of workers.
+//! Each parameter is searched in 0..1 of its bounds (log for those spanning
+//! decades): a Halton design first, then Nelder-Mead with restarts
+//! ([`crate::optimize`]); a spring limit left acting nowhere is tried again
+//! just below the largest strain. At the fit, the residuals' Jacobian gives
+//! standard errors and correlations ([`Uncertainty`]), and NRMSE at +/-10 %
+//! of each value tells whether the data identify it ([`Identifiability`]).
+//! Batches of simulations run in parallel; results do not depend on the
+//! number of workers. The method in full: `docs/design/fitting.md`.
 
 use std::collections::HashMap;
 
 use crate::compare::{Errors, components};
+use crate::optimize::{BoundedScale, Tolerances, invert};
 use crate::params::{self, Param};
 use crate::recording::Recording;
 use crate::replay::{Replay, ReplayOptions, replay};
 use crate::sweep::parallel_map;
 use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::scene::Scene;
+
+// The optimisers, where `diagnose`, the CLI and the tests have always found them.
+pub use crate::optimize::{
+    Minimum, ResidualBatch, at_bound, halton, levenberg_marquardt, minimize, nelder_mead,
+};
 
 /// A parameter to fit and its bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,35 +37,24 @@ pub struct FitParam {
 }
 
 impl FitParam {
+    /// The bounds and scale the search maps 0..1 onto.
+    pub fn scale(&self) -> BoundedScale {
+        BoundedScale {
+            lower: self.lower,
+            upper: self.upper,
+            log: self.log,
+        }
+    }
+
     /// The value at `u` in 0..1 of the bounds.
     pub fn value(&self, u: f64) -> f64 {
-        let u = u.clamp(0.0, 1.0);
-        if self.log {
-            (self.lower.ln() + u * (self.upper.ln() - self.lower.ln())).exp()
-        } else {
-            self.lower + u * (self.upper - self.lower)
-        }
+        self.scale().value(u)
     }
 
     /// Where `v` lies in the bounds, 0..1 (clamped).
     pub fn unit(&self, v: f64) -> f64 {
-        let u = if self.log {
-            (v.ln() - self.lower.ln()) / (self.upper.ln() - self.lower.ln())
-        } else {
-            (v - self.lower) / (self.upper - self.lower)
-        };
-        if u.is_finite() {
-            u.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
+        self.scale().unit(v)
     }
-}
-
-/// Is a point at `u` (0..1 of a parameter's bounds, [`FitParam::unit`])
-/// at one of its bounds, within 0.1 % of the range?
-pub fn at_bound(u: f64) -> bool {
-    !(1e-3..=1.0 - 1e-3).contains(&u)
 }
 
 /// The bounds used when the command line gives none: around the scene's
@@ -230,22 +200,14 @@ impl Default for FitOptions {
     }
 }
 
-/// Point `k` (from 1) of the Halton sequence in `dims` dimensions: a
-/// deterministic, evenly spread design in the unit box.
-pub fn halton(k: usize, dims: usize) -> Vec<f64> {
-    const PRIMES: [usize; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
-    (0..dims)
-        .map(|d| {
-            let base = PRIMES[d % PRIMES.len()];
-            let (mut f, mut r, mut i) = (1.0, 0.0, k);
-            while i > 0 {
-                f /= base as f64;
-                r += f * (i % base) as f64;
-                i /= base;
-            }
-            r
-        })
-        .collect()
+impl From<FitOptions> for Tolerances {
+    fn from(o: FitOptions) -> Tolerances {
+        Tolerances {
+            x_tolerance: o.x_tolerance,
+            f_tolerance: o.f_tolerance,
+            stall: o.stall,
+        }
+    }
 }
 
 /// What the data say about one fitted parameter.
@@ -666,494 +628,9 @@ fn covariance(columns: &[Option<Vec<f64>>], m: usize, sigma2: f64) -> (Vec<f64>,
     (se, corr)
 }
 
-/// Gauss-Jordan inverse with partial pivoting; `None` when singular (a
-/// pivot below 1e-10 of the unit-diagonal matrix's scale).
-fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
-    let n = a.len();
-    let mut inv: Vec<Vec<f64>> = (0..n)
-        .map(|i| (0..n).map(|j| if i == j { 1.0 } else { 0.0 }).collect())
-        .collect();
-    for col in 0..n {
-        let pivot = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
-        if a[pivot][col].abs() < 1e-10 {
-            return None;
-        }
-        a.swap(col, pivot);
-        inv.swap(col, pivot);
-        let d = a[col][col];
-        for j in 0..n {
-            a[col][j] /= d;
-            inv[col][j] /= d;
-        }
-        for row in 0..n {
-            if row != col {
-                let f = a[row][col];
-                if f != 0.0 {
-                    for j in 0..n {
-                        a[row][j] -= f * a[col][j];
-                        inv[row][j] -= f * inv[col][j];
-                    }
-                }
-            }
-        }
-    }
-    Some(inv)
-}
-
-/// Nelder-Mead from `x0`, restarted from its best point with a fresh
-/// simplex until a restart gains nothing: a simplex that collapsed (onto
-/// a bound, or along a plateau) gets its dimensions back. `converged`:
-/// the last run converged or stalled rather than running out of budget.
-pub fn minimize(
-    f: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>,
-    x0: &[f64],
-    f0: f64,
-    budget: usize,
-    options: FitOptions,
-) -> Minimum {
-    let mut best = Minimum {
-        x: x0.to_vec(),
-        f: f0,
-        evaluations: 0,
-        converged: false,
-        stalled: false,
-    };
-    let mut step = 0.1;
-    loop {
-        let left = budget.saturating_sub(best.evaluations);
-        if left == 0 {
-            best.converged = false;
-            break;
-        }
-        let r = nelder_mead(f, &best.x, best.f, step, left, options);
-        best.evaluations += r.evaluations;
-        let gained = best.f - r.f;
-        if r.f <= best.f {
-            (best.x, best.f) = (r.x, r.f);
-        }
-        best.converged = r.converged || r.stalled;
-        best.stalled = r.stalled;
-        if !best.converged || gained <= options.f_tolerance * best.f.abs() {
-            break;
-        }
-        step = 0.05;
-    }
-    best
-}
-
-/// A batch of points in, their residual vectors out (`None`: failed).
-pub type ResidualBatch<'a> = dyn FnMut(&[Vec<f64>]) -> Vec<Option<Vec<f64>>> + 'a;
-
-/// Bounded Levenberg-Marquardt on the unit box for a least-squares cost:
-/// `f` maps a batch of points to their residual vectors (`None` where the
-/// simulation failed); the cost is the sum of squares. The Jacobian comes
-/// from forward differences of `jacobian_step` (stepped inward at a
-/// bound), and each iteration tries two damping factors at once (a batch
-/// of two runs on two cores costs one). Stops when a step gains less than
-/// `f_tolerance` of the cost, moves less than `x_tolerance`, or the
-/// `budget` of new evaluations is spent.
-pub fn levenberg_marquardt(
-    f: &mut ResidualBatch,
-    x0: &[f64],
-    r0: Vec<f64>,
-    budget: usize,
-    options: FitOptions,
-    jacobian_step: f64,
-) -> Minimum {
-    let n = x0.len();
-    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    let (mut x, mut r) = (x0.to_vec(), r0);
-    let mut fx = cost(&r);
-    let mut evaluations = 0;
-    let mut lambda = 1e-2;
-    let mut converged = false;
-    while evaluations + n + 2 <= budget {
-        // Jacobian, column by column.
-        let steps: Vec<f64> = x
-            .iter()
-            .map(|&v| {
-                if v + jacobian_step <= 1.0 {
-                    jacobian_step
-                } else {
-                    -jacobian_step
-                }
-            })
-            .collect();
-        let probes: Vec<Vec<f64>> = (0..n)
-            .map(|i| {
-                let mut p = x.clone();
-                p[i] += steps[i];
-                p
-            })
-            .collect();
-        let columns = f(&probes);
-        evaluations += n;
-        let mut jac: Vec<Vec<f64>> = Vec::with_capacity(n);
-        for (i, c) in columns.into_iter().enumerate() {
-            match c {
-                Some(c) if c.len() == r.len() => {
-                    jac.push(c.iter().zip(&r).map(|(a, b)| (a - b) / steps[i]).collect())
-                }
-                _ => jac.push(vec![0.0; r.len()]),
-            }
-        }
-        // Normal equations.
-        let jtj: Vec<Vec<f64>> = (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| jac[i].iter().zip(&jac[j]).map(|(a, b)| a * b).sum())
-                    .collect()
-            })
-            .collect();
-        let jtr: Vec<f64> = (0..n)
-            .map(|i| jac[i].iter().zip(&r).map(|(a, b)| a * b).sum())
-            .collect();
-        // A parameter that does nothing where it stands (a relaxation
-        // time while the relaxing share is 0) has a zero column: it is
-        // held for this step instead of making the system singular, and
-        // the others move. The system is scaled to its largest diagonal.
-        let scale = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
-        let inert: Vec<bool> = (0..n).map(|i| jtj[i][i] <= 1e-12 * scale).collect();
-        let step_for = |lambda: f64| -> Option<Vec<f64>> {
-            if scale <= 0.0 || !scale.is_finite() {
-                return None;
-            }
-            let a: Vec<Vec<f64>> = (0..n)
-                .map(|i| {
-                    (0..n)
-                        .map(|j| match (inert[i] || inert[j], i == j) {
-                            (true, true) => 1.0,
-                            (true, false) => 0.0,
-                            (false, true) => jtj[i][i] / scale * (1.0 + lambda),
-                            (false, false) => jtj[i][j] / scale,
-                        })
-                        .collect()
-                })
-                .collect();
-            let inv = invert(a)?;
-            Some(
-                (0..n)
-                    .map(|i| {
-                        let d: f64 = (0..n)
-                            .filter(|&j| !inert[j])
-                            .map(|j| -inv[i][j] * jtr[j] / scale)
-                            .sum();
-                        (x[i] + d).clamp(0.0, 1.0)
-                    })
-                    .collect(),
-            )
-        };
-        let mut improved = false;
-        for _ in 0..6 {
-            if evaluations + 2 > budget {
-                break;
-            }
-            let lambdas = [lambda, lambda * 10.0];
-            let trials: Vec<Vec<f64>> = lambdas.iter().filter_map(|&l| step_for(l)).collect();
-            if trials.is_empty() {
-                break;
-            }
-            // Steps within the tolerance are not worth a run: where the
-            // model says to move less than `x_tolerance`, this is the
-            // minimum (a step that small would end the search anyway).
-            let moves = |t: &Vec<f64>| {
-                t.iter()
-                    .zip(&x)
-                    .any(|(a, b)| (a - b).abs() > options.x_tolerance)
-            };
-            if !trials.iter().any(moves) {
-                converged = true;
-                break;
-            }
-            let results = f(&trials);
-            evaluations += trials.len();
-            let best = trials
-                .iter()
-                .zip(results)
-                .enumerate()
-                .filter_map(|(k, (t, res))| res.map(|res| (k, t.clone(), cost(&res), res)))
-                .min_by(|a, b| a.2.total_cmp(&b.2));
-            match best {
-                Some((k, t, c, res)) if c < fx => {
-                    let moved = t
-                        .iter()
-                        .zip(&x)
-                        .map(|(a, b)| (a - b).abs())
-                        .fold(0.0, f64::max);
-                    let gained = fx - c;
-                    (x, r, fx) = (t, res, c);
-                    lambda = if k == 0 { lambda / 5.0 } else { lambda * 2.0 };
-                    lambda = lambda.max(1e-7);
-                    improved = true;
-                    if gained <= options.f_tolerance * fx || moved <= options.x_tolerance {
-                        converged = true;
-                    }
-                    break;
-                }
-                _ => lambda *= 100.0,
-            }
-        }
-        if !improved || converged {
-            converged = converged || !improved;
-            break;
-        }
-    }
-    Minimum {
-        x,
-        f: fx,
-        evaluations,
-        converged,
-        stalled: false,
-    }
-}
-
-/// What one Nelder-Mead run found.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Minimum {
-    pub x: Vec<f64>,
-    pub f: f64,
-    pub evaluations: usize,
-    pub converged: bool,
-    /// Stopped because the best did not improve for a while.
-    pub stalled: bool,
-}
-
-/// Bounded Nelder-Mead on the unit box: minimises `f` (given batches of
-/// points, evaluated together) from `x0` (where `f0` is known), with a
-/// first simplex of edge `step`, at most `budget` new evaluations.
-pub fn nelder_mead(
-    f: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>,
-    x0: &[f64],
-    f0: f64,
-    step: f64,
-    budget: usize,
-    options: FitOptions,
-) -> Minimum {
-    let n = x0.len();
-    let nf = n as f64;
-    let (reflect, expand) = (1.0, 1.0 + 2.0 / nf);
-    let (contract, shrink) = (0.75 - 1.0 / (2.0 * nf), 1.0 - 1.0 / nf);
-    let clamp = |x: Vec<f64>| -> Vec<f64> { x.into_iter().map(|v| v.clamp(0.0, 1.0)).collect() };
-    let mut simplex: Vec<Vec<f64>> = vec![x0.to_vec()];
-    for i in 0..n {
-        let mut x = x0.to_vec();
-        x[i] = if x[i] + step <= 1.0 {
-            x[i] + step
-        } else {
-            x[i] - step
-        };
-        simplex.push(x);
-    }
-    let mut values = vec![f0];
-    values.extend(f(&simplex[1..]));
-    let mut evaluations = n;
-    let (mut converged, mut stalled) = (false, false);
-    // The best value and the evaluation count when it last improved.
-    let mut progress_at = (f64::INFINITY, 0);
-    let combine = |a: &[f64], b: &[f64], t: f64| -> Vec<f64> {
-        a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect()
-    };
-    loop {
-        let mut order: Vec<usize> = (0..=n).collect();
-        order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
-        simplex = order.iter().map(|&i| simplex[i].clone()).collect();
-        values = order.iter().map(|&i| values[i]).collect();
-        let size = simplex[1..]
-            .iter()
-            .flat_map(|x| x.iter().zip(&simplex[0]).map(|(a, b)| (a - b).abs()))
-            .fold(0.0, f64::max);
-        let spread = values[n] - values[0];
-        let tolerance = options.f_tolerance * values[0].abs();
-        if size <= options.x_tolerance && spread <= tolerance {
-            converged = true;
-            break;
-        }
-        if values[0] < progress_at.0 - tolerance {
-            progress_at = (values[0], evaluations);
-        }
-        if evaluations - progress_at.1 >= options.stall * (n + 1) {
-            stalled = true;
-            break;
-        }
-        if evaluations >= budget {
-            break;
-        }
-        let centroid: Vec<f64> = (0..n)
-            .map(|k| simplex[..n].iter().map(|x| x[k]).sum::<f64>() / nf)
-            .collect();
-        let worst = simplex[n].clone();
-        let xr = clamp(combine(&centroid, &worst, -reflect));
-        let fr = f(std::slice::from_ref(&xr))[0];
-        evaluations += 1;
-        if fr < values[0] {
-            let xe = clamp(combine(&centroid, &worst, -reflect * expand));
-            let fe = f(std::slice::from_ref(&xe))[0];
-            evaluations += 1;
-            if fe < fr {
-                (simplex[n], values[n]) = (xe, fe);
-            } else {
-                (simplex[n], values[n]) = (xr, fr);
-            }
-            continue;
-        }
-        if fr < values[n - 1] {
-            (simplex[n], values[n]) = (xr, fr);
-            continue;
-        }
-        let (xc, limit) = if fr < values[n] {
-            (clamp(combine(&centroid, &xr, contract)), fr)
-        } else {
-            (clamp(combine(&centroid, &worst, contract)), values[n])
-        };
-        let fc = f(std::slice::from_ref(&xc))[0];
-        evaluations += 1;
-        if fc < limit {
-            (simplex[n], values[n]) = (xc, fc);
-            continue;
-        }
-        let best = simplex[0].clone();
-        for x in &mut simplex[1..] {
-            *x = combine(&best, x, shrink);
-        }
-        let shrunk = f(&simplex[1..]);
-        values[1..].copy_from_slice(&shrunk);
-        evaluations += n;
-    }
-    Minimum {
-        x: simplex[0].clone(),
-        f: values[0],
-        evaluations,
-        converged,
-        stalled,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A model curve y = a (1 - exp(-b t)) with a, b mapped from the unit
-    /// box; noise-free data from known values are fitted back to them.
-    #[test]
-    fn levenberg_marquardt_recovers_an_exponential_rise() {
-        let ts: Vec<f64> = (0..20).map(|k| 0.1 * k as f64).collect();
-        let model = |u: &[f64]| -> Vec<f64> {
-            let (a, b) = (1.0 + 4.0 * u[0], 0.5 + 5.0 * u[1]);
-            ts.iter().map(|t| a * (1.0 - (-b * t).exp())).collect()
-        };
-        let truth = model(&[0.3, 0.6]);
-        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
-            points
-                .iter()
-                .map(|u| Some(model(u).iter().zip(&truth).map(|(m, d)| m - d).collect()))
-                .collect()
-        };
-        let x0 = [0.8, 0.1];
-        let r0 = f(&[x0.to_vec()]).remove(0).unwrap_or_default();
-        let options = FitOptions {
-            x_tolerance: 1e-9,
-            f_tolerance: 1e-12,
-            ..FitOptions::default()
-        };
-        let m = levenberg_marquardt(&mut f, &x0, r0, 200, options, 1e-6);
-        assert!((m.x[0] - 0.3).abs() < 1e-4, "{:?}", m.x);
-        assert!((m.x[1] - 0.6).abs() < 1e-4, "{:?}", m.x);
-        assert!(m.evaluations <= 200);
-    }
-
-    /// Started at the minimum of a noisy fit (the residual does not
-    /// vanish), the search spends the Jacobian and stops: the steps it
-    /// would try are within the tolerance, and are not run. Started away
-    /// from it, it gets there.
-    #[test]
-    fn levenberg_marquardt_does_not_run_steps_within_the_tolerance() {
-        let ts: Vec<f64> = (0..20).map(|k| 0.1 * k as f64).collect();
-        // A straight line fitted to a sine: a minimum with a residual.
-        let data: Vec<f64> = ts.iter().map(|t| (3.0 * t).sin()).collect();
-        let model = |u: &[f64]| -> Vec<f64> {
-            let (a, b) = (-2.0 + 4.0 * u[0], -2.0 + 4.0 * u[1]);
-            ts.iter().map(|t| a + b * t).collect()
-        };
-        // The least-squares line, in closed form.
-        let n = ts.len() as f64;
-        let (st, sy) = (ts.iter().sum::<f64>(), data.iter().sum::<f64>());
-        let stt = ts.iter().map(|t| t * t).sum::<f64>();
-        let sty = ts.iter().zip(&data).map(|(t, y)| t * y).sum::<f64>();
-        let b = (n * sty - st * sy) / (n * stt - st * st);
-        let a = (sy - b * st) / n;
-        let best = [(a + 2.0) / 4.0, (b + 2.0) / 4.0];
-        let runs = std::cell::Cell::new(0usize);
-        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
-            runs.set(runs.get() + points.len());
-            points
-                .iter()
-                .map(|u| Some(model(u).iter().zip(&data).map(|(m, d)| m - d).collect()))
-                .collect()
-        };
-        let options = FitOptions {
-            x_tolerance: 2e-3,
-            f_tolerance: 1e-4,
-            ..FitOptions::default()
-        };
-        let r0 = f(&[best.to_vec()]).remove(0).unwrap_or_default();
-        runs.set(0);
-        let m = levenberg_marquardt(&mut f, &best, r0, 100, options, 1e-2);
-        assert!(m.converged);
-        assert_eq!(m.evaluations, 2, "the Jacobian's two columns only");
-        assert_eq!(runs.get(), 2);
-        assert_eq!(m.x, best.to_vec());
-        let start = [0.9, 0.1];
-        let r0 = f(&[start.to_vec()]).remove(0).unwrap_or_default();
-        let m = levenberg_marquardt(&mut f, &start, r0, 100, options, 1e-2);
-        assert!(m.converged);
-        for (x, b) in m.x.iter().zip(best) {
-            assert!((x - b).abs() < 2e-3, "{:?} against {best:?}", m.x);
-        }
-    }
-
-    /// A parameter with no effect at the start (the time constant of an
-    /// amplitude that starts at 0) neither stalls the search nor stops
-    /// the other: the amplitude moves first, then the time constant.
-    #[test]
-    fn levenberg_marquardt_moves_past_a_parameter_that_starts_inert() {
-        let ts: Vec<f64> = (1..30).map(|k| 0.1 * k as f64).collect();
-        let model = |u: &[f64]| -> Vec<f64> {
-            let (a, tau) = (2.0 * u[0], 0.2 + 2.0 * u[1]);
-            ts.iter().map(|t| a * (-t / tau).exp()).collect()
-        };
-        let truth = model(&[0.6, 0.3]);
-        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
-            points
-                .iter()
-                .map(|u| Some(model(u).iter().zip(&truth).map(|(m, d)| m - d).collect()))
-                .collect()
-        };
-        let x0 = [0.0, 0.5];
-        let r0 = f(&[x0.to_vec()]).remove(0).unwrap_or_default();
-        let options = FitOptions {
-            x_tolerance: 1e-9,
-            f_tolerance: 1e-12,
-            ..FitOptions::default()
-        };
-        let m = levenberg_marquardt(&mut f, &x0, r0, 300, options, 1e-6);
-        assert!((m.x[0] - 0.6).abs() < 1e-3, "{:?}", m.x);
-        assert!((m.x[1] - 0.3).abs() < 1e-3, "{:?}", m.x);
-    }
-
-    /// The optimum outside the box: the search ends on the bound.
-    #[test]
-    fn levenberg_marquardt_stops_on_a_bound() {
-        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
-            points
-                .iter()
-                .map(|u| Some(vec![u[0] - 1.5, 2.0 * (u[1] - 0.25)]))
-                .collect()
-        };
-        let r0 = f(&[vec![0.5, 0.5]]).remove(0).unwrap_or_default();
-        let m = levenberg_marquardt(&mut f, &[0.5, 0.5], r0, 100, FitOptions::default(), 1e-4);
-        assert!((m.x[0] - 1.0).abs() < 1e-9, "{:?}", m.x);
-        assert!((m.x[1] - 0.25).abs() < 1e-3, "{:?}", m.x);
-    }
 
     #[test]
     fn covariance_of_orthogonal_columns_is_sigma_over_their_norms() {

@@ -7,7 +7,7 @@
 //! - [`recording`], [`replay`], [`compare`], [`modulus`]: lab recordings, a recording
 //!   simulated, markers and NRMSE, E from a compression test.
 //! - [`params`], [`sweep`], [`fit`], [`synth`]: parameters by name, grids, fitting with its
-//!   evidence, recordings made by softgrip itself.
+//!   evidence, recordings made by softgrip itself; [`optimize`]: the optimisers fits use.
 //! - [`diagnose`], [`discretisation`], [`prove`]: what physics the model left out, how much of
 //!   a mismatch the mesh and step make, the diagnosis scored on hidden effects.
 //! - [`grasp`]: squeeze, lift and hold, and the least friction that holds.
@@ -21,6 +21,7 @@ pub mod discretisation;
 pub mod fit;
 pub mod grasp;
 pub mod modulus;
+pub mod optimize;
 pub mod params;
 pub mod plot;
 pub mod prove;

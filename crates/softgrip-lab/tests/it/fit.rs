@@ -1,69 +1,8 @@
-//! Issue 5: fitting. The bounded Nelder-Mead search finds known minima
-//! (inside the box and on its boundary); `--params` parse with their
-//! bounds and scales, and bad ones are errors naming the parameter.
+//! Issue 5: fitting. `--params` parse with their bounds and scales, and bad
+//! ones are errors naming the parameter; a synthetic recording is fitted
+//! back (slow). The optimisers' own tests are beside them in `optimize`.
 
-use softgrip_lab::fit::{FitOptions, halton, minimize, nelder_mead, parse_params};
-
-fn options() -> FitOptions {
-    FitOptions {
-        x_tolerance: 1e-6,
-        f_tolerance: 1e-12,
-        ..FitOptions::default()
-    }
-}
-
-#[test]
-fn nelder_mead_finds_the_rosenbrock_minimum_and_a_minimum_on_a_bound() {
-    // Rosenbrock's valley on x, y in -2..2: minimum at (1, 1), u = 0.75.
-    let rosenbrock = |u: &[f64]| {
-        let (x, y) = (4.0 * u[0] - 2.0, 4.0 * u[1] - 2.0);
-        (1.0 - x).powi(2) + 100.0 * (y - x * x).powi(2)
-    };
-    let mut calls = 0;
-    let mut f = |points: &[Vec<f64>]| -> Vec<f64> {
-        calls += points.len();
-        points.iter().map(|u| rosenbrock(u)).collect()
-    };
-    let x0 = [0.2, 0.6];
-    let f0 = rosenbrock(&x0);
-    let m = nelder_mead(&mut f, &x0, f0, 0.1, 2000, options());
-    assert!(m.converged, "{m:?}");
-    assert!(
-        (m.x[0] - 0.75).abs() < 1e-4 && (m.x[1] - 0.75).abs() < 1e-4,
-        "{m:?}"
-    );
-    assert_eq!(m.evaluations, calls, "every evaluation counted");
-    // A minimum outside the box in u0: the search stops on the bound.
-    let bowl = |u: &[f64]| (u[0] + 0.5).powi(2) + (u[1] - 0.3).powi(2) + (u[2] - 0.9).powi(2);
-    let mut g = |points: &[Vec<f64>]| -> Vec<f64> { points.iter().map(|u| bowl(u)).collect() };
-    let x0 = [0.5, 0.5, 0.5];
-    // (A simplex can collapse onto a bound face; the restarts of
-    // `minimize` give it its dimensions back.)
-    let m = minimize(&mut g, &x0, bowl(&x0), 2000, options());
-    assert!(m.converged);
-    assert!(m.x[0] == 0.0, "{m:?}");
-    assert!(
-        (m.x[1] - 0.3).abs() < 1e-4 && (m.x[2] - 0.9).abs() < 1e-4,
-        "{m:?}"
-    );
-    // The budget is a hard limit.
-    let m = minimize(&mut g, &x0, bowl(&x0), 10, options());
-    assert!(!m.converged && m.evaluations <= 10 + 3, "{m:?}");
-}
-
-#[test]
-fn the_design_is_spread_over_the_box() {
-    let points: Vec<Vec<f64>> = (1..=32).map(|k| halton(k, 4)).collect();
-    for p in &points {
-        assert!(p.iter().all(|x| *x > 0.0 && *x < 1.0), "{p:?}");
-    }
-    // Every half of every axis holds between a third and two thirds.
-    for d in 0..4 {
-        let low = points.iter().filter(|p| p[d] < 0.5).count();
-        assert!((11..=21).contains(&low), "axis {d}: {low}");
-    }
-    assert_eq!(halton(1, 2), [0.5, 1.0 / 3.0]);
-}
+use softgrip_lab::fit::parse_params;
 
 #[test]
 fn params_parse_with_bounds_and_scales_and_bad_ones_are_errors() {
@@ -121,7 +60,7 @@ fn params_parse_with_bounds_and_scales_and_bad_ones_are_errors() {
 #[ignore = "slow: a whole fit with its uncertainty"]
 fn a_synthetic_recording_is_fitted_back_within_the_noise_implied_uncertainty() {
     use glam::DVec3;
-    use softgrip_lab::fit::{Identifiability, fit};
+    use softgrip_lab::fit::{FitOptions, Identifiability, fit};
     use softgrip_lab::params;
     use softgrip_lab::recording::{Mode, Start};
     use softgrip_lab::synth::{Synthesis, cuboid_markers, synthesize};

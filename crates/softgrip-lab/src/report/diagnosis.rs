@@ -1,0 +1,212 @@
+//! The report of `softgrip diagnose`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::plot::{self, Chart, Mark, Series};
+use crate::recording::Recording;
+
+use super::figures::{AXES, moving_axes, residual_chart};
+use super::out::{Out, ReportError, Written};
+use super::tables::{errors_table, fmt_value, header};
+
+/// The report of `softgrip diagnose`: the verdict and its evidence, where
+/// the baseline misses, the candidates ranked (`ranking.png`), each
+/// marker's residual before and after as arrows (`arrows.png`), and the
+/// RMS residual per sample before and after (`residuals.png`).
+pub fn diagnosis(
+    dir: &Path,
+    recording: &Recording,
+    d: &crate::diagnose::Diagnosis,
+) -> Result<Written, ReportError> {
+    let mut out = Out::new(dir)?;
+    let mut md = header(recording, "Diagnosis");
+    let effects = if d.effects.is_empty() {
+        d.verdict()
+    } else {
+        d.effects.join(" + ")
+    };
+    let _ = writeln!(md, "## Verdict: {effects}\n\n{}\n", d.evidence);
+    md += &errors_table(&[
+        ("baseline", &d.baseline.errors),
+        ("with the effects", &d.final_fit.errors),
+    ]);
+    let params = |p: &[(String, f64)]| {
+        p.iter()
+            .map(|(k, v)| format!("{k} = {}", fmt_value(*v)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let _ = writeln!(
+        md,
+        "\n- baseline fit: {}\n- with the effects: {}\n- noise, estimated from the data (second differences of the residual along the samples, per marker and axis): {}\n",
+        params(&d.baseline.params),
+        params(&d.fitted_params()),
+        d.noise.describe()
+    );
+    let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
+    let _ = writeln!(
+        md,
+        "- NRMSE over all markers beyond the noise (the part of the residual the noise does not account for: the model's own error): {beyond_before:.4} for the baseline, {beyond_after:.4} with the effects{}",
+        if beyond_before > 0.0 {
+            format!(" ({:.2} of it left)", beyond_after / beyond_before)
+        } else {
+            String::new()
+        }
+    );
+    let _ = writeln!(
+        md,
+        "- the model's own discretisation, at the final fit: {}\n",
+        d.discretisation.describe()
+    );
+    if !d.pinned.is_empty() {
+        let _ = writeln!(
+            md,
+            "- at the edge of its search range after the baseline fit: {} (each: either the data do not pin it down, or the fit bends it to stand in for something the model lacks; a measured range, `--bound`, settles it)",
+            d.pinned.join(", ")
+        );
+    }
+    for (name, low, high) in &d.bounds {
+        let _ = writeln!(
+            md,
+            "- searched within the range given (`--bound`): {name} {} to {}",
+            fmt_value(*low),
+            fmt_value(*high)
+        );
+    }
+    if !d.bounds.is_empty() || !d.pinned.is_empty() {
+        md.push('\n');
+    }
+    let l = &d.location;
+    let _ = writeln!(
+        md,
+        "## Where the baseline misses\n\n{} (chi-square {:.0} on {} coordinates{}).\n",
+        l.description,
+        l.chi2,
+        l.dof,
+        if l.significant {
+            ", beyond three of its standard deviations"
+        } else {
+            ", within the noise"
+        }
+    );
+    if !l.markers.is_empty() {
+        md += "| marker | RMS residual / noise |\n|---|---|\n";
+        for (m, r) in &l.markers {
+            let _ = writeln!(md, "| {m} | {r:.1} |");
+        }
+        md.push('\n');
+    }
+    // The candidates, first round, ranked.
+    let mut first: Vec<&crate::diagnose::Hypothesis> =
+        d.hypotheses.iter().filter(|h| h.round == 0).collect();
+    first.sort_by(|a, b| a.score.total_cmp(&b.score));
+    if !first.is_empty() {
+        let name =
+            |h: &crate::diagnose::Hypothesis| crate::diagnose::effect_label(h.effect, &h.variant);
+        let bars = plot::Bars {
+            title: "Candidates: BIC gain over the baseline (higher is better; accepted in green)"
+                .into(),
+            y_label: "-(BIC change)".into(),
+            labels: first.iter().map(|h| name(h)).collect(),
+            values: first.iter().map(|h| (-h.score).max(-50.0)).collect(),
+            colors: first
+                .iter()
+                .map(|h| {
+                    if d.named(h) {
+                        [40, 160, 60]
+                    } else {
+                        [150, 150, 150]
+                    }
+                })
+                .collect(),
+            ..plot::Bars::default()
+        };
+        md += "## Candidates\n\n";
+        md += &out.image("ranking.png", &plot::bars_png(&bars)?, "candidates ranked")?;
+        md += "| round | candidate | BIC change | residual removed | Vuong z against the best other effect | NRMSE, fingers included | fitted |\n|---|---|---|---|---|---|---|\n";
+        let mut all: Vec<&crate::diagnose::Hypothesis> = d.hypotheses.iter().collect();
+        all.sort_by(|a, b| {
+            (a.round, a.score)
+                .partial_cmp(&(b.round, b.score))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        for h in all {
+            match &h.fit {
+                Ok(f) => {
+                    let _ = writeln!(
+                        md,
+                        "| {} | {} | {:+.1} | {:.0} % | {} | {:.5} | {} |",
+                        h.round + 1,
+                        name(h),
+                        h.score,
+                        100.0 * h.explained,
+                        h.z_text(),
+                        f.errors.nrmse_all,
+                        params(&f.params)
+                    );
+                }
+                Err(e) => {
+                    let _ = writeln!(md, "| {} | {} | failed | | | | {e} |", h.round + 1, name(h));
+                }
+            }
+        }
+        md.push('\n');
+    }
+    // Residual arrows, before and after, magnified.
+    let residuals_before = &d.baseline.replay.residuals;
+    let residuals_after = &d.final_fit.replay.residuals;
+    let axes = moving_axes(residuals_before);
+    if axes.len() >= 2 {
+        let (a, b) = (axes[0].min(axes[1]), axes[0].max(axes[1]));
+        let gain = 10.0;
+        let mut chart = Chart {
+            title: format!(
+                "Residuals x{gain}: recorded (dots), baseline (red) and with the effects (blue) to them"
+            ),
+            x_label: format!("{} (mm)", AXES[a]),
+            y_label: format!("{} (mm)", AXES[b]),
+            equal_aspect: true,
+            ..Chart::default()
+        };
+        let mut recorded = Vec::new();
+        for (rs, color) in [
+            (residuals_before, [200, 40, 40]),
+            (residuals_after, [40, 80, 200]),
+        ] {
+            for r in rs {
+                if let (Some(x), Some(y)) = (r.recorded[a], r.recorded[b]) {
+                    let (sx, sy) = (r.simulated[a], r.simulated[b]);
+                    chart.arrows.push((
+                        (1e3 * (x + gain * (sx - x)), 1e3 * (y + gain * (sy - y))),
+                        (1e3 * x, 1e3 * y),
+                        color,
+                    ));
+                    recorded.push((1e3 * x, 1e3 * y));
+                }
+            }
+        }
+        chart.series.push(Series {
+            label: "recorded".into(),
+            points: recorded,
+            mark: Mark::Points,
+            color: [20, 20, 20],
+        });
+        md += "## Residuals before and after\n\n";
+        md += &out.image("arrows.png", &plot::chart_png(&chart)?, "residual arrows")?;
+    }
+    let chart = residual_chart(
+        recording,
+        &[
+            ("baseline", &d.baseline.replay),
+            ("with the effects", &d.final_fit.replay),
+        ],
+        &[],
+    );
+    md += &out.image(
+        "residuals.png",
+        &plot::chart_png(&chart)?,
+        "residuals per sample",
+    )?;
+    out.finish("diagnosis.md", &md)
+}

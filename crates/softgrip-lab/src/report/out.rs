@@ -1,0 +1,72 @@
+//! Where a report goes: its directory, the plots written into it, and the
+//! Markdown file that shows them.
+
+use std::path::{Path, PathBuf};
+
+use crate::plot::{self, PlotError};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    #[error("cannot write the report in {path}: {source}")]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("report plot: {0}")]
+    Plot(#[from] PlotError),
+}
+
+/// The files a report wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Written {
+    pub markdown: PathBuf,
+    pub images: Vec<PathBuf>,
+}
+
+pub(super) struct Out {
+    dir: PathBuf,
+    images: Vec<PathBuf>,
+}
+
+impl Out {
+    pub(super) fn new(dir: &Path) -> Result<Out, ReportError> {
+        std::fs::create_dir_all(dir).map_err(|source| ReportError::Write {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        Ok(Out {
+            dir: dir.to_path_buf(),
+            images: Vec::new(),
+        })
+    }
+
+    /// Writes a plot and returns the Markdown that shows it.
+    pub(super) fn image(
+        &mut self,
+        name: &str,
+        png: &[u8],
+        alt: &str,
+    ) -> Result<String, ReportError> {
+        let path = self.dir.join(name);
+        plot::write_png(&path, png)?;
+        self.images.push(path);
+        Ok(format!("![{alt}]({name})\n\n"))
+    }
+
+    pub(super) fn finish(self, name: &str, text: &str) -> Result<Written, ReportError> {
+        let markdown = self.dir.join(name);
+        write_file(&markdown, text)?;
+        Ok(Written {
+            markdown,
+            images: self.images,
+        })
+    }
+}
+
+/// Writes a report's file; the error names it.
+pub(super) fn write_file(path: &Path, contents: &str) -> Result<(), ReportError> {
+    std::fs::write(path, contents).map_err(|source| ReportError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
