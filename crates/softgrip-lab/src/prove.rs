@@ -375,9 +375,7 @@ fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, String> {
     .map_err(|e| e.to_string())?;
     let mut sums: std::collections::BTreeMap<String, (f64, usize)> = Default::default();
     for res in &r.residuals {
-        let e = sums
-            .entry(diagnose::marker_name(clean, res.marker))
-            .or_default();
+        let e = sums.entry(clean.marker_name(res.marker)).or_default();
         e.0 += res.difference().length_squared();
         e.1 += 1;
     }
