@@ -118,34 +118,27 @@ pub fn locate(recording: &Recording, replay: &Replay, noise: &Noise) -> Location
 
 /// The location in words: who, where, along which axes, and when.
 fn description(loc: &Location) -> String {
+    // The first `n` names of a list, worst first.
+    let first = |named: &[(String, f64)], n: usize| {
+        named
+            .iter()
+            .take(n)
+            .map(|(name, _)| name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     if !loc.significant {
         "the residual is at the noise level".into()
     } else {
         let who = if loc.markers.is_empty() {
             "spread thinly over every marker".to_string()
         } else {
-            format!(
-                "markers {}",
-                loc.markers
-                    .iter()
-                    .take(4)
-                    .map(|(m, _)| m.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
+            format!("markers {}", first(&loc.markers, 4))
         };
         let regions = if loc.regions.is_empty() {
             String::new()
         } else {
-            format!(
-                " ({})",
-                loc.regions
-                    .iter()
-                    .take(2)
-                    .map(|(r, _)| r.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
+            format!(" ({})", first(&loc.regions, 2))
         };
         let axes = if loc.axes.is_empty() {
             String::new()
