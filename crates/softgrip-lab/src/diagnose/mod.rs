@@ -52,8 +52,11 @@ pub fn diagnose(
     progress: Progress,
 ) -> Result<Diagnosis, String> {
     let base_params = baseline::search_params(&recording.scene, options)?;
+    // The fits planned: the baseline's two, and each candidate once a round.
     let planned = 2 + catalogue(recording, &recording.scene).len() * options.max_effects;
     let mut fits = FitCount::new(planned, progress);
+    // The baseline, first weighing every coordinate alike; the noise from
+    // its residual; the baseline again, weighed by the noise.
     fits.starting("baseline");
     let first = baseline::fit_unweighted(recording, options, &base_params)?;
     let noise = estimate_noise_split(&first.replay.residuals, &load_turns(recording));
@@ -61,12 +64,16 @@ pub fn diagnose(
     fits.starting("baseline, weighted by the noise");
     let baseline = baseline::refit_weighted(recording, &noise, options, &base_params, &first)?;
     fits.done = 2;
+    // Where the residual stands out of the noise.
     let location = locate(recording, &baseline.replay, &noise);
     // Reported, not acted on: refitting them in every candidate, and
     // trying the candidates at the noise level when one was pinned, named
     // one effect fewer on the suite (docs/diagnosis-pinned-refitted.md).
     let pinned = pinned_at_bounds(&baseline.params, &base_params);
+    // The effects that explain it, by a greedy search of the catalogue.
     let found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;
+    // The verdict: what is left, how far the discretisation alone moves the
+    // markers, and the evidence in words.
     let remaining = locate(recording, &found.current.replay, &noise);
     // On the final model: the baseline's may not show it (on the suite's
     // strong creep, half the step moves the baseline by 0.001 mm and the

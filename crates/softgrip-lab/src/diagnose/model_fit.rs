@@ -343,7 +343,7 @@ fn fit_task(
 /// left out where every one of them has the object's own material (a
 /// heterogeneous-stiffness candidate at its start). Such regions change no
 /// element (see
-/// `tests/diagnose.rs::a_region_of_the_objects_material_changes_nothing`);
+/// `tests/it/diagnose.rs::a_region_of_the_objects_material_changes_nothing`);
 /// one that overrides another region would, so then both must be equal.
 pub fn same_model(a: &Scene, b: &Scene) -> bool {
     let plain = |s: &Scene| {

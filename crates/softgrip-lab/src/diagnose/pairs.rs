@@ -120,14 +120,13 @@ pub(super) fn fit_pair(
     let k = current.k + own_params(&hc.params) + own_params(&rc.params);
     let budget = options.candidate_evaluations_per_param * params.len();
     fits.starting("the two closest effects together");
-    // The pair starts where the better one ended, the other
-    // at its catalogue start (no effect, or for table friction
-    // a frictionless table, which is not the fixed bottom the
-    // better one was fitted on), and also from both effects at
-    // their own optima, with either one's modulus. (The pair can
-    // still end worse than the better one alone when the two are
-    // not nested: a table under the object is no fixed bottom at
-    // any friction, as on control-3.)
+    // The pair starts where the better one ended, the other at its catalogue
+    // start (no effect, or for table friction a frictionless table, which is
+    // not the fixed bottom the better one was fitted on), and also from both
+    // effects at their own optima, with either one's modulus. (The pair can
+    // still end worse than the better one alone when the two are not nested:
+    // a table under the object is no fixed bottom at any friction, as on
+    // control-3.)
     let at = |f: &ModelFit, name: &str| f.params.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
     let starts: Vec<Vec<f64>> = [hf, rf]
         .iter()
@@ -164,9 +163,9 @@ pub(super) fn fit_pair(
     );
     check_cancel()?;
     let Ok(pair) = pair else { return Ok(None) };
-    // The pair needs an effect when leaving it out costs what
-    // naming one costs: the BIC gain, the share of the residual
-    // and Vuong's z, with the same thresholds.
+    // The pair needs an effect when leaving it out costs what naming one
+    // costs: the BIC gain, the share of the residual and Vuong's z, with the
+    // same thresholds.
     Ok(Some(PairTest {
         effects: [
             (best.effect, best.variant.clone()),

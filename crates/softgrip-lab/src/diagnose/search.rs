@@ -166,8 +166,7 @@ fn fit_candidate(
             known: Some(current),
         },
     );
-    // A cancelled fit is the diagnosis's end, not a candidate
-    // that failed.
+    // A cancelled fit is the diagnosis's end, not a candidate that failed.
     check_cancel()?;
     fits.done += 1;
     let (score, explained) = match &fit {
@@ -207,10 +206,10 @@ fn compare_with_rivals(round: &mut [Hypothesis], current: &ModelFit, noise: &Noi
         let h = &mut round[i];
         (h.vuong, h.against_model) = match (&weighted[i], rival.map(|j| &weighted[j])) {
             (Some(this), Some(Some(other))) => (vuong(this, other), false),
-            // No other effect fitted this round: the same test
-            // against the model it was added to (nested, as in
-            // the pair test), so that form error a lone candidate
-            // absorbs is not named on BIC and the share alone.
+            // No other effect fitted this round: the same test against the
+            // model it was added to (nested, as in the pair test), so that
+            // form error a lone candidate absorbs is not named on BIC and the
+            // share alone.
             (Some(this), None) => (vuong(this, &without), true),
             _ => (None, false),
         };
