@@ -1,23 +1,16 @@
 //! How far the model's own discretisation moves what a recording sees,
 //! against the recording's noise (`softgrip diagnose` reports it).
 //!
-//! The diagnosis fits a lattice of the scene's edge length stepped at the
-//! scene's time step; the lab's object is a continuum. So the fitted model
-//! is replayed once more on a finer mesh (edges [`FINER`] times the
-//! scene's) and, for a time series, once at half the time step (a
-//! quasi-static recording is a sequence of rest states, which do not depend
-//! on the step). The RMS move of the observed coordinates, fingers
-//! included, over the noise level says how large a mismatch the
-//! discretisation alone can make: where it is near the noise or above, a
-//! residual of that size may be the mesh's or the step's, not missing
-//! physics, and refining the scene is the cure. It is a lower estimate of
-//! the distance to the converged model (the finer model is not converged
-//! either). On the proof's cuboid (`softgrip prove`), 4 mm edges against
-//! 5 mm move the markers by 0.7 (control-3) to 1.4 (the strong creep, its
-//! truth on 5 mm) times its 0.1 mm noise (DIAGNOSIS.md).
+//! The fitted model is replayed once more on a finer mesh (edges [`FINER`]
+//! times the scene's) and, for a time series, once at half the time step.
+//! The RMS move of the observed coordinates over the noise level says how
+//! large a mismatch the discretisation alone can make: near the noise or
+//! above, a residual of that size may be the mesh's or the step's rather
+//! than missing physics. Why, and what it measures on the proof's cuboid:
+//! `docs/design/diagnosis.md`.
 
 use crate::compare::{Residual, per_marker};
-use crate::diagnose::{Noise, marker_name, weighted_residuals};
+use crate::diagnose::noise::{Noise, weighted_residuals};
 use crate::recording::{Mode, Recording};
 use crate::replay::{Replay, ReplayOptions, replay};
 use softgrip_core::quasi_static::RestTolerance;
@@ -277,6 +270,6 @@ pub fn moves(
     let worst = per_marker(&between)
         .into_iter()
         .max_by(|x, y| x.distance.total_cmp(&y.distance))
-        .map(|m| (marker_name(recording, m.marker), m.distance))?;
+        .map(|m| (recording.marker_name(m.marker), m.distance))?;
     Some(((sum / n).sqrt(), over, worst))
 }

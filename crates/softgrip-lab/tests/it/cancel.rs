@@ -9,21 +9,14 @@ use softgrip_core::SimError;
 use softgrip_core::cancel::{self, Cancel};
 use softgrip_lab::diagnose::{self, DiagnoseOptions};
 use softgrip_lab::fit::{self, FitError, FitOptions, parse_params};
-use softgrip_lab::recording::Recording;
 use softgrip_lab::replay::{ReplayOptions, replay};
 
-fn recording() -> Recording {
-    Recording::load(std::path::Path::new(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
-    )))
-    .expect("the committed recording loads")
-}
+use crate::support::thesis_7_loads;
 
 #[test]
 #[ignore = "slow: whole replays and fits"]
 fn a_replay_stops_at_its_first_step_once_cancelled_and_is_unchanged_by_a_token_never_set() {
-    let rec = recording();
+    let rec = thesis_7_loads();
     let outside = replay(&rec, &rec.scene, ReplayOptions::default(), |_| {}).expect("replays");
     let token = Cancel::new();
     let inside = cancel::scope(Some(token.clone()), || {
@@ -62,7 +55,7 @@ fn a_replay_stops_at_its_first_step_once_cancelled_and_is_unchanged_by_a_token_n
 #[test]
 #[ignore = "slow: whole replays and fits"]
 fn a_fit_cancelled_midway_says_so_instead_of_returning_a_fit() {
-    let rec = recording();
+    let rec = thesis_7_loads();
     let params = parse_params(&["young_modulus".to_string()], &rec.scene).expect("params");
     let token = Cancel::new();
     let calls = AtomicUsize::new(0);
@@ -82,7 +75,7 @@ fn a_fit_cancelled_midway_says_so_instead_of_returning_a_fit() {
 
 #[test]
 fn a_diagnosis_cancelled_says_so_instead_of_a_verdict() {
-    let rec = recording();
+    let rec = thesis_7_loads();
     let token = Cancel::new();
     let stages = std::sync::Mutex::new(Vec::<String>::new());
     let r = cancel::scope(Some(token.clone()), || {

@@ -5,8 +5,10 @@
 use glam::DVec3;
 use softgrip_lab::compare::Residual;
 use softgrip_lab::diagnose::{self, Noise};
-use softgrip_lab::recording::{MarkerRef, Mode, Recording};
+use softgrip_lab::recording::{MarkerRef, Mode};
 use softgrip_lab::synth::Gaussian;
+
+use crate::support;
 
 /// Residuals of `markers` object markers over `samples` samples, x and z
 /// observed: a smooth mismatch `trend(marker, sample)` (m) plus Gaussian
@@ -84,11 +86,7 @@ fn chi_square_significance_and_the_criterion() {
 #[test]
 fn a_mismatch_is_located_at_its_marker_and_axis() {
     let sigma = 1e-4;
-    let rec = Recording::load(std::path::Path::new(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
-    )))
-    .expect("recording");
+    let rec = support::thesis_7_loads();
     let markers = rec.markers.len();
     let samples = rec.samples.len();
     let mut r = residuals(markers, samples, sigma, |_, _| 0.0);
@@ -134,11 +132,7 @@ fn a_mismatch_is_located_at_its_marker_and_axis() {
 /// loss a pressing finger.
 #[test]
 fn the_catalogue_offers_what_applies() {
-    let rec = Recording::load(std::path::Path::new(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
-    )))
-    .expect("recording");
+    let rec = support::thesis_7_loads();
     assert_eq!(rec.mode, Mode::QuasiStatic);
     let names = |c: &[diagnose::Candidate]| {
         let mut v: Vec<&str> = c.iter().map(|c| c.effect).collect();
@@ -377,11 +371,7 @@ fn noise_not_measured_is_not_reported_as_measured() {
 #[test]
 fn a_region_of_the_objects_material_changes_nothing() {
     use softgrip_core::step::Simulation;
-    let rec = Recording::load(std::path::Path::new(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
-    )))
-    .expect("recording");
+    let rec = support::thesis_7_loads();
     let halves: Vec<diagnose::Candidate> = diagnose::catalogue(&rec, &rec.scene)
         .into_iter()
         .filter(|c| c.effect == "heterogeneous-stiffness")

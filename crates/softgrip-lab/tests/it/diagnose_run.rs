@@ -5,21 +5,30 @@
 use softgrip_lab::diagnose::{self, DiagnoseOptions};
 use softgrip_lab::prove;
 
+use crate::support;
+
+/// A diagnosis on a small budget: E alone in the baseline (alpha and the
+/// spring limits locked), 8 simulations for it, `per_param` per candidate
+/// parameter, one effect at most.
+fn small_budget(per_param: usize) -> DiagnoseOptions {
+    DiagnoseOptions {
+        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
+        max_evaluations: 8,
+        candidate_evaluations_per_param: per_param,
+        max_effects: 1,
+        ..DiagnoseOptions::default()
+    }
+}
+
 #[test]
 #[ignore = "slow: a whole diagnosis"]
 fn a_diagnosis_writes_the_specs_json_and_its_report() {
-    let dir = std::env::temp_dir().join(format!("softgrip-diag-{}", std::process::id()));
+    let dir = support::temp_dir("diag");
     let case = prove::case("load-loss-strong").expect("case");
     let mut rec = prove::write_case(&case, &dir.join("rec"), 5).expect("recording");
     // The nominal scene on a coarser mesh: the same diagnosis, faster.
     rec.scene.object.edge_length = 0.008;
-    let options = DiagnoseOptions {
-        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
-        max_evaluations: 8,
-        candidate_evaluations_per_param: 5,
-        max_effects: 1,
-        ..DiagnoseOptions::default()
-    };
+    let options = small_budget(5);
     let steps = std::sync::Mutex::new(Vec::new());
     let d = diagnose::diagnose(&rec, &options, &|done, total, what| {
         if let Ok(mut s) = steps.lock() {
@@ -106,17 +115,10 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         "{pair}"
     );
     let effect = v["verdict"]["effect"].as_str().expect("effect");
-    let names = [
-        "none",
-        "unexplained",
-        "table-friction",
-        "strain-stiffening",
-        "viscoelastic-creep",
-        "finger-friction",
-        "heterogeneous-stiffness",
-        "load-loss",
-        "damping",
-    ];
+    let names: Vec<&str> = ["none", "unexplained"]
+        .into_iter()
+        .chain(diagnose::EFFECTS)
+        .collect();
     assert!(names.contains(&effect), "{effect}");
     let hypotheses = v["hypotheses"].as_array().expect("hypotheses");
     assert!(!hypotheses.is_empty() || effect == "none");
@@ -169,7 +171,7 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
 /// table-friction-strong's recording, on the nominal scene at 8 mm (fast),
 /// in a directory of its own.
 fn coarse_table_friction(tag: &str) -> (std::path::PathBuf, softgrip_lab::recording::Recording) {
-    let dir = std::env::temp_dir().join(format!("softgrip-diag-{tag}-{}", std::process::id()));
+    let dir = support::temp_dir(&format!("diag-{tag}"));
     let case = prove::case("table-friction-strong").expect("case");
     let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
     rec.scene.object.edge_length = 0.008;
@@ -187,12 +189,8 @@ fn a_range_given_for_e_holds_in_every_fit() {
     let e = rec.scene.object.young_modulus;
     let (low, high) = (0.8 * e, 0.95 * e);
     let options = DiagnoseOptions {
-        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
         bounds: vec![("young_modulus".into(), low, high)],
-        max_evaluations: 8,
-        candidate_evaluations_per_param: 4,
-        max_effects: 1,
-        ..DiagnoseOptions::default()
+        ..small_budget(4)
     };
     let d = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
     let e_of = |p: &[(String, f64)]| {
@@ -227,25 +225,15 @@ fn a_range_given_for_e_holds_in_every_fit() {
 }
 
 /// `--lock young_modulus` keeps E at the scene's value in every fit: the
-/// baseline's, each candidate's and the pair's (the candidates refitted it
-/// until 2026-11-24), and the model with the effects keeps it too.
+/// baseline's, each candidate's and the pair's, and the model with the
+/// effects keeps it too.
 #[test]
 #[ignore = "slow: a whole diagnosis"]
 fn a_locked_modulus_stays_locked_in_every_fit() {
     let (dir, rec) = coarse_table_friction("lock");
     let e = rec.scene.object.young_modulus;
-    let options = DiagnoseOptions {
-        lock: vec![
-            "young_modulus".into(),
-            "alpha".into(),
-            "tau_s".into(),
-            "tau_c".into(),
-        ],
-        max_evaluations: 8,
-        candidate_evaluations_per_param: 4,
-        max_effects: 1,
-        ..DiagnoseOptions::default()
-    };
+    let mut options = small_budget(4);
+    options.lock.insert(0, "young_modulus".into());
     let d = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
     assert!(d.baseline.params.is_empty(), "{:?}", d.baseline.params);
     let fitted: Vec<&diagnose::ModelFit> = d
@@ -280,12 +268,8 @@ fn a_baseline_at_the_edge_of_its_range_says_so() {
     let (dir, rec) = coarse_table_friction("pinned");
     let e = rec.scene.object.young_modulus;
     let options = DiagnoseOptions {
-        lock: vec!["alpha".into(), "tau_s".into(), "tau_c".into()],
         bounds: vec![("young_modulus".into(), 5.0 * e, 6.0 * e)],
-        max_evaluations: 8,
-        candidate_evaluations_per_param: 4,
-        max_effects: 1,
-        ..DiagnoseOptions::default()
+        ..small_budget(4)
     };
     let d = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
     let e_fit = d

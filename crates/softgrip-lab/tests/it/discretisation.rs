@@ -13,26 +13,16 @@ use softgrip_lab::discretisation::{self, FINER, Outcome};
 use softgrip_lab::recording::{MarkerRef, Recording};
 use softgrip_lab::replay::{ReplayOptions, replay};
 
+use crate::support;
+
 fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!(
-        "softgrip-discretisation-{name}-{}",
-        std::process::id()
-    ))
+    support::temp_dir(&format!("discretisation-{name}"))
 }
 
 /// A recording of the light-guide cuboid at `edge` (m): three markers seen
 /// in x and z and the finger, at `loads` (quasi-static) or, with `times`,
 /// as a time series.
 fn recording(dir: &Path, edge: f64, loads: &[f64], times: Option<&[f64]>) -> Recording {
-    let text = std::fs::read_to_string(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
-    ))
-    .expect("scene");
-    let scene = text.replace("edge_length = 0.004", &format!("edge_length = {edge:?}"));
-    assert_ne!(scene, text, "the scene's edge length was set");
-    std::fs::create_dir_all(dir).expect("dir");
-    std::fs::write(dir.join("scene.toml"), scene).expect("scene.toml");
     let markers = [
         ("top", DVec3::new(0.005, 0.0, 0.02)),
         ("corner", DVec3::new(-0.015, 0.0, 0.02)),
@@ -43,14 +33,7 @@ fn recording(dir: &Path, edge: f64, loads: &[f64], times: Option<&[f64]>) -> Rec
     } else {
         "quasi-static"
     };
-    let mut header = format!(
-        "scene = \"scene.toml\"\nsamples = \"samples.csv\"\nmode = \"{mode}\"\n[markers]\n"
-    );
-    for (name, p) in &markers {
-        let _ = writeln!(header, "{name} = [{:?}, {:?}, {:?}]", p.x, p.y, p.z);
-    }
-    std::fs::write(dir.join("recording.toml"), header).expect("recording.toml");
-    let mut rows = String::from("time,load,marker,x,y,z\n");
+    let mut rows = String::new();
     for (k, l) in loads.iter().enumerate() {
         let t = times.map_or(String::new(), |t| format!("{:?}", t[k]));
         for (name, p) in &markers {
@@ -58,8 +41,8 @@ fn recording(dir: &Path, edge: f64, loads: &[f64], times: Option<&[f64]>) -> Rec
         }
         let _ = writeln!(rows, "{t},{l},finger,0,,0.035");
     }
-    std::fs::write(dir.join("samples.csv"), rows).expect("samples.csv");
-    Recording::load(&dir.join("recording.toml")).expect("recording")
+    let scene = support::light_guide_scene(edge);
+    support::write_recording(dir, &scene, mode, &markers, &rows)
 }
 
 fn noise(object_m: f64, finger_m: f64) -> Noise {

@@ -13,5 +13,6 @@ mod prove;
 mod recordings;
 mod regions;
 mod replay;
+mod support;
 mod sweep;
 mod table;

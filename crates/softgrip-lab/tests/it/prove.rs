@@ -1,21 +1,19 @@
 //! The concealed suite of `softgrip prove`: what it hides and how it
 //! hides it.
 
+use softgrip_lab::diagnose;
 use softgrip_lab::prove;
 use softgrip_lab::recording::MarkerRef;
+
+use crate::support;
 
 #[test]
 fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
     let cases = prove::cases();
     let count = |effect: &str| cases.iter().filter(|c| c.effects == vec![effect]).count();
-    for effect in [
-        "table-friction",
-        "strain-stiffening",
-        "viscoelastic-creep",
-        "finger-friction",
-        "heterogeneous-stiffness",
-        "load-loss",
-    ] {
+    // Every effect of the catalogue but damping, which is offered for time
+    // series only.
+    for effect in diagnose::EFFECTS.iter().filter(|e| **e != "damping") {
         assert_eq!(count(effect), 2, "{effect}");
     }
     assert!(cases.iter().filter(|c| c.effects.is_empty()).count() >= 3);
@@ -43,7 +41,7 @@ fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
 #[test]
 #[ignore = "slow: proof cases, each a diagnosis"]
 fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
-    let dir = std::env::temp_dir().join(format!("softgrip-prove-moved-{}", std::process::id()));
+    let dir = support::temp_dir("prove-moved");
     for c in prove::cases().iter().filter(|c| c.effects.len() == 1) {
         let moved = prove::moved_by_effect(c, &dir.join(&c.name)).expect("simulated");
         let (marker, most) = moved.first().cloned().expect("markers");
@@ -60,7 +58,7 @@ fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
 /// from the truth and the nominal scene beside them.
 #[test]
 fn a_case_is_written_as_the_thesis_experiment_saw_it() {
-    let dir = std::env::temp_dir().join(format!("softgrip-prove-{}", std::process::id()));
+    let dir = support::temp_dir("prove");
     let case = prove::case("load-loss-strong").expect("case");
     let rec = prove::write_case(&case, &dir, 1).expect("written");
     assert_eq!(rec.markers.len(), 8);
@@ -93,13 +91,8 @@ fn a_case_is_written_as_the_thesis_experiment_saw_it() {
 /// stop short of the truth could only be found at its bound.
 #[test]
 fn the_candidates_search_ranges_cover_every_hidden_value() {
-    use softgrip_lab::diagnose;
-    use softgrip_lab::recording::{Mode, Recording};
-    let template = Recording::load(std::path::Path::new(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/recordings/synthetic/thesis_7_loads/recording.toml"
-    )))
-    .expect("recording");
+    use softgrip_lab::recording::Mode;
+    let template = support::thesis_7_loads();
     for c in prove::cases() {
         let mut rec = template.clone();
         rec.mode = c.mode;
@@ -230,7 +223,7 @@ fn a_case_has_its_seed_whatever_else_is_run() {
 #[test]
 #[ignore = "slow: proof cases, each a diagnosis"]
 fn the_truth_scores_zero_against_its_noise_free_recording() {
-    let dir = std::env::temp_dir().join(format!("softgrip-prove-truth-{}", std::process::id()));
+    let dir = support::temp_dir("prove-truth");
     let case = prove::case("load-loss-strong").expect("the case");
     let clean = prove::noise_free(&case, &dir).expect("simulated");
     let truth = prove::truth_error(&case.truth_scene, &clean).expect("replayed");

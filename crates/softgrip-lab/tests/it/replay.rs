@@ -3,44 +3,47 @@
 //! its observed axes, to exactly that offset over the object's extent.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::DVec3;
-use softgrip_lab::compare::marker_position;
+use softgrip_lab::compare::{Residual, marker_position};
 use softgrip_lab::recording::{MarkerRef, Recording};
 use softgrip_lab::replay::{ReplayOptions, replay};
 
-/// Writes a recording of `markers` on the scene file `scene` with the
-/// given rows (time, load, marker, x, y, z as text) and loads it.
-fn write(dir: &Path, scene: &str, mode: &str, markers: &[(&str, DVec3)], rows: &str) -> Recording {
-    std::fs::create_dir_all(dir).unwrap();
-    std::fs::write(dir.join("scene.toml"), scene).unwrap();
-    let mut header = format!(
-        "scene = \"scene.toml\"\nsamples = \"samples.csv\"\nmode = \"{mode}\"\n[markers]\n"
-    );
-    for (name, p) in markers {
-        let _ = writeln!(header, "{name} = [{:?}, {:?}, {:?}]", p.x, p.y, p.z);
-    }
-    std::fs::write(dir.join("recording.toml"), header).unwrap();
-    std::fs::write(
-        dir.join("samples.csv"),
-        format!("time,load,marker,x,y,z\n{rows}"),
-    )
-    .unwrap();
-    Recording::load(&dir.join("recording.toml")).expect("recording")
-}
+use crate::support::{self, write_recording as write};
 
 fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("softgrip-replay-{name}-{}", std::process::id()))
+    support::temp_dir(&format!("replay-{name}"))
 }
 
 fn light_guide_scene() -> String {
-    let text = std::fs::read_to_string(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_light_guide.toml"
-    ))
-    .unwrap();
-    text.replace("edge_length = 0.004", "edge_length = 0.006")
+    support::light_guide_scene(0.006)
+}
+
+/// The samples' rows of a replay of `recording` at `loads`: the finger's z
+/// as simulated, each object marker's coordinates as `object` writes its
+/// simulated position ("x,y,z", empty for an axis not seen).
+fn rows_of(
+    residuals: &[Residual],
+    recording: &Recording,
+    loads: &[f64],
+    object: impl Fn(DVec3) -> String,
+) -> String {
+    let mut rows = String::new();
+    for r in residuals {
+        let name = recording.marker_name(r.marker);
+        let l = loads[r.sample];
+        let p = r.simulated;
+        match r.marker {
+            MarkerRef::Finger(_) => {
+                let _ = writeln!(rows, ",{l},{name},,,{:?}", p.z);
+            }
+            MarkerRef::Object(_) => {
+                let _ = writeln!(rows, ",{l},{name},{}", object(p));
+            }
+        }
+    }
+    rows
 }
 
 #[test]
@@ -69,20 +72,9 @@ fn a_quasi_static_recording_of_softgrip_itself_replays_to_zero_and_an_offset_to_
     )
     .expect("replay");
     // The same run, written as the recording.
-    let mut rows = String::new();
-    for r in &first.residuals {
-        let name = placeholder.marker_name(r.marker);
-        let l = loads[r.sample];
-        let p = r.simulated;
-        match r.marker {
-            MarkerRef::Finger(_) => {
-                let _ = writeln!(rows, ",{l},{name},,,{:?}", p.z);
-            }
-            MarkerRef::Object(_) => {
-                let _ = writeln!(rows, ",{l},{name},{:?},{:?},{:?}", p.x, p.y, p.z);
-            }
-        }
-    }
+    let rows = rows_of(&first.residuals, &placeholder, &loads, |p| {
+        format!("{:?},{:?},{:?}", p.x, p.y, p.z)
+    });
     let exact = write(&dir, &light_guide_scene(), "quasi-static", &markers, &rows);
     let again = replay(&exact, &exact.scene, ReplayOptions::default(), |_| {}).expect("replay");
     assert_eq!(again.errors.rmse_m, 0.0, "deterministic: the same run");
@@ -100,20 +92,9 @@ fn a_quasi_static_recording_of_softgrip_itself_replays_to_zero_and_an_offset_to_
 
     // Shift every object observation by (1, 0, -2) mm on x and z only
     // (y unobserved): NRMSE = sqrt(5) mm / 50 mm.
-    let mut rows = String::new();
-    for r in &first.residuals {
-        let name = placeholder.marker_name(r.marker);
-        let l = loads[r.sample];
-        let p = r.simulated;
-        match r.marker {
-            MarkerRef::Finger(_) => {
-                let _ = writeln!(rows, ",{l},{name},,,{:?}", p.z);
-            }
-            MarkerRef::Object(_) => {
-                let _ = writeln!(rows, ",{l},{name},{:?},,{:?}", p.x + 0.001, p.z - 0.002);
-            }
-        }
-    }
+    let rows = rows_of(&first.residuals, &placeholder, &loads, |p| {
+        format!("{:?},,{:?}", p.x + 0.001, p.z - 0.002)
+    });
     let shifted = write(&dir, &light_guide_scene(), "quasi-static", &markers, &rows);
     let e = replay(&shifted, &shifted.scene, ReplayOptions::default(), |_| {})
         .expect("replay")
@@ -132,9 +113,8 @@ fn a_quasi_static_recording_of_softgrip_itself_replays_to_zero_and_an_offset_to_
 #[test]
 fn a_time_series_samples_at_its_times_and_holds_each_load_until_the_next() {
     // The gravity beam, 0.2 s at 10 ms: replayed against itself.
-    let scene = std::fs::read_to_string(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/recordings/beam_ds10/gravity_a/scene.toml"
+    let scene = std::fs::read_to_string(support::asset(
+        "assets/recordings/beam_ds10/gravity_a/scene.toml",
     ))
     .unwrap()
     .replace("edge_length = 0.005", "edge_length = 0.01");
@@ -197,9 +177,8 @@ fn a_marker_far_from_the_surface_is_an_error_naming_it() {
 fn loads_without_a_direction_are_an_error_not_ignored() {
     // The large-finger scene's finger is force-controlled with force =
     // [0, 0, 0] (its weight is its mass): a recording's loads could not act.
-    let scene = std::fs::read_to_string(concat!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
-        "/assets/scenes/thesis_cuboid_large_finger.toml"
+    let scene = std::fs::read_to_string(support::asset(
+        "assets/scenes/thesis_cuboid_large_finger.toml",
     ))
     .unwrap()
     .replace("edge_length = 0.004", "edge_length = 0.008");

@@ -1,0 +1,188 @@
+//! How a diagnosis runs: its options, the ranges the user gives parameters (`--bound`), and
+//! its progress.
+
+use crate::fit::FitParam;
+use crate::params;
+
+/// How a diagnosis runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiagnoseOptions {
+    /// Baseline parameters not to fit (kept at the scene's values).
+    pub lock: Vec<String>,
+    /// Ranges the user knows parameters to lie in, `(name, low, high)`:
+    /// every fit that moves the parameter (the baseline's, each
+    /// candidate's, the pair's) searches only there. E measured as the
+    /// thesis did (the initial slope of a compression test, its section
+    /// V.B) is a small-strain modulus: a fit that needs 3.6 times it (as
+    /// the suite's strain-stiffening-strong once did) is absorbing physics
+    /// the model lacks.
+    pub bounds: Vec<(String, f64, f64)>,
+    /// Simulations at most for the baseline fit ...
+    pub max_evaluations: usize,
+    /// ... and per parameter for each candidate's (a design of 2 points
+    /// per parameter, then the local searches; the candidates start from
+    /// the current fit's values).
+    pub candidate_evaluations_per_param: usize,
+    /// Simulations at once (0: one per core).
+    pub workers: usize,
+    /// At most this many effects are added.
+    pub max_effects: usize,
+}
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions {
+            lock: Vec::new(),
+            bounds: Vec::new(),
+            max_evaluations: 80,
+            candidate_evaluations_per_param: 20,
+            workers: 0,
+            max_effects: 2,
+        }
+    }
+}
+
+/// Progress: (fits done, fits planned, what is being fitted).
+pub type Progress<'a> = &'a (dyn Fn(usize, usize, &str) + Sync);
+
+/// A diagnosis's progress in fits: how many are done of how many are
+/// planned, told to its [`Progress`] as each fit starts.
+pub(super) struct FitCount<'a> {
+    pub(super) done: usize,
+    pub(super) planned: usize,
+    progress: Progress<'a>,
+}
+
+impl<'a> FitCount<'a> {
+    pub(super) fn new(planned: usize, progress: Progress<'a>) -> Self {
+        FitCount {
+            done: 0,
+            planned,
+            progress,
+        }
+    }
+
+    /// Tells the progress what is fitted next.
+    pub(super) fn starting(&self, what: &str) {
+        (self.progress)(self.done, self.planned, what);
+    }
+}
+
+/// Parses `NAME=LOW:HIGH` (a `--bound`).
+pub fn parse_bound(text: &str) -> Result<(String, f64, f64), String> {
+    let bad = || format!("--bound {text:?}: write NAME=LOW:HIGH, e.g. young_modulus=30e3:120e3");
+    let (name, range) = text.split_once('=').ok_or_else(bad)?;
+    let (low, high) = range.split_once(':').ok_or_else(bad)?;
+    let number = |v: &str| v.trim().parse::<f64>().map_err(|_| bad());
+    let bound = (name.trim().to_string(), number(low)?, number(high)?);
+    check_bounds(std::slice::from_ref(&bound))?;
+    Ok(bound)
+}
+
+/// Checks the user's ranges (`DiagnoseOptions::bounds`): a known
+/// parameter, low below high, both positive where the parameter is
+/// searched on a log scale.
+pub fn check_bounds(bounds: &[(String, f64, f64)]) -> Result<(), String> {
+    for (name, low, high) in bounds {
+        let p = params::find(name).map_err(|e| format!("--bound {name}: {e}"))?;
+        if !(low.is_finite() && high.is_finite() && low < high) {
+            return Err(format!(
+                "--bound {name}={low}:{high}: give two finite values, the low one first \
+                 ({name}=LOW:HIGH{})",
+                if p.unit.is_empty() || p.unit == "1" {
+                    String::new()
+                } else {
+                    format!(", in {}", p.unit)
+                }
+            ));
+        }
+        if p.log && *low <= 0.0 {
+            return Err(format!(
+                "--bound {name}={low}:{high}: {name} is positive; give a positive low value"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `params` with each range the user gave intersected with the fit's own;
+/// a parameter whose own range misses the user's is searched at the
+/// user's range's nearer end.
+pub(super) fn within_bounds(
+    mut params: Vec<FitParam>,
+    bounds: &[(String, f64, f64)],
+) -> Vec<FitParam> {
+    for p in &mut params {
+        for (name, low, high) in bounds {
+            if p.param.name == name {
+                let lower = p.lower.max(*low).min(*high);
+                let upper = p.upper.min(*high).max(*low);
+                p.lower = lower;
+                p.upper = upper.max(lower);
+            }
+        }
+    }
+    params
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A range the user gives narrows a fit's own and never widens it; one
+    /// outside the fit's own leaves the search at its nearer end.
+    #[test]
+    fn a_given_range_narrows_the_fits_own() {
+        let e = |lower: f64, upper: f64| FitParam {
+            param: params::find("young_modulus").expect("known"),
+            lower,
+            upper,
+            log: true,
+        };
+        let friction = FitParam {
+            param: params::find("table_friction").expect("known"),
+            lower: 0.0,
+            upper: 2.0,
+            log: false,
+        };
+        let given = vec![("young_modulus".to_string(), 3e4, 1.2e5)];
+        let out = within_bounds(vec![e(6e3, 6e5), friction], &given);
+        assert_eq!((out[0].lower, out[0].upper), (3e4, 1.2e5));
+        assert_eq!(
+            (out[1].lower, out[1].upper),
+            (0.0, 2.0),
+            "other names untouched"
+        );
+        let out = within_bounds(vec![e(5e4, 8e4)], &given);
+        assert_eq!((out[0].lower, out[0].upper), (5e4, 8e4), "not widened");
+        let out = within_bounds(vec![e(2e5, 6e5)], &given);
+        assert_eq!(
+            (out[0].lower, out[0].upper),
+            (1.2e5, 1.2e5),
+            "the nearer end"
+        );
+    }
+
+    #[test]
+    fn a_bound_parses_and_bad_ones_say_what_to_write() {
+        assert_eq!(
+            parse_bound(" young_modulus = 3e4 : 1.2e5 "),
+            Ok(("young_modulus".to_string(), 3e4, 1.2e5))
+        );
+        assert_eq!(
+            parse_bound("table_friction=0:0.5"),
+            Ok(("table_friction".to_string(), 0.0, 0.5))
+        );
+        for (text, says) in [
+            ("young_modulus=1.2e5:3e4", "the low one first"),
+            ("young_modulus=3e4:3e4", "the low one first"),
+            ("young_modulus=0:3e4", "positive"),
+            ("young_modulus=a:3e4", "NAME=LOW:HIGH"),
+            ("young_modulus", "NAME=LOW:HIGH"),
+            ("modulus=1:2", "unknown parameter"),
+        ] {
+            let e = parse_bound(text).expect_err(text);
+            assert!(e.contains(says) && e.contains("--bound"), "{text}: {e}");
+        }
+    }
+}
