@@ -1,15 +1,19 @@
-//! What the viewer tests share: a scratch folder, the panels on the
-//! thesis scene in a harness, and stepping UI frames until a background
-//! job is done. (Each test crate uses part of it.)
+//! What the viewer tests share: a scratch folder, the panels (or the whole
+//! app) on the thesis scene in a harness, typing a path, and stepping UI
+//! frames until the solver runs or a background job is done. (Each test
+//! module uses part of it.)
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 use softgrip_core::Scene;
 use softgrip_core::live::RunState;
-use softgrip_viewer::viewer::Panels;
+use softgrip_viewer::recording::Replayed;
+use softgrip_viewer::{Panels, Viewer};
 
 /// How long the solver may take to publish its first frame.
 pub const PATIENCE: Duration = Duration::from_secs(20);
@@ -57,4 +61,91 @@ pub fn step_until<S>(
         std::thread::sleep(Duration::from_millis(20));
     }
     harness.step();
+}
+
+/// How long a replay of a small recording may take; the machine may be
+/// busy.
+pub const REPLAY_PATIENCE: Duration = Duration::from_secs(300);
+
+/// The panels as [`panels`] makes them, 1800 pixels tall, with Play
+/// pressed.
+pub fn playing() -> Harness<'static, Panels> {
+    let mut harness = panels(1800.0, false);
+    harness.get_by_label("Play").click();
+    harness.run();
+    harness
+}
+
+/// The panels as [`playing`] makes them, once the solver has run 10 ms
+/// of the scene.
+pub fn running() -> Harness<'static, Panels> {
+    let harness = playing();
+    harness
+        .state()
+        .live
+        .wait_for(PATIENCE, |f| f.state.time > 0.01)
+        .expect("running");
+    harness
+}
+
+/// A scratch folder `dir` (as [`temp_dir`] makes it) holding a file
+/// `name` of `text`; the folder and the file's path.
+pub fn scratch_file(dir: &str, name: &str, text: &str) -> (PathBuf, PathBuf) {
+    let dir = temp_dir(dir);
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write");
+    (dir, path)
+}
+
+/// Types `path` into the scene file box.
+pub fn type_path(harness: &mut Harness<'_, Panels>, path: &Path) {
+    let field = harness.get_by_role(egui::accesskit::Role::TextInput);
+    field.focus();
+    harness.run();
+    harness
+        .get_by_role(egui::accesskit::Role::TextInput)
+        .type_text(&path.display().to_string());
+    harness.run();
+}
+
+/// Steps the panels until the recording's replay has ended.
+pub fn until_replayed(harness: &mut Harness<'_, Panels>) {
+    step_until(harness, REPLAY_PATIENCE, "the replay", |p| {
+        !p.recording.replaying()
+    });
+}
+
+/// The finished replay of the recording open in the panels.
+pub fn finished_replay(harness: &Harness<'_, Panels>) -> Arc<Replayed> {
+    harness
+        .state()
+        .recording
+        .replayed()
+        .expect("replayed")
+        .clone()
+}
+
+/// The whole app (panels and 3-D view) on the thesis scene, rendered
+/// with wgpu on the software adapter, `height` points tall.
+pub fn app(height: f32) -> Harness<'static, Viewer> {
+    Harness::builder()
+        .with_size(egui::vec2(1280.0, height))
+        .with_max_steps(8)
+        .wgpu()
+        .build_eframe(|cc| Viewer::new(cc, Scene::thesis()).expect("viewer"))
+}
+
+/// The app as [`app`] makes it with the recording at `path` opened and
+/// replayed (within `patience`).
+pub fn app_replaying(height: f32, path: &Path, patience: Duration) -> Harness<'static, Viewer> {
+    let mut harness = app(height);
+    harness.run_steps(2);
+    harness
+        .state_mut()
+        .panels
+        .open_recording(path.to_path_buf());
+    step_until(&mut harness, patience, "the replay", |v| {
+        !v.panels.recording.replaying()
+    });
+    harness
 }

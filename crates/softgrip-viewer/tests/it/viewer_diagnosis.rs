@@ -6,7 +6,6 @@
 //! rendered on the software adapter, as `tests/viewer_recording.rs` does.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
 use softgrip_core::scene::SupportKind;
@@ -14,11 +13,9 @@ use softgrip_lab::diagnose::{self, DiagnoseOptions, Diagnosis};
 use softgrip_lab::prove;
 use softgrip_lab::recording::{Mode, Recording, Start};
 use softgrip_lab::synth::{Synthesis, synthesize};
-use softgrip_viewer::viewer::diagnosis::Shown;
+use softgrip_viewer::recording::diagnosis::Shown;
 
-use crate::support::{PATIENCE, step_until, temp_dir};
-
-const REPLAY_PATIENCE: Duration = Duration::from_secs(300);
+use crate::support::{PATIENCE, finished_replay, step_until, temp_dir, until_replayed};
 
 /// The light guide on an 8 mm mesh (fast), with the bottom on a table of
 /// friction 0.1 in the data and fixed in the scene beside them: a large
@@ -82,17 +79,8 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
 
     let mut harness = crate::support::panels(2600.0, true);
     harness.state_mut().open_recording(path.clone());
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |p| {
-        !p.recording.replaying()
-    });
-    let before = harness
-        .state()
-        .recording
-        .replayed()
-        .expect("replayed")
-        .replay
-        .errors
-        .nrmse_all;
+    until_replayed(&mut harness);
+    let before = finished_replay(&harness).replay.errors.nrmse_all;
     harness
         .state_mut()
         .recording
@@ -119,10 +107,8 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
     harness.get_by_label("with the effects").click();
     harness.run_steps(2);
     assert_eq!(harness.state().recording.diagnosis.shown, Shown::Extended);
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |p| {
-        !p.recording.replaying()
-    });
-    let replayed = harness.state().recording.replayed().expect("replayed");
+    until_replayed(&mut harness);
+    let replayed = finished_replay(&harness);
     assert_eq!(
         replayed.recording.scene.support.kind,
         SupportKind::Table,
@@ -190,24 +176,11 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
 #[cfg(feature = "pictures")]
 #[test]
 fn write_the_readme_picture() {
-    use egui_kittest::Harness;
-    use softgrip_core::Scene;
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let dir = temp_dir("viewer-diagnosis-picture");
     let path = recording(&dir);
     let d = diagnosis(&path);
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1000.0))
-        .with_max_steps(8)
-        .wgpu()
-        .build_eframe(|cc| {
-            softgrip_viewer::viewer::Viewer::new(cc, Scene::thesis()).expect("viewer")
-        });
-    harness.run_steps(2);
-    harness.state_mut().panels.open_recording(path.clone());
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |v| {
-        !v.panels.recording.replaying()
-    });
+    let mut harness = crate::support::app_replaying(1000.0, &path, crate::support::REPLAY_PATIENCE);
     harness.state_mut().panels.recording.diagnosis.set_result(d);
     harness.run_steps(4);
     let image = harness.render().expect("rendered");

@@ -15,13 +15,17 @@ use softgrip_core::live::RunState;
 use softgrip_lab::params;
 use softgrip_lab::recording::{Mode, Start};
 use softgrip_lab::synth::{Synthesis, synthesize};
+use softgrip_viewer::Panels;
+use softgrip_viewer::recording::{Overlay, fitted_value};
 use softgrip_viewer::render::markers::{self, MarkerPair};
-use softgrip_viewer::viewer::Panels;
-use softgrip_viewer::viewer::recording::fitted_value;
 
-/// A replay of two loads on the 8 mm mesh takes a second or two; the
-/// machine may be busy.
-const REPLAY_PATIENCE: Duration = Duration::from_secs(300);
+use crate::support::{
+    PATIENCE, REPLAY_PATIENCE, app_replaying, finished_replay, running, scratch_file, step_until,
+    temp_dir, until_replayed,
+};
+
+/// A replay of two loads on the 8 mm mesh takes a second or two (within
+/// `REPLAY_PATIENCE`); a fit takes minutes.
 const FIT_PATIENCE: Duration = Duration::from_secs(900);
 const TRUE_MODULUS: f64 = 57.6e3;
 const LOADS: [f64; 2] = [3.0, 8.0];
@@ -70,12 +74,16 @@ fn recording(dir: &Path, viewer_modulus: Option<f64>, axes: [bool; 3]) -> PathBu
     dir.join("recording.toml")
 }
 
-use crate::support::{PATIENCE, step_until, temp_dir};
-
-/// The panels (paused) on the thesis scene in a harness tall enough to
-/// show them whole.
-fn panels() -> Harness<'static, Panels> {
-    crate::support::panels(1800.0, false)
+/// A scratch folder `name` holding a recording as [`recording`] makes it
+/// (every axis observed), and the panels (paused) on the thesis scene in a
+/// harness tall enough to show them whole.
+fn recording_and_panels(
+    name: &str,
+    viewer_modulus: Option<f64>,
+) -> (PathBuf, PathBuf, Harness<'static, Panels>) {
+    let dir = temp_dir(name);
+    let path = recording(&dir, viewer_modulus, [true; 3]);
+    (dir, path, crate::support::panels(1800.0, false))
 }
 
 /// Opening a recording switches the run to its scene and replays it on a
@@ -84,9 +92,7 @@ fn panels() -> Harness<'static, Panels> {
 /// state with it.
 #[test]
 fn a_recording_opens_replays_and_its_samples_are_scrubbed() {
-    let dir = temp_dir("rec-open");
-    let path = recording(&dir, None, [true; 3]);
-    let mut harness = panels();
+    let (dir, path, mut harness) = recording_and_panels("rec-open", None);
     // What the "Open recording..." button does with the chosen file.
     harness.state_mut().open_recording(path.clone());
     harness.step();
@@ -105,9 +111,7 @@ fn a_recording_opens_replays_and_its_samples_are_scrubbed() {
     assert_eq!(frame.scene.fingers.len(), 1);
     assert_eq!(harness.state().edited, *frame.scene);
 
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |p| {
-        !p.recording.replaying()
-    });
+    until_replayed(&mut harness);
     harness.run();
     let replayed = harness
         .state()
@@ -134,7 +138,7 @@ fn a_recording_opens_replays_and_its_samples_are_scrubbed() {
     harness.get_by_label("sample 2/2: load 8.000 N");
     let second = harness.state().recording.overlay().expect("shown");
     assert_eq!(second.state.positions, replayed.replay.states[1].positions);
-    let sunk = |o: &softgrip_viewer::viewer::recording::Overlay| o.state.fingers[0].position.z;
+    let sunk = |o: &Overlay| o.state.fingers[0].position.z;
     assert!(
         sunk(&second) < sunk(&first) - 1e-4,
         "the finger sinks further under 8 N: {} then {}",
@@ -161,18 +165,7 @@ fn the_overlay_draws_recorded_and_simulated_markers_where_they_are() {
     // vanish and recorded and simulated markers are told apart.
     let path = recording(&dir, Some(80e3), [true, false, true]);
     let recorded = softgrip_lab::recording::Recording::load(&path).expect("recording");
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 820.0))
-        .with_max_steps(8)
-        .wgpu()
-        .build_eframe(|cc| {
-            softgrip_viewer::viewer::Viewer::new(cc, Scene::thesis()).expect("viewer")
-        });
-    harness.run_steps(2);
-    harness.state_mut().panels.open_recording(path.clone());
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |v| {
-        !v.panels.recording.replaying()
-    });
+    let mut harness = app_replaying(820.0, &path, REPLAY_PATIENCE);
     let rec = &harness.state().panels.recording;
     assert!(rec.error.is_none(), "{:?}", rec.error);
     let overlay = rec.overlay().expect("the overlay");
@@ -327,21 +320,12 @@ fn sphere_centres(mesh: &softgrip_viewer::render::Mesh, color: [f32; 4]) -> Vec<
 /// the Recording panel; the run goes on with its scene.
 #[test]
 fn a_recording_that_cannot_be_read_is_an_error_and_the_run_goes_on() {
-    let dir = temp_dir("rec-bad");
-    let bad = dir.join("bad_recording.toml");
-    std::fs::write(
-        &bad,
+    let (dir, bad) = scratch_file(
+        "rec-bad",
+        "bad_recording.toml",
         "scene = \"scene.toml\"\nsamples = \"samples.csv\"\nmode = \"sideways\"\n",
-    )
-    .expect("write");
-    let mut harness = panels();
-    harness.get_by_label("Play").click();
-    harness.run();
-    harness
-        .state()
-        .live
-        .wait_for(PATIENCE, |f| f.state.time > 0.01)
-        .expect("running");
+    );
+    let mut harness = running();
     harness.state_mut().open_recording(bad.clone());
     harness.run();
     let error = harness
@@ -378,17 +362,13 @@ fn a_recording_that_cannot_be_read_is_an_error_and_the_run_goes_on() {
 /// The scene box's Open takes a recording's header for a recording.
 #[test]
 fn the_scene_box_opens_a_recording_as_a_recording() {
-    let dir = temp_dir("rec-box");
-    let path = recording(&dir, None, [true; 3]);
-    let mut harness = panels();
+    let (dir, path, mut harness) = recording_and_panels("rec-box", None);
     harness.state_mut().open(path.clone());
     harness.run();
     assert_eq!(harness.state().file_error, None);
     let rec = harness.state().recording.recording().expect("open");
     assert_eq!(rec.source, path);
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |p| {
-        !p.recording.replaying()
-    });
+    until_replayed(&mut harness);
     assert!(harness.state().recording.replayed().is_some());
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -400,22 +380,11 @@ fn the_scene_box_opens_a_recording_as_a_recording() {
 #[test]
 #[ignore = "slow: a fit run from the panel"]
 fn a_fit_from_the_panel_finds_the_modulus_the_recording_was_made_with() {
-    let dir = temp_dir("rec-fit");
-    let path = recording(&dir, Some(80e3), [true; 3]);
-    let mut harness = panels();
+    let (dir, path, mut harness) = recording_and_panels("rec-fit", Some(80e3));
     harness.state_mut().open_recording(path);
-    step_until(&mut harness, REPLAY_PATIENCE, "the replay", |p| {
-        !p.recording.replaying()
-    });
+    until_replayed(&mut harness);
     harness.run();
-    let before = harness
-        .state()
-        .recording
-        .replayed()
-        .expect("replayed")
-        .replay
-        .errors
-        .nrmse;
+    let before = finished_replay(&harness).replay.errors.nrmse;
     assert!(before > 1e-4, "80 kPa does not match: NRMSE {before}");
 
     // The live run plays; the fit pauses it while it runs, and plays it
@@ -487,12 +456,7 @@ fn a_fit_from_the_panel_finds_the_modulus_the_recording_was_made_with() {
         |p| !p.recording.replaying(),
     );
     harness.run();
-    let replayed = harness
-        .state()
-        .recording
-        .replayed()
-        .expect("replayed")
-        .clone();
+    let replayed = finished_replay(&harness);
     assert_eq!(replayed.recording.scene.object.young_modulus, e);
     assert!(
         (replayed.replay.errors.nrmse - f.after.nrmse).abs() < 1e-9,
@@ -512,21 +476,8 @@ fn a_fit_from_the_panel_finds_the_modulus_the_recording_was_made_with() {
 #[test]
 fn write_the_readme_picture() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 820.0))
-        .with_max_steps(8)
-        .wgpu()
-        .build_eframe(|cc| {
-            softgrip_viewer::viewer::Viewer::new(cc, Scene::thesis()).expect("viewer")
-        });
-    harness.run_steps(2);
-    harness
-        .state_mut()
-        .panels
-        .open_recording(root.join("assets/recordings/synthetic/thesis_7_loads/recording.toml"));
-    step_until(&mut harness, Duration::from_secs(1200), "the replay", |v| {
-        !v.panels.recording.replaying()
-    });
+    let recording = root.join("assets/recordings/synthetic/thesis_7_loads/recording.toml");
+    let mut harness = app_replaying(820.0, &recording, Duration::from_secs(1200));
     let rec = &mut harness.state_mut().panels.recording;
     assert!(rec.error.is_none(), "{:?}", rec.error);
     rec.set_sample(usize::MAX);

@@ -6,18 +6,9 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use softgrip_core::Scene;
 use softgrip_core::live::RunState;
-use softgrip_viewer::viewer::Panels;
+use softgrip_viewer::{Panels, Viewer};
 
-use crate::support::PATIENCE;
-
-/// The panels on the thesis scene, once the solver has published its
-/// first frame; Play pressed.
-fn playing() -> Harness<'static, Panels> {
-    let mut harness = crate::support::panels(1800.0, false);
-    harness.get_by_label("Play").click();
-    harness.run();
-    harness
-}
+use crate::support::{PATIENCE, playing, running, scratch_file, temp_dir, type_path};
 
 #[test]
 fn play_and_the_alpha_slider_reach_the_solver() {
@@ -78,21 +69,16 @@ fn the_bulk_pressure_buttons_reach_the_solver() {
 /// alone; a good file replaces it.
 #[test]
 fn a_malformed_file_is_an_error_and_the_run_goes_on() {
-    let dir = std::env::temp_dir().join(format!("softgrip-ui-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let bad = dir.join("bad.toml");
-    std::fs::write(&bad, "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05]\n").expect("write");
+    let (dir, bad) = scratch_file(
+        "ui",
+        "bad.toml",
+        "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05]\n",
+    );
 
     let mut harness = playing();
 
     let open = |harness: &mut Harness<'_, Panels>, path: &std::path::Path| {
-        let field = harness.get_by_role(egui::accesskit::Role::TextInput);
-        field.focus();
-        harness.run();
-        harness
-            .get_by_role(egui::accesskit::Role::TextInput)
-            .type_text(&path.display().to_string());
-        harness.run();
+        type_path(harness, path);
         harness.get_by_label("Open").click();
         harness.run();
     };
@@ -136,12 +122,7 @@ fn a_malformed_file_is_an_error_and_the_run_goes_on() {
 /// removing it again too.
 #[test]
 fn fingers_are_added_and_removed_live() {
-    let mut harness = playing();
-    harness
-        .state()
-        .live
-        .wait_for(PATIENCE, |f| f.state.time > 0.01)
-        .expect("running");
+    let mut harness = running();
 
     harness.get_by_label("Add finger").click();
     harness.run();
@@ -183,21 +164,17 @@ fn fingers_are_added_and_removed_live() {
         .expect("the solver dropped it");
 }
 
+type App = Harness<'static, Viewer>;
+
 /// The whole app (panels and 3-D view) in a harness rendering with wgpu
 /// on the software adapter, playing the thesis scene.
-fn app() -> Harness<'static, softgrip_viewer::viewer::Viewer> {
+fn app() -> App {
     app_sized(820.0)
 }
 
 /// As [`app`], `height` points tall (tall enough, every panel shows).
-fn app_sized(height: f32) -> Harness<'static, softgrip_viewer::viewer::Viewer> {
-    let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, height))
-        .with_max_steps(8)
-        .wgpu()
-        .build_eframe(|cc| {
-            softgrip_viewer::viewer::Viewer::new(cc, Scene::thesis()).expect("viewer")
-        });
+fn app_sized(height: f32) -> App {
+    let mut harness = crate::support::app(height);
     harness
         .state()
         .panels
@@ -207,8 +184,6 @@ fn app_sized(height: f32) -> Harness<'static, softgrip_viewer::viewer::Viewer> {
     harness.run_steps(4);
     harness
 }
-
-type App = Harness<'static, softgrip_viewer::viewer::Viewer>;
 
 /// Grabs finger 1, moves the mouse four `step`s from there, waits until
 /// the solver holds the finger where `reached(centre, held)` says, lets
@@ -378,8 +353,7 @@ fn colouring_by_a_field_draws_its_legend() {
 /// the file opens again to the same scene.
 #[test]
 fn save_as_writes_the_edited_scene() {
-    let dir = std::env::temp_dir().join(format!("softgrip-save-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = temp_dir("save");
     let path = dir.join("saved.toml");
     let mut harness = playing();
     harness
@@ -391,13 +365,7 @@ fn save_as_writes_the_edited_scene() {
         .live
         .wait_for(PATIENCE, |f| f.scene.model.alpha == 1234.0)
         .expect("edit taken");
-    let field = harness.get_by_role(egui::accesskit::Role::TextInput);
-    field.focus();
-    harness.run();
-    harness
-        .get_by_role(egui::accesskit::Role::TextInput)
-        .type_text(&path.display().to_string());
-    harness.run();
+    type_path(&mut harness, &path);
     harness.get_by_label("Save as").click();
     harness.run();
     assert_eq!(harness.state().file_error, None);
@@ -419,20 +387,12 @@ fn save_as_writes_the_edited_scene() {
 /// error (naming the file) and the scene that ran runs on.
 #[test]
 fn a_mesh_that_cannot_be_read_is_an_error_and_the_run_goes_on() {
-    let dir = std::env::temp_dir().join(format!("softgrip-mesh-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let bad = dir.join("broken.msh");
-    std::fs::write(
-        &bad,
+    let (dir, bad) = scratch_file(
+        "mesh",
+        "broken.msh",
         "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0\n",
-    )
-    .expect("write");
-    let mut harness = playing();
-    harness
-        .state()
-        .live
-        .wait_for(PATIENCE, |f| f.state.time > 0.01)
-        .expect("running");
+    );
+    let mut harness = running();
     harness.state_mut().open(bad.clone());
     harness.run();
     let frame = harness

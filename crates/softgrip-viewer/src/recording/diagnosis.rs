@@ -10,7 +10,9 @@ use std::sync::{Arc, Mutex};
 
 use eframe::egui;
 
-use super::recording::Job;
+use super::fit::fitted_value;
+use crate::jobs::{Job, job_error, progress_with_stop};
+use crate::widgets::ERROR_RED;
 use softgrip_core::scene::Scene;
 use softgrip_lab::diagnose::{self, DiagnoseOptions, Diagnosis};
 use softgrip_lab::recording::Recording;
@@ -138,7 +140,7 @@ impl DiagnosisSection {
             if g == generation {
                 match result {
                     Ok(d) => self.set_result(d),
-                    Err(e) => self.error = Some(super::recording::job_error("the diagnosis", &e)),
+                    Err(e) => self.error = Some(job_error("the diagnosis", &e)),
                 }
             }
         }
@@ -185,10 +187,10 @@ impl DiagnosisSection {
                     job.started.elapsed().as_secs_f64()
                 ),
             );
-            super::recording::progress_with_stop(ui, job, bar);
+            progress_with_stop(ui, job, bar);
         }
         if let Some(e) = &self.error {
-            ui.colored_label(egui::Color32::from_rgb(200, 40, 40), e);
+            ui.colored_label(ERROR_RED, e);
         }
         let Some(d) = self.result.clone() else {
             return action;
@@ -219,7 +221,7 @@ impl DiagnosisSection {
             let fitted: Vec<String> = d
                 .fitted_params()
                 .iter()
-                .map(|(n, v)| format!("{n} {}", super::recording::fitted_value(*v)))
+                .map(|(n, v)| format!("{n} {}", fitted_value(*v)))
                 .collect();
             ui.label(egui::RichText::new(fitted.join(", ")).small());
         }

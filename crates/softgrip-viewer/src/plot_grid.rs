@@ -4,7 +4,7 @@
 //! egui_plot's default grid divides by 10, and it hides a label closer than
 //! 20 px to the next. On a plot 140 px high the step between 1 and 10 is
 //! the one that matters: a depth of 0..4.7 mm has lines 1 mm apart at 19 px,
-//! so only "0" was printed (seen by hand under Xvfb, 2026-11-26).
+//! so only "0" was printed.
 
 use softgrip_lab::plot::nice_step;
 
