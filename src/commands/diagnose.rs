@@ -1,21 +1,52 @@
 //! `softgrip diagnose`: find what physics a fitted model still misses
 //! against a recording (`softgrip_lab::diagnose`).
 
-use std::path::Path;
+use std::path::PathBuf;
 
 use anyhow::Result;
 use softgrip_lab::diagnose::{self, DiagnoseOptions};
 use softgrip_lab::recording::Recording;
 
-pub fn diagnose(
-    recording_path: &Path,
-    lock: &[String],
-    bound: &[String],
+use super::args::{ReportArgs, WorkersArgs};
+use super::figures::write_json_line;
+use super::progress::{progress_bar, show_stages};
+
+/// Missing-physics diagnosis: fit the nominal model (E, alpha, tau_s,
+/// tau_c), locate what it still misses against the noise, fit a
+/// catalogue of candidate effects (table-friction, strain-stiffening,
+/// viscoelastic-creep, finger-friction, heterogeneous-stiffness,
+/// load-loss; damping for time series) and name the one(s) that
+/// explain it, or "none".
+#[derive(clap::Args)]
+pub struct Args {
+    recording: PathBuf,
+    /// Baseline parameters to keep at the scene's values (e.g. alpha).
+    #[arg(long, num_args = 1..)]
+    lock: Vec<String>,
+    /// Ranges you know parameters lie in, NAME=LOW:HIGH (e.g.
+    /// young_modulus=30e3:120e3 for a modulus measured at 60 kPa to
+    /// within a factor of 2): every fit searches only there. A fit
+    /// that needs E far from a measured small-strain value is
+    /// absorbing physics the model lacks (strain-stiffening, creep).
+    #[arg(long, num_args = 1..)]
+    bound: Vec<String>,
+    /// Simulations at most for the baseline fit (each candidate's fit
+    /// gets 20 per parameter).
+    #[arg(long, default_value_t = 80)]
     max_evaluations: usize,
-    workers: usize,
-    json: Option<&Path>,
-    report: &super::lab::ReportArgs,
-) -> Result<()> {
+    #[command(flatten)]
+    workers: WorkersArgs,
+    /// Also write the spec's JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    #[command(flatten)]
+    report: ReportArgs,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let (recording_path, lock, bound) = (args.recording.as_path(), &args.lock, &args.bound);
+    let (max_evaluations, workers) = (args.max_evaluations, args.workers.workers);
+    let (json, report) = (args.json.as_deref(), &args.report);
     let bounds = bound
         .iter()
         .map(|b| diagnose::parse_bound(b))
@@ -36,13 +67,9 @@ pub fn diagnose(
         workers,
         ..DiagnoseOptions::default()
     };
-    let bar = super::progress_bar(1, "fits");
-    let d = diagnose::diagnose(&recording, &options, &|done, total, what| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-        bar.set_message(what.to_string());
-    })
-    .map_err(anyhow::Error::msg)?;
+    let bar = progress_bar(1, "fits");
+    let d =
+        diagnose::diagnose(&recording, &options, &show_stages(&bar)).map_err(anyhow::Error::msg)?;
     bar.finish_and_clear();
     let params = |p: &[(String, f64)]| {
         p.iter()
@@ -146,9 +173,7 @@ pub fn diagnose(
         println!("report: {}", written.markdown.display());
     }
     if let Some(path) = json {
-        let value = diagnose::to_json(&d, &recording);
-        std::fs::write(path, serde_json::to_string_pretty(&value)? + "\n")
-            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+        write_json_line(path, &diagnose::to_json(&d, &recording))?;
     }
     Ok(())
 }

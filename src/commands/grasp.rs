@@ -1,19 +1,41 @@
 //! `softgrip grasp`: run a grasp-and-lift scene, say whether friction held
 //! the object, and (with `--boundary`) find the least friction that does.
 
-use std::path::Path;
+use std::path::PathBuf;
 
 use anyhow::Result;
-use softgrip_core::scene::Scene;
 use softgrip_lab::grasp::{self, GraspOptions};
 
-pub fn grasp(
-    scene: &Scene,
+use super::figures::write_json_line;
+use super::load::load_scene;
+use super::progress::progress_bar;
+
+/// Grasp and lift (e.g. assets/scenes/grasp_lift.toml): the fingers
+/// squeeze, lift after their start_time and hold; says whether friction
+/// held the object and how far it slid, and with --boundary bisects the
+/// least finger friction that holds it, against the force balance.
+#[derive(clap::Args)]
+pub struct Args {
+    scene: PathBuf,
+    /// Seconds to hold after the lift.
+    #[arg(long, default_value_t = 2.0)]
     hold: f64,
+    /// Held: the object slid down the fingers by less than this over the
+    /// hold (m).
+    #[arg(long, default_value_t = 1e-4)]
     slip_bound: f64,
+    /// Also find the least friction that holds it (a dozen lifts).
+    #[arg(long)]
     boundary: bool,
-    json: Option<&Path>,
-) -> Result<()> {
+    /// Also write the figures as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let scene = &load_scene(Some(&args.scene))?;
+    let (hold, slip_bound) = (args.hold, args.slip_bound);
+    let (boundary, json) = (args.boundary, args.json.as_deref());
     anyhow::ensure!(
         hold.is_finite() && hold >= 0.0,
         "--hold {hold}: must be >= 0 s"
@@ -27,7 +49,7 @@ pub fn grasp(
     let end = grasp::lift_end(&model).map_err(anyhow::Error::msg)?;
     let balance = grasp::force_balance_friction(&model);
 
-    let bar = super::progress_bar(1000, "per mille");
+    let bar = progress_bar(1000, "per mille");
     bar.set_message("grasp and lift");
     let run = grasp::lift(scene, options, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
@@ -53,7 +75,7 @@ pub fn grasp(
     let mut found = None;
     if boundary {
         let high = (2.0 * friction).max(1.0);
-        let bar = super::progress_bar(1, "lifts");
+        let bar = progress_bar(1, "lifts");
         bar.set_message("bisecting the friction");
         let b = grasp::boundary_friction(scene, options, (0.0, high), 0.002, |done, total| {
             bar.set_length(total as u64);
@@ -91,8 +113,7 @@ pub fn grasp(
             "boundary_friction": found.as_ref().map(|b| b.estimate()),
             "boundary_tries": found.as_ref().map(|b| &b.tries),
         });
-        std::fs::write(path, serde_json::to_string_pretty(&value)? + "\n")
-            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+        write_json_line(path, &value)?;
     }
     Ok(())
 }

@@ -1,22 +1,13 @@
 //! The `softgrip` command as a user runs it: each subcommand on a short
 //! scene, its output and exit status.
 
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn softgrip(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_softgrip"))
-        .args(args)
-        .output()
-        .expect("softgrip runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn scene(name: &str) -> String {
-    format!("{}/assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))
-}
+use crate::support::{
+    arg, mesh_fixture, read_json, recording, scene, scratch_dir, scratch_path, softgrip, stderr,
+    stdout, write_file,
+};
 
 #[test]
 fn run_prints_the_results_a_user_needs() {
@@ -38,11 +29,9 @@ fn run_prints_the_results_a_user_needs() {
 fn scene_prints_a_file_that_check_accepts() {
     let o = softgrip(&["scene"]);
     assert!(o.status.success());
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
-    let path = dir.join("thesis.toml");
-    std::fs::write(&path, &o.stdout).expect("write");
-    let o = softgrip(&["check", path.to_str().expect("path")]);
+    let dir = scratch_dir("softgrip-cli");
+    let path = write_file(&dir, "thesis.toml", &stdout(&o));
+    let o = softgrip(&["check", arg(&path)]);
     assert!(o.status.success(), "{o:?}");
     let out = stdout(&o);
     assert!(out.contains("mesh: 1014 nodes, 4320 tetrahedra"), "{out}");
@@ -89,30 +78,21 @@ fn bench_prints_a_row_per_size() {
 
 #[test]
 fn a_bad_scene_is_a_clear_error_and_a_failing_exit() {
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
-    let path = dir.join("bad.toml");
-    std::fs::write(
-        &path,
+    let dir = scratch_dir("softgrip-cli-bad");
+    let path = write_file(
+        &dir,
+        "bad.toml",
         "[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05, 0.02]\nyoung_modulus = -1.0\n",
-    )
-    .expect("write");
-    let o = softgrip(&["run", path.to_str().expect("path")]);
+    );
+    let o = softgrip(&["run", arg(&path)]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(
         err.contains("young_modulus") && err.contains("bad.toml"),
         "{err}"
     );
     assert!(!err.contains("panicked"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
-}
-
-fn mesh_fixture(name: &str) -> String {
-    format!(
-        "{}/crates/softgrip-core/tests/data/meshes/{name}",
-        env!("CARGO_MANIFEST_DIR")
-    )
 }
 
 #[test]
@@ -133,39 +113,26 @@ fn mesh_info_convert_and_make() {
         assert!(out.contains(needle), "missing {needle:?} in\n{out}");
     }
 
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-mesh-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("softgrip-cli-mesh");
     let vtk = dir.join("cube.vtk");
-    let o = softgrip(&[
-        "mesh",
-        "convert",
-        &mesh_fixture("cube.msh"),
-        vtk.to_str().unwrap(),
-    ]);
+    let o = softgrip(&["mesh", "convert", &mesh_fixture("cube.msh"), arg(&vtk)]);
     assert!(o.status.success(), "{o:?}");
     let back = softgrip_core::mesh::io::read(&vtk).expect("converted file reads");
     assert_eq!(back.mesh.tets.len(), 384);
 
     let msh22 = dir.join("pinch.msh");
-    let o = softgrip(&[
-        "mesh",
-        "make",
-        &scene("pinch.toml"),
-        msh22.to_str().unwrap(),
-        "--format",
-        "msh22",
-    ]);
+    let pinch = scene("pinch.toml");
+    let o = softgrip(&["mesh", "make", &pinch, arg(&msh22), "--format", "msh22"]);
     assert!(o.status.success(), "{o:?}");
     let made = softgrip_core::mesh::io::read(&msh22).expect("made file reads");
     assert_eq!(made.mesh.tets.len(), 4320);
     assert!((made.mesh.volume() - 0.05 * 0.05 * 0.02).abs() < 1e-15);
 
     // A bad file: an error naming it, no panic.
-    let bad = dir.join("bad.msh");
-    std::fs::write(&bad, "$MeshFormat\n9.9 0 8\n").unwrap();
-    let o = softgrip(&["mesh", "info", bad.to_str().unwrap()]);
+    let bad = write_file(&dir, "bad.msh", "$MeshFormat\n9.9 0 8\n");
+    let o = softgrip(&["mesh", "info", arg(&bad)]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(err.contains("bad.msh:2") && err.contains("9.9"), "{err}");
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -175,8 +142,7 @@ fn mesh_info_convert_and_make() {
 /// scene's, and printing the chain as well said everything twice).
 #[test]
 fn a_recordings_bad_scene_is_said_once() {
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-badrec-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
+    let dir = scratch_dir("softgrip-cli-badrec");
     let shipped = recording("synthetic/thesis_7_loads");
     for f in ["recording.toml", "samples.csv"] {
         std::fs::copy(format!("{shipped}/{f}"), dir.join(f)).expect("copy");
@@ -196,9 +162,9 @@ fn a_recordings_bad_scene_is_said_once() {
     assert!(bad.contains("tau_c = 5"), "the shipped scene sets tau_c");
     std::fs::write(dir.join("scene.toml"), bad).expect("write");
     let header = dir.join("recording.toml");
-    let o = softgrip(&["compare", header.to_str().expect("path"), "--no-report"]);
+    let o = softgrip(&["compare", arg(&header), "--no-report"]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(
         err.contains("scene.toml:") && err.contains("tau_c = 5"),
         "{err}"
@@ -206,31 +172,26 @@ fn a_recordings_bad_scene_is_said_once() {
     assert_eq!(err.matches("tau_c = 5").count(), 1, "{err}");
     // A missing file: the system's reason once.
     let missing = dir.join("missing.toml");
-    let o = softgrip(&["compare", missing.to_str().expect("path"), "--no-report"]);
+    let o = softgrip(&["compare", arg(&missing), "--no-report"]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(err.contains("missing.toml"), "{err}");
     assert_eq!(err.matches("No such file").count(), 1, "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
-fn recording(rel: &str) -> String {
-    format!("{}/assets/recordings/{rel}", env!("CARGO_MANIFEST_DIR"))
+/// `softgrip COMMAND RECORDING OPTIONS... --json JSON --report REPORT`.
+fn lab_command(command: &str, rec: &str, options: &[&str], json: &Path, report: &Path) -> Output {
+    let outputs = ["--json", arg(json), "--report", arg(report)];
+    softgrip(&[&[command, rec], options, &outputs].concat())
 }
 
 #[test]
 fn modulus_and_compare_write_their_figures() {
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-rec-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let json = dir.join("e.json");
-    let o = softgrip(&[
-        "modulus",
-        &recording("ecoflex_compression/EF30_0T_A1/recording.toml"),
-        "--json",
-        json.to_str().unwrap(),
-        "--report",
-        dir.join("modulus").to_str().unwrap(),
-    ]);
+    let dir = scratch_dir("softgrip-cli-rec");
+    let (json, report) = (dir.join("e.json"), dir.join("modulus"));
+    let rec = recording("ecoflex_compression/EF30_0T_A1/recording.toml");
+    let o = lab_command("modulus", &rec, &[], &json, &report);
     assert!(o.status.success(), "{o:?}");
     let md = std::fs::read_to_string(dir.join("modulus/modulus.md")).unwrap();
     assert!(
@@ -247,21 +208,13 @@ fn modulus_and_compare_write_their_figures() {
         "{}",
         stdout(&o)
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     let e = v["young_modulus"].as_f64().expect("young_modulus in Pa");
     assert!((90e3..115e3).contains(&e), "{e}");
 
-    let json = dir.join("c.json");
-    let report = dir.join("report");
-    let o = softgrip(&[
-        "compare",
-        &recording("beam_ds10/gravity_a/recording.toml"),
-        "--json",
-        json.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let (json, report) = (dir.join("c.json"), dir.join("report"));
+    let rec = recording("beam_ds10/gravity_a/recording.toml");
+    let o = lab_command("compare", &rec, &[], &json, &report);
     assert!(o.status.success(), "{o:?}");
     // The full residual table: a row per marker per sample (3 x 159).
     let table = std::fs::read_to_string(report.join("residuals.csv")).unwrap();
@@ -278,8 +231,7 @@ fn modulus_and_compare_write_their_figures() {
     }
     let out = stdout(&o);
     assert!(out.contains("NRMSE") && out.contains("tip1"), "{out}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     let nrmse = v["nrmse"].as_f64().expect("nrmse");
     let rmse = v["rmse_m"].as_f64().expect("rmse_m");
     // NRMSE is RMSE over the beam's 100 mm extent.
@@ -297,7 +249,7 @@ fn modulus_and_compare_write_their_figures() {
 fn fit_and_sweep_write_their_figures_and_reports() {
     use softgrip_lab::recording::{Mode, Start};
     use softgrip_lab::synth::{Synthesis, synthesize};
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-fit-{}", std::process::id()));
+    let dir = scratch_path("softgrip-cli-fit");
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/assets/scenes/thesis_cuboid_light_guide.toml"
@@ -321,22 +273,16 @@ fn fit_and_sweep_write_their_figures_and_reports() {
     };
     synthesize(&scene, &spec, &dir.join("rec")).unwrap();
     let rec = dir.join("rec/recording.toml");
-    let json = dir.join("fit.json");
-    let o = softgrip(&[
-        "fit",
-        rec.to_str().unwrap(),
+    let (json, report) = (dir.join("fit.json"), dir.join("fit"));
+    let search = [
         "--params",
         "young_modulus=2e4:2e5",
         "--max-evaluations",
         "40",
-        "--json",
-        json.to_str().unwrap(),
-        "--report",
-        dir.join("fit").to_str().unwrap(),
-    ]);
+    ];
+    let o = lab_command("fit", arg(&rec), &search, &json, &report);
     assert!(o.status.success(), "{o:?}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     let e = v["params"]["young_modulus"].as_f64().expect("fitted E");
     let se = v["standard_errors"]["young_modulus"]
         .as_f64()
@@ -346,13 +292,14 @@ fn fit_and_sweep_write_their_figures_and_reports() {
     let md = std::fs::read_to_string(dir.join("fit/fit.md")).unwrap();
     assert!(md.contains("| young_modulus (Pa) |"), "{md}");
     assert!(dir.join("fit/convergence.png").exists());
+    let (grid, report) = ("young_modulus=4e4:8e4:3", dir.join("sweep"));
     let o = softgrip(&[
         "sweep",
-        rec.to_str().unwrap(),
+        arg(&rec),
         "--param",
-        "young_modulus=4e4:8e4:3",
+        grid,
         "--report",
-        dir.join("sweep").to_str().unwrap(),
+        arg(&report),
     ]);
     assert!(o.status.success(), "{o:?}");
     assert!(
@@ -371,7 +318,7 @@ fn sweep_refuses_a_bad_grid_clearly() {
     let rec = recording("beam_ds10/gravity_a/recording.toml");
     let o = softgrip(&["sweep", &rec, "--param", "tau_q=0:1:3"]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(
         err.contains("unknown parameter \"tau_q\"; known: young_modulus"),
         "{err}"
@@ -387,7 +334,7 @@ fn sweep_refuses_a_bad_grid_clearly() {
         "tau_s=0:1:2",
     ]);
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("a curve (one) or a grid (two)"));
+    assert!(stderr(&o).contains("a curve (one) or a grid (two)"));
 }
 
 /// `--report` names a directory: a file name is refused before any work,
@@ -395,11 +342,11 @@ fn sweep_refuses_a_bad_grid_clearly() {
 #[test]
 fn a_report_named_like_a_file_is_refused_at_once() {
     let rec = recording("beam_ds10/gravity_a/recording.toml");
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-report-{}", std::process::id()));
+    let dir = scratch_path("softgrip-cli-report");
     let md = dir.join("diagnosis.md");
-    let o = softgrip(&["diagnose", &rec, "--report", md.to_str().expect("path")]);
+    let o = softgrip(&["diagnose", &rec, "--report", arg(&md)]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(err.contains("--report takes a directory"), "{err}");
     assert!(err.contains("not a .md file"), "{err}");
     assert!(
@@ -426,7 +373,7 @@ fn a_bad_bound_is_refused_at_once() {
     ] {
         let o = softgrip(&["diagnose", &rec, "--no-report", "--bound", bound]);
         assert!(!o.status.success(), "{bound}");
-        let err = String::from_utf8_lossy(&o.stderr);
+        let err = stderr(&o);
         assert!(err.contains("--bound"), "{bound}: {err}");
         assert!(err.contains(says), "{bound}: {err}");
     }
@@ -435,7 +382,8 @@ fn a_bad_bound_is_refused_at_once() {
 /// `softgrip prove` refuses a bad option before making any recording.
 #[test]
 fn prove_refuses_a_bad_option_at_once() {
-    let out = std::env::temp_dir().join(format!("softgrip-prove-bad-{}", std::process::id()));
+    let out = scratch_path("softgrip-prove-bad");
+    let report = out.join("D.md");
     for (flag, value, says) in [
         ("--truth-edge-length", "4", "between 0.002 and 0.01"),
         ("--truth-edge-length", "0", "between 0.002 and 0.01"),
@@ -444,14 +392,14 @@ fn prove_refuses_a_bad_option_at_once() {
         let o = softgrip(&[
             "prove",
             "--out",
-            out.to_str().expect("a UTF-8 temp dir"),
+            arg(&out),
             "--report",
-            out.join("D.md").to_str().expect("a UTF-8 temp dir"),
+            arg(&report),
             flag,
             value,
         ]);
         assert!(!o.status.success(), "{flag} {value}");
-        let err = String::from_utf8_lossy(&o.stderr);
+        let err = stderr(&o);
         assert!(
             err.contains(flag) && err.contains(says),
             "{flag} {value}: {err}"
@@ -469,22 +417,17 @@ fn prove_refuses_a_bad_option_at_once() {
 #[cfg(not(feature = "tetgen"))]
 #[test]
 fn a_surface_scene_without_tetgen_says_what_to_do_once() {
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-stl-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("softgrip-cli-stl");
     std::fs::copy(mesh_fixture("sphere_surface.stl"), dir.join("ball.stl")).unwrap();
     std::fs::write(
         dir.join("scene.toml"),
         "[object]\nshape = \"mesh\"\npath = \"ball.stl\"\n[support]\nkind = \"fixed-bottom\"\n",
     )
     .unwrap();
-    let o = softgrip(&[
-        "mesh",
-        "make",
-        dir.join("scene.toml").to_str().unwrap(),
-        dir.join("out.msh").to_str().unwrap(),
-    ]);
+    let (scene, out) = (dir.join("scene.toml"), dir.join("out.msh"));
+    let o = softgrip(&["mesh", "make", arg(&scene), arg(&out)]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert_eq!(err.matches("built without TetGen").count(), 1, "{err}");
     assert!(
         err.contains("ball.stl") && err.contains("--features tetgen"),
@@ -496,11 +439,8 @@ fn a_surface_scene_without_tetgen_says_what_to_do_once() {
 #[test]
 #[ignore = "slow: the command run end to end"]
 fn synth_writes_a_recording_that_compares_to_its_noise() {
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-synth-{}", std::process::id()));
-    let scene = format!(
-        "{}/assets/scenes/thesis_cuboid_light_guide.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let dir = scratch_path("softgrip-cli-synth");
+    let scene = scene("thesis_cuboid_light_guide.toml");
     let o = softgrip(&[
         "synth",
         &scene,
@@ -509,12 +449,10 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
         "--axes",
         "xq",
         "--out",
-        dir.to_str().unwrap(),
+        arg(&dir),
     ]);
     assert!(!o.status.success());
-    assert!(
-        String::from_utf8_lossy(&o.stderr).contains("--axes \"xq\": use the letters x, y and z")
-    );
+    assert!(stderr(&o).contains("--axes \"xq\": use the letters x, y and z"));
     let o = softgrip(&[
         "synth",
         &scene,
@@ -525,7 +463,7 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
         "--noise",
         "0",
         "--out",
-        dir.to_str().unwrap(),
+        arg(&dir),
     ]);
     assert!(o.status.success(), "{o:?}");
     assert!(
@@ -540,27 +478,20 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
         "{csv}"
     );
     // Without noise it is the scene's own simulation: NRMSE 0.
-    let json = dir.join("c.json");
-    let o = softgrip(&[
-        "compare",
-        dir.join("recording.toml").to_str().unwrap(),
-        "--no-report",
-        "--json",
-        json.to_str().unwrap(),
-    ]);
+    let (rec, json) = (dir.join("recording.toml"), dir.join("c.json"));
+    let o = softgrip(&["compare", arg(&rec), "--no-report", "--json", arg(&json)]);
     assert!(o.status.success(), "{o:?}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     assert!(v["nrmse"].as_f64().unwrap() < 1e-12, "{v}");
     assert!(v.get("discretisation").is_none(), "only when asked: {v}");
     // Asked, the mesh's move: a quasi-static recording's step is not checked.
     let o = softgrip(&[
         "compare",
-        dir.join("recording.toml").to_str().unwrap(),
+        arg(&rec),
         "--no-report",
         "--discretisation",
         "--json",
-        json.to_str().unwrap(),
+        arg(&json),
     ]);
     assert!(o.status.success(), "{o:?}");
     let text = stdout(&o);
@@ -568,8 +499,7 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
         text.contains("discretisation: a finer mesh (3.2 mm instead of 4 mm) moves the markers by"),
         "{text}"
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     let d = &v["discretisation"];
     assert!(d["mesh"]["rms_m"].as_f64().is_some_and(|m| m > 0.0), "{v}");
     assert!(d["time_step"]["skipped"].is_string(), "{v}");
@@ -578,15 +508,9 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
 
 #[test]
 fn grasp_says_whether_friction_held_the_object() {
-    let dir = std::env::temp_dir().join(format!("softgrip-cli-grasp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
+    let dir = scratch_dir("softgrip-cli-grasp");
     let json = dir.join("grasp.json");
-    let o = softgrip(&[
-        "grasp",
-        &scene("grasp_lift.toml"),
-        "--json",
-        json.to_str().expect("utf-8"),
-    ]);
+    let o = softgrip(&["grasp", &scene("grasp_lift.toml"), "--json", arg(&json)]);
     let text = stdout(&o);
     assert!(o.status.success(), "{text}");
     assert!(text.contains("HELD"), "{text}");
@@ -594,14 +518,13 @@ fn grasp_says_whether_friction_held_the_object() {
         text.contains("force balance: weight / squeeze = 0.14"),
         "{text}"
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
+    let v = read_json(&json);
     assert_eq!(v["held"], true);
     assert!((v["finger_rise_m"].as_f64().expect("rise") - 0.02).abs() < 1e-4);
     // A scene where nothing lifts is an error saying what to add.
     let o = softgrip(&["grasp", &scene("pinch.toml")]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(
         err.contains("no finger lifts") || err.contains("travel"),
         "{err}"

@@ -3,3 +3,4 @@
 mod cli;
 mod output_files;
 mod screenshot_command;
+mod support;

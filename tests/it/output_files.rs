@@ -4,12 +4,14 @@
 use softgrip_core::Simulation;
 use softgrip_core::output::TrajectoryWriter;
 
+use crate::support::{arg, scratch_dir, scratch_path, softgrip, stderr, write_file};
+
 #[test]
 fn trajectory_files_are_complete() {
     let mut scene = softgrip_core::Scene::thesis();
     scene.object.edge_length = 0.005;
     let mut sim = Simulation::new(&scene).expect("sim");
-    let dir = std::env::temp_dir().join(format!("softgrip-out-{}", std::process::id()));
+    let dir = scratch_path("softgrip-out");
     let mut w = TrajectoryWriter::new(&dir).expect("writer");
     w.frame(&sim.model, &sim.state).expect("frame");
     for _ in 0..3 {
@@ -74,22 +76,16 @@ fn trajectory_files_are_complete() {
 fn a_failing_run_keeps_its_frames() {
     // The CLI on a scene that fails at its first step: the error is reported,
     // and the files computed so far are written.
-    let dir = std::env::temp_dir().join(format!("softgrip-fail-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
-    let scene = dir.join("stiff.toml");
-    std::fs::write(
-        &scene,
+    let dir = scratch_dir("softgrip-fail");
+    let scene = write_file(
+        &dir,
+        "stiff.toml",
         "[simulation]\ncg_tolerance = 1e-12\ncg_max_iterations = 2\n[object]\nshape = \"cuboid\"\nsize = [0.05, 0.05, 0.02]\nedge_length = 0.005\nyoung_modulus = 5e9\n[[load]]\nmin = [-1.0, -1.0, 0.019]\nmax = [1.0, 1.0, 1.0]\nforce = [0.0, 0.0, -100.0]\n",
-    )
-    .expect("scene");
+    );
     let out = dir.join("out");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_softgrip"))
-        .args(["run", scene.to_str().expect("path"), "--out"])
-        .arg(&out)
-        .output()
-        .expect("softgrip runs");
+    let status = softgrip(&["run", arg(&scene), "--out", arg(&out)]);
     assert!(!status.status.success());
-    let stderr = String::from_utf8_lossy(&status.stderr);
+    let stderr = stderr(&status);
     assert!(stderr.contains("diverged at t ="), "{stderr}");
     assert!(stderr.contains("before the failure"), "{stderr}");
     let pvd = std::fs::read_to_string(out.join("trajectory.pvd")).expect("pvd kept");

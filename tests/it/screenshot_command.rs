@@ -1,24 +1,24 @@
 //! `softgrip screenshot` renders the built-in scene headless to a PNG.
 #![cfg(feature = "gui")]
 
+use crate::support::{arg, scratch_path, softgrip};
+
 /// The command itself writes the picture.
 #[test]
 fn screenshot_command_writes_a_png() {
-    let out = std::env::temp_dir().join(format!("softgrip-shot-{}.png", std::process::id()));
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_softgrip"))
-        .args([
-            "screenshot",
-            "--at",
-            "0.05",
-            "--size",
-            "160x120",
-            "--view",
-            "front",
-            "--out",
-        ])
-        .arg(&out)
-        .status()
-        .expect("softgrip runs");
+    let out = scratch_path("softgrip-shot").with_extension("png");
+    let status = softgrip(&[
+        "screenshot",
+        "--at",
+        "0.05",
+        "--size",
+        "160x120",
+        "--view",
+        "front",
+        "--out",
+        arg(&out),
+    ])
+    .status;
     assert!(status.success());
     let image = image::open(&out).expect("a PNG").to_rgba8();
     assert_eq!(image.dimensions(), (160, 120));

@@ -1,0 +1,73 @@
+//! Argument blocks several commands share, flattened into their `Args`
+//! with `#[command(flatten)]`. They carry no doc comment: clap would take
+//! it for the command's own description.
+
+use std::path::{Path, PathBuf};
+
+// The lab commands' report: where it goes, or none.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ReportArgs {
+    /// Write the report (Markdown and PNG plots) in this directory
+    /// [default: report-COMMAND-RECORDING in the current directory].
+    #[arg(long, value_parser = report_dir)]
+    report: Option<PathBuf>,
+    /// Write no report.
+    #[arg(long, conflicts_with = "report")]
+    no_report: bool,
+}
+
+/// `--report` names a directory: a file name (`report.md`) is refused at
+/// once, before the work, rather than made into a directory after it.
+fn report_dir(s: &str) -> Result<PathBuf, String> {
+    let p = PathBuf::from(s);
+    let ext = p
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some(e @ ("md" | "html" | "txt" | "png" | "svg" | "json" | "csv" | "pdf")) => Err(format!(
+            "--report takes a directory (the report is written there as Markdown with its PNG plots), not a .{e} file: try --report {}",
+            p.with_extension("").display()
+        )),
+        _ => Ok(p),
+    }
+}
+
+impl ReportArgs {
+    /// The report's directory for `command` on `recording`, or none with
+    /// `--no-report`.
+    pub fn dir(&self, command: &str, recording: &Path) -> Option<PathBuf> {
+        if self.no_report {
+            return None;
+        }
+        if let Some(d) = &self.report {
+            return Some(d.clone());
+        }
+        // `.../gravity_a/recording.toml` is named by its directory.
+        let stem = recording
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let name = if stem == "recording" || stem.is_empty() {
+            recording
+                .canonicalize()
+                .ok()
+                .and_then(|p| {
+                    p.parent()?
+                        .file_name()
+                        .map(|n| n.to_string_lossy().into_owned())
+                })
+                .unwrap_or(stem)
+        } else {
+            stem
+        };
+        Some(PathBuf::from(format!("report-{command}-{name}")))
+    }
+}
+
+// How many simulations the searching commands run at once.
+#[derive(clap::Args, Debug, Clone)]
+pub struct WorkersArgs {
+    /// Simulations at once (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    pub workers: usize,
+}

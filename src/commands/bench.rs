@@ -1,0 +1,181 @@
+//! `softgrip bench`: wall time per simulated second of the thesis scene at
+//! several mesh sizes, or of each physics option, or of whole diagnoses
+//! (BENCHMARKS.md).
+
+use anyhow::Result;
+
+use super::progress::{progress_bar, show_stages};
+
+/// Measure wall seconds per simulated second of the thesis scene at several mesh sizes.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Edge lengths in mm.
+    #[arg(long, value_delimiter = ',', default_values_t = vec![4.0, 2.5, 1.6])]
+    edges: Vec<f64>,
+    /// Threads per simulation: 1, or 2 (a helper thread takes half the
+    /// work; same results bit for bit). Default: 2 where there are two cores.
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Simulated seconds per measurement.
+    #[arg(long, default_value_t = 1.0)]
+    seconds: f64,
+    /// Instead: the thesis scene at the first edge length with each
+    /// physics option (table, stiffening, viscoelastic, regions, guide
+    /// friction, self-collision, neo-Hookean, ...) on in turn.
+    #[arg(long)]
+    options: bool,
+    /// Instead: time the full diagnosis of these `softgrip prove` cases
+    /// (comma-separated names, e.g. load-loss-weak,control-1): 8 load
+    /// steps, 8 markers and the finger, x and z; writing the recording
+    /// is not timed.
+    #[arg(long, value_delimiter = ',')]
+    diagnosis: Vec<String>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let Args {
+        edges,
+        threads,
+        seconds,
+        options,
+        diagnosis,
+    } = args;
+    if !diagnosis.is_empty() {
+        bench_diagnosis(&diagnosis)
+    } else if options {
+        bench_options(edges.first().copied().unwrap_or(4.0), seconds, threads)
+    } else {
+        bench_sizes(&edges, seconds, threads)
+    }
+}
+
+/// Peak memory is the process's high-water mark, so sizes run smallest first.
+fn bench_sizes(edges_mm: &[f64], seconds: f64, threads: usize) -> Result<()> {
+    let mut edges_mm = edges_mm.to_vec();
+    edges_mm.sort_by(|a, b| b.total_cmp(a));
+    println!("{}", softgrip_core::bench::machine_description());
+    println!(
+        "| edge (mm) | particles | tetrahedra | ms per step | CG iterations per step | wall s per simulated s | peak memory (MiB) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    let mut breakdown = Vec::new();
+    for &e in &edges_mm {
+        let r = softgrip_core::bench::thesis_scene_run(e * 1e-3, seconds, threads)?;
+        breakdown.push((e, r));
+        println!(
+            "| {:.1} | {} | {} | {:.2} | {:.1} | {:.2} | {} |",
+            e,
+            r.particles,
+            r.tets,
+            1e3 * r.wall_seconds / r.steps as f64,
+            r.cg_iterations as f64 / r.steps as f64,
+            r.wall_seconds / r.simulated_seconds,
+            softgrip_core::bench::peak_memory_mib()
+                .map(|m| format!("{m:.1}"))
+                .unwrap_or_else(|| "n/a".into())
+        );
+    }
+    println!();
+    println!("| edge (mm) | forces | solve (CG) | projection | diagnostics |");
+    println!("|---|---|---|---|---|");
+    for (e, r) in breakdown {
+        let ms = |s: f64| format!("{:.3}", 1e3 * s / r.steps as f64);
+        let t = r.stages;
+        println!(
+            "| {e:.1} | {} | {} | {} | {} |",
+            ms(t.forces),
+            ms(t.solve),
+            ms(t.projection),
+            ms(t.diagnostics)
+        );
+    }
+    println!("(ms per step in each stage)");
+    Ok(())
+}
+
+/// The cost of each physics option on the thesis scene.
+fn bench_options(edge_mm: f64, seconds: f64, threads: usize) -> Result<()> {
+    println!("{}", softgrip_core::bench::machine_description());
+    println!(
+        "the thesis scene at {edge_mm} mm edges, {seconds} s simulated, each option on in turn"
+    );
+    println!("| option | ms per step | CG iterations per step | against none |");
+    println!("|---|---|---|---|");
+    let mut base = None;
+    for (name, scene) in softgrip_core::bench::option_variants(edge_mm * 1e-3) {
+        let r = softgrip_core::bench::scene_run(&scene, seconds, threads)?;
+        let ms = 1e3 * r.wall_seconds / r.steps as f64;
+        let reference = *base.get_or_insert(ms);
+        println!(
+            "| {name} | {ms:.2} | {:.1} | {:.2} x |",
+            r.cg_iterations as f64 / r.steps as f64,
+            ms / reference
+        );
+    }
+    Ok(())
+}
+
+/// Wall time of the whole diagnosis of `softgrip prove` cases.
+fn bench_diagnosis(names: &[String]) -> Result<()> {
+    use softgrip_lab::diagnose::{DiagnoseOptions, diagnose};
+    let cases = softgrip_lab::prove::seeded("");
+    // Every name checked before the first (long) diagnosis starts.
+    let mut chosen = Vec::new();
+    for name in names {
+        let Some(found) = cases.iter().find(|(_, c)| &c.name == name) else {
+            anyhow::bail!(
+                "no prove case {name}; the cases are: {}",
+                cases
+                    .iter()
+                    .map(|(_, c)| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        };
+        chosen.push((name, found));
+    }
+    println!("{}", softgrip_core::bench::machine_description());
+    println!(
+        "| case | distinct loads | samples | markers (object + finger) | simulations | seconds | named | peak memory (MiB) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for (name, (seed, case)) in chosen {
+        let dir =
+            std::env::temp_dir().join(format!("softgrip-bench-{}-{name}", std::process::id()));
+        // The seed `softgrip prove` gives the case: the same recording.
+        let recording =
+            softgrip_lab::prove::write_case(case, &dir, *seed).map_err(anyhow::Error::msg)?;
+        let bar = progress_bar(1, "fits");
+        let started = std::time::Instant::now();
+        let d = diagnose(
+            &recording,
+            // As `softgrip prove` without --e-measured-within.
+            &DiagnoseOptions::default(),
+            &show_stages(&bar),
+        );
+        let seconds = started.elapsed().as_secs_f64();
+        bar.finish_and_clear();
+        std::fs::remove_dir_all(&dir).ok();
+        let d = d.map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let mut loads: Vec<f64> = recording.samples.iter().map(|s| s.load).collect();
+        loads.sort_by(f64::total_cmp);
+        loads.dedup();
+        let named = if d.effects.is_empty() {
+            d.verdict()
+        } else {
+            d.effects.join(" + ")
+        };
+        println!(
+            "| {name} | {} | {} | {} + {} | {} | {seconds:.0} | {named} | {} |",
+            loads.len(),
+            recording.samples.len(),
+            recording.markers.len(),
+            recording.scene.fingers.len(),
+            d.simulations,
+            softgrip_core::bench::peak_memory_mib()
+                .map(|m| format!("{m:.1}"))
+                .unwrap_or_else(|| "n/a".into())
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,116 @@
+//! `softgrip compare`: replay a lab recording and measure the error as the
+//! thesis does, with `--discretisation` how much of it the mesh and the
+//! step could make.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use softgrip_lab::recording::Recording;
+
+use super::args::ReportArgs;
+use super::figures::{describe, errors_json_for, write_json, wrote};
+use super::progress::progress_bar;
+
+/// Simulate a lab recording and measure the error as the thesis does
+/// (NRMSE, eq. 45-46): per marker, per axis, overall.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The recording's .toml header.
+    recording: PathBuf,
+    /// Also write the figures as JSON (nrmse, rmse_m, nrmse_all, params).
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Also replay on a mesh 0.8 times as fine and, for a time series,
+    /// at half the step, and say how far the markers move against the
+    /// noise (estimated from the residual, as `diagnose` does): how
+    /// much of the error the model's own discretisation can make.
+    #[arg(long)]
+    discretisation: bool,
+    #[command(flatten)]
+    report: ReportArgs,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let (path, json) = (args.recording.as_path(), args.json.as_deref());
+    let (discretisation, report) = (args.discretisation, &args.report);
+    let recording = Recording::load(path)?;
+    describe(path, &recording);
+    let bar = progress_bar(recording.samples.len() as u64, "samples");
+    let run = softgrip_lab::replay::replay(
+        &recording,
+        &recording.scene,
+        softgrip_lab::replay::ReplayOptions::default(),
+        |n| bar.set_position(n as u64),
+    )?;
+    bar.finish_and_clear();
+    for (m, a) in recording.markers.iter().zip(&run.attachments) {
+        println!(
+            "  marker {}: reference {:.2} mm from the surface",
+            m.name,
+            1e3 * a.distance
+        );
+    }
+    let e = run.errors;
+    println!(
+        "NRMSE {:.4} (RMSE {:.3} mm over {} observations{}); with fingers NRMSE {:.4} (RMSE {:.3} mm)",
+        e.nrmse,
+        1e3 * e.rmse_m,
+        e.count,
+        if recording.markers.is_empty() {
+            ", finger markers: the recording has no object markers"
+        } else {
+            ", object markers"
+        },
+        e.nrmse_all,
+        1e3 * e.rmse_all_m
+    );
+    println!("  marker      rmse x (mm)  rmse y (mm)  rmse z (mm)  rmse (mm)");
+    for m in softgrip_lab::compare::per_marker(&run.residuals) {
+        let axis = |a: usize| m.axes[a].map_or("-".to_string(), |e| format!("{:.3}", 1e3 * e));
+        println!(
+            "  {:<10}  {:>11}  {:>11}  {:>11}  {:>9.3}",
+            recording.marker_name(m.marker),
+            axis(0),
+            axis(1),
+            axis(2),
+            1e3 * m.distance
+        );
+    }
+    if let Some(v) = run.volume_errors.last() {
+        println!("volume error at the last sample: {v:.3e}");
+    }
+    let discretisation = discretisation.then(|| {
+        let noise = softgrip_lab::diagnose::estimate_noise(&run.residuals);
+        println!("noise (estimated from the residual): {}", noise.describe());
+        let spinner = progress_bar(1, "the scene refined");
+        let d = softgrip_lab::discretisation::check(
+            &recording,
+            &recording.scene,
+            &run,
+            &noise,
+            softgrip_lab::replay::ReplayOptions::default().rest,
+        );
+        spinner.finish_and_clear();
+        println!("discretisation: {}", d.describe());
+        d
+    });
+    if let Some(dir) = report.dir("compare", path) {
+        wrote(&softgrip_lab::report::compare(&dir, &recording, &run)?);
+    }
+    if let Some(json) = json {
+        let o = &recording.scene.object;
+        let m = &recording.scene.model;
+        let mut value = errors_json_for(path, &e);
+        value["params"] = serde_json::json!({
+            "young_modulus": o.young_modulus,
+            "alpha": m.alpha,
+            "tau_s": m.tau_s,
+            "tau_c": m.tau_c,
+        });
+        if let Some(d) = &discretisation {
+            value["discretisation"] = d.to_json();
+        }
+        write_json(json, &value)?;
+    }
+    Ok(())
+}

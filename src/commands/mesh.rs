@@ -1,0 +1,176 @@
+//! `softgrip mesh`: a mesh file's figures and checks, its conversion to
+//! another format, and the mesh a scene uses written out.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use softgrip_core::mesh::{TetMesh, checks, io};
+use softgrip_core::scene::Scene;
+
+/// Mesh files: figures, conversion, and the mesh a scene uses.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    action: Action,
+}
+
+#[derive(clap::Subcommand)]
+enum Action {
+    /// Nodes, tetrahedra, boundary facets, volume, bounds, edge lengths,
+    /// smallest dihedral angle, worst aspect ratio, parts; and what the
+    /// checks would change.
+    Info { file: PathBuf },
+    /// Convert between formats (.msh, .node/.ele, .vtk); the output's
+    /// extension picks the format unless --format says (msh22 for Gmsh 2.2).
+    Convert {
+        input: PathBuf,
+        output: PathBuf,
+        #[arg(long, value_enum)]
+        format: Option<io::Format>,
+    },
+    /// Write the mesh a scene uses (built-in shapes meshed at their edge
+    /// length; mesh files checked, scaled and placed).
+    Make {
+        scene: PathBuf,
+        output: PathBuf,
+        #[arg(long, value_enum)]
+        format: Option<io::Format>,
+    },
+}
+
+pub fn run(args: Args) -> Result<()> {
+    match args.action {
+        Action::Info { file } if io::is_surface(&file) => info_surface(&file),
+        Action::Info { file } => info_tets(&file),
+        Action::Convert {
+            input,
+            output,
+            format,
+        } => convert(&input, &output, format),
+        Action::Make {
+            scene,
+            output,
+            format,
+        } => make(&scene, &output, format),
+    }
+}
+
+/// A closed surface (.stl, .obj): its figures and checks.
+fn info_surface(file: &Path) -> Result<()> {
+    let surface = softgrip_core::mesh::surface::read(
+        &std::fs::read(file).with_context(|| format!("reading {}", file.display()))?,
+        &file.display().to_string(),
+        file.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("obj")),
+    )?;
+    println!(
+        "{} (a surface: tetrahedralized when a scene uses it)",
+        file.display()
+    );
+    println!("  triangles: {}", surface.triangles.len());
+    println!("  vertices (welded): {}", surface.vertices.len());
+    println!("  enclosed volume: {:.6e} m^3", surface.volume());
+    println!("  mean edge: {:.3} mm", 1e3 * surface.mean_edge());
+    softgrip_core::mesh::surface::check(&surface, &file.display().to_string())?;
+    println!("  closed, consistently oriented, outward, not self-intersecting");
+    Ok(())
+}
+
+/// A tetrahedral mesh: its figures as written and after the checks.
+fn info_tets(file: &Path) -> Result<()> {
+    let imported = io::read(file)?;
+    let raw = &imported.mesh;
+    println!("{}", file.display());
+    println!(
+        "  as written: {} nodes, {} tetrahedra",
+        raw.nodes.len(),
+        raw.tets.len()
+    );
+    for w in &imported.warnings {
+        println!("  note: {w}");
+    }
+    let mut mesh = imported.mesh.clone();
+    let report = checks::repair(&mut mesh)
+        .with_context(|| format!("{}: the mesh cannot be used", file.display()))?;
+    for w in &report.warnings {
+        println!("  check: {w}");
+    }
+    let stats = mesh.stats();
+    let (lo, hi) = mesh.bounds();
+    let (angle, aspect) = checks::shape_figures(&mesh);
+    println!("  nodes: {}", stats.nodes);
+    println!("  tetrahedra: {}", stats.tets);
+    println!("  boundary facets: {}", stats.boundary_facets);
+    println!("  volume: {:.6e} m^3", stats.volume);
+    println!(
+        "  bounds: ({:.4}, {:.4}, {:.4}) .. ({:.4}, {:.4}, {:.4}) m, size {:.4} x {:.4} x {:.4} m",
+        lo.x,
+        lo.y,
+        lo.z,
+        hi.x,
+        hi.y,
+        hi.z,
+        hi.x - lo.x,
+        hi.y - lo.y,
+        hi.z - lo.z
+    );
+    println!(
+        "  edges: {:.3} .. {:.3} mm",
+        1e3 * stats.min_edge,
+        1e3 * stats.max_edge
+    );
+    println!("  smallest dihedral angle: {angle:.2} degrees");
+    println!("  worst aspect ratio (longest edge / smallest height): {aspect:.2}");
+    println!("  connected parts: {}", report.parts);
+    Ok(())
+}
+
+fn convert(input: &Path, output: &Path, format: Option<io::Format>) -> Result<()> {
+    let format = format_for(output, format)?;
+    let imported = io::read(input)?;
+    for w in &imported.warnings {
+        eprintln!("warning: {}: {w}", input.display());
+    }
+    let mut mesh = imported.mesh;
+    let report = checks::repair(&mut mesh)
+        .with_context(|| format!("{}: the mesh cannot be used", input.display()))?;
+    for w in &report.warnings {
+        eprintln!("warning: {}: {w}", input.display());
+    }
+    let written = write(&mesh, output, format)?;
+    say_written(&written);
+    Ok(())
+}
+
+fn make(scene: &Path, output: &Path, format: Option<io::Format>) -> Result<()> {
+    let format = format_for(output, format)?;
+    let scene = Scene::load(scene)?;
+    let (mesh, warnings) = softgrip_core::Model::load_mesh(&scene)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    let written = write(&mesh, output, format)?;
+    println!("{}", mesh.stats());
+    say_written(&written);
+    Ok(())
+}
+
+/// `--format`, or the one the output's extension names.
+fn format_for(path: &Path, format: Option<io::Format>) -> Result<io::Format> {
+    format.or_else(|| io::Format::of(path)).with_context(|| {
+        format!(
+            "{}: give a .msh, .node, .ele, .vtk or .vtu name, or --format",
+            path.display()
+        )
+    })
+}
+
+fn write(mesh: &TetMesh, output: &Path, format: io::Format) -> Result<Vec<PathBuf>> {
+    io::write(mesh, output, format).with_context(|| format!("writing {}", output.display()))
+}
+
+fn say_written(written: &[PathBuf]) {
+    for p in written {
+        println!("wrote {}", p.display());
+    }
+}

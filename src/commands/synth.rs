@@ -1,0 +1,102 @@
+//! `softgrip synth`: a recording made by softgrip's own simulation with
+//! Gaussian noise, where the truth of a fit or a sweep is known.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+
+use super::load::load_scene;
+
+/// Make a recording from a scene (softgrip's own simulation, with
+/// Gaussian noise): for testing fits and sweeps where the truth is known.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene file (.toml); omit for the built-in thesis scene.
+    scene: Option<PathBuf>,
+    /// Loads in N, one quasi-static sample each (along the first
+    /// force-controlled finger's `force` direction).
+    #[arg(long, value_delimiter = ',', required = true)]
+    loads: Vec<f64>,
+    /// Object markers NAME=X,Y,Z on the undeformed surface (m);
+    /// default for a cuboid: 9 on the top face and 5 along the front.
+    #[arg(long = "marker")]
+    markers: Vec<String>,
+    /// Observed axes, e.g. xz for a side camera.
+    #[arg(long, default_value = "xyz")]
+    axes: String,
+    /// Standard deviation of the noise on each coordinate (m).
+    #[arg(long, default_value_t = 1e-4)]
+    noise: f64,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Directory for scene.toml, recording.toml and samples.csv.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    use softgrip_core::scene::Shape;
+    use softgrip_lab::recording::{Mode, Start};
+    use softgrip_lab::synth::{Synthesis, cuboid_markers, synthesize};
+    let scene = &load_scene(args.scene.as_deref())?;
+    let (loads, markers, axes) = (&args.loads, &args.markers, &args.axes);
+    let (noise, seed, out) = (args.noise, args.seed, args.out.as_path());
+    anyhow::ensure!(
+        noise.is_finite() && noise >= 0.0,
+        "--noise {noise}: must be a standard deviation in metres, 0 or more"
+    );
+    let mut observed = [false; 3];
+    for c in axes.chars() {
+        match c {
+            'x' => observed[0] = true,
+            'y' => observed[1] = true,
+            'z' => observed[2] = true,
+            _ => anyhow::bail!("--axes {axes:?}: use the letters x, y and z, e.g. xz"),
+        }
+    }
+    anyhow::ensure!(observed.iter().any(|a| *a), "--axes: at least one axis");
+    let markers = if markers.is_empty() {
+        match scene.object.shape {
+            Shape::Cuboid { size } => cuboid_markers(size, 3, 0.1 * size.x.min(size.y), 5),
+            _ => anyhow::bail!(
+                "the object is not a cuboid: give its markers with --marker NAME=X,Y,Z (m, on the undeformed surface)"
+            ),
+        }
+    } else {
+        markers
+            .iter()
+            .map(|m| {
+                let bad = || anyhow::anyhow!("--marker {m:?}: write NAME=X,Y,Z in metres");
+                let (name, xyz) = m.split_once('=').ok_or_else(bad)?;
+                let v: Vec<f64> = xyz
+                    .split(',')
+                    .map(|t| t.trim().parse::<f64>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| bad())?;
+                anyhow::ensure!(v.len() == 3 && v.iter().all(|x| x.is_finite()), bad());
+                Ok((name.trim().to_string(), glam::DVec3::new(v[0], v[1], v[2])))
+            })
+            .collect::<Result<Vec<_>>>()?
+    };
+    let spec = Synthesis {
+        mode: Mode::QuasiStatic,
+        start: Start::Rest,
+        samples: loads.iter().map(|l| (None, *l)).collect(),
+        markers,
+        finger: !scene.fingers.is_empty(),
+        axes: observed,
+        noise,
+        seed,
+        description: format!(
+            "made by softgrip synth: loads {loads:?} N, axes {axes}, noise {noise} m, seed {seed}"
+        ),
+    };
+    let rec = synthesize(scene, &spec, out)?;
+    println!(
+        "wrote {} ({} samples, {} markers)",
+        rec.source.display(),
+        rec.samples.len(),
+        rec.markers.len()
+    );
+    Ok(())
+}
