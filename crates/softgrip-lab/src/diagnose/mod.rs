@@ -40,6 +40,7 @@ pub use statistics::{
 };
 pub use verdict::Diagnosis;
 
+use crate::error::LabError;
 use crate::recording::Recording;
 use noise::load_turns;
 use options::FitCount;
@@ -50,7 +51,7 @@ pub fn diagnose(
     recording: &Recording,
     options: &DiagnoseOptions,
     progress: Progress,
-) -> Result<Diagnosis, String> {
+) -> Result<Diagnosis, LabError> {
     let base_params = baseline::search_params(&recording.scene, options)?;
     // The fits planned: the baseline's two, and each candidate once a round.
     let planned = 2 + catalogue(recording, &recording.scene).len() * options.max_effects;

@@ -9,6 +9,7 @@ use super::model_fit::{FitTask, ModelFit, Search, check_cancel, fit_model};
 use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
 use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z, vuong, vuong_by_sample};
+use crate::error::LabError;
 use crate::params;
 use crate::recording::Recording;
 use softgrip_core::scene::Scene;
@@ -106,7 +107,7 @@ pub(super) fn fit_pair(
     (best, hf): (&Hypothesis, &ModelFit),
     (rival, rf): (&Hypothesis, &ModelFit),
     fits: &FitCount,
-) -> Result<Option<PairTest>, String> {
+) -> Result<Option<PairTest>, LabError> {
     let find = |scene: &Scene, h: &Hypothesis| {
         candidates(recording, scene, options)
             .into_iter()

@@ -40,7 +40,7 @@ fn params_parse_with_bounds_and_scales_and_bad_ones_are_errors() {
         (vec![""], "no parameter to fit"),
     ] {
         let entries: Vec<String> = bad.iter().map(|s| s.to_string()).collect();
-        let e = parse_params(&entries, &scene).expect_err(says);
+        let e = parse_params(&entries, &scene).expect_err(says).to_string();
         assert!(e.contains(says), "{bad:?}: {e}");
     }
 }
