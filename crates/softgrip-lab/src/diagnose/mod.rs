@@ -69,7 +69,7 @@ pub fn diagnose(
     let location = locate(recording, &baseline.replay, &noise);
     // Reported, not acted on: refitting them in every candidate, and
     // trying the candidates at the noise level when one was pinned, named
-    // one effect fewer on the suite (docs/diagnosis-pinned-refitted.md).
+    // one effect fewer on the suite (docs/results/diagnosis-notes/pinned-refitted.md).
     let pinned = pinned_at_bounds(&baseline.params, &base_params);
     // The effects that explain it, by a greedy search of the catalogue.
     let found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;

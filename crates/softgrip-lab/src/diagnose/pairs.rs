@@ -257,13 +257,12 @@ mod tests {
         }
     }
 
-    /// The pair's verdicts, with the suite's figures (DIAGNOSIS.md): two
-    /// effects both needed are both named, or with one place left the one
-    /// needed more; a pair that needs neither names none when leaving
-    /// either out costs something (control-2: +4 and +1, one form error
-    /// seen by both), and when it does not need one at all (leaving table
-    /// friction out of heterogeneous-stiffness-weak's pair lowers BIC by 3)
-    /// the other is named only if it passes a lone candidate's Vuong test.
+    /// The pair's verdicts, with the suite's figures (docs/results/diagnosis-history.md): two
+    /// effects both needed are both named, or with one place left the one needed more; a pair
+    /// that needs neither names none when leaving either out costs something (control-2: +4 and
+    /// +1, one form error seen by both), and when it does not need one at all (leaving table
+    /// friction out of heterogeneous-stiffness-weak's pair lowers BIC by 3) the other is named
+    /// only if it passes a lone candidate's Vuong test.
     #[test]
     fn a_pair_that_does_not_need_one_judges_the_other_alone() {
         let both = [need(200.0, 0.76, 5.5), need(144.0, 0.65, 3.7)];

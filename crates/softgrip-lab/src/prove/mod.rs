@@ -4,7 +4,8 @@
 //! seen by a side camera, 8 markers and the finger as in the thesis's
 //! experiment), each with one effect at two strengths, three controls with
 //! none and one with two (`suite`); every recording is diagnosed blind
-//! ([`run`]) and the outcome written as `DIAGNOSIS.md` ([`report()`]).
+//! ([`run`]) and the outcome written as a Markdown report ([`report()`]; the
+//! current one is `docs/results/diagnosis.md`).
 
 mod report;
 mod suite;
@@ -166,7 +167,7 @@ pub fn truth_errors(d: &Diagnosis, clean: &Recording) -> Result<[f64; 2], LabErr
 /// unless `base` already bounds E. `softgrip prove` gives no range unless
 /// asked (`--e-measured-within`): on this suite, a range of 2 let the
 /// diagnosis name strong stiffening and cost four cases a second effect
-/// (DIAGNOSIS.md).
+/// (docs/results/diagnosis-notes/e-measured-within-2.md).
 pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -> DiagnoseOptions {
     let mut options = base.clone();
     if let Some(f) = e_within
