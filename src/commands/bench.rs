@@ -1,6 +1,6 @@
 //! `softgrip bench`: wall time per simulated second of the thesis scene at
 //! several mesh sizes, or of each physics option, or of whole diagnoses
-//! (BENCHMARKS.md).
+//! (docs/results/benchmarks.md).
 
 use anyhow::Result;
 

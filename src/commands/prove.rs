@@ -1,5 +1,6 @@
 //! `softgrip prove`: the diagnosis on concealed data; makes the suite of
-//! recordings, diagnoses each blind and writes DIAGNOSIS.md
+//! recordings, diagnoses each blind and writes the report (by default
+//! DIAGNOSIS.md; the current one is docs/results/diagnosis.md)
 //! (`softgrip_lab::prove`).
 
 use std::path::PathBuf;

@@ -72,7 +72,10 @@ pub fn run(args: Args) -> Result<()> {
             println!(
                 "  {:?}: {}",
                 p.values,
-                p.result.as_ref().err().map_or("", String::as_str)
+                p.result
+                    .as_ref()
+                    .err()
+                    .map_or(String::new(), ToString::to_string)
             );
         }
     }

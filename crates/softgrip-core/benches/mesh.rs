@@ -1,7 +1,7 @@
 //! Criterion benchmarks of meshes in (issue 4): reading a ~100k-tetrahedron
 //! mesh in each writable format, checking it, and (with `--features
 //! tetgen`) tetrahedralizing a closed surface into ~100k tetrahedra.
-//! Figures in BENCHMARKS.md.
+//! Figures in docs/results/benchmarks.md.
 
 use std::hint::black_box;
 

@@ -1,6 +1,6 @@
 //! Criterion benchmarks: one step of the thesis scene at three mesh sizes,
 //! and the kernels inside it. One simulated second is measured by
-//! `softgrip bench` (see BENCHMARKS.md), which is too long for criterion's
+//! `softgrip bench` (see docs/results/benchmarks.md), which is too long for criterion's
 //! repeated sampling at the finest mesh.
 
 use std::hint::black_box;

@@ -110,7 +110,7 @@ pub fn scene_run(scene: &Scene, seconds: f64, threads: usize) -> Result<BenchRun
     })
 }
 
-/// CPU model, core count and date, for BENCHMARKS.md.
+/// CPU model, core count and date, for docs/results/benchmarks.md.
 pub fn machine_description() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()

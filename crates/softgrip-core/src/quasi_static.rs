@@ -53,7 +53,7 @@ impl RestTolerance {
     /// after 5 simulated seconds is given up on (the probe's cost is then
     /// infinite, as after 20 s). In a diagnosis of the suite's
     /// heterogeneous-stiffness-strong recording (timed with a throwaway
-    /// trace, BENCHMARKS.md) the slowest of the loads that came to rest
+    /// trace, docs/results/benchmarks-history.md) the slowest of the loads that came to rest
     /// took 2.7 s; the 5 that did not were
     /// still moving at 2e-2 to 7e-2 m/s after 20 s (an oscillation that
     /// does not decay) and cost 10,000 steps each, 40 % of that

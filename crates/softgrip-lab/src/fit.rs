@@ -13,6 +13,7 @@
 use std::collections::HashMap;
 
 use crate::compare::{Errors, components};
+use crate::error::LabError;
 use crate::optimize::{BoundedScale, Tolerances, invert};
 use crate::params::{self, Param};
 use crate::recording::Recording;
@@ -59,14 +60,14 @@ impl FitParam {
 
 /// The bounds used when the command line gives none: around the scene's
 /// value for moduli and alpha, the physically sensible range otherwise.
-pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String> {
+pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), LabError> {
     let value = params::get(scene, param.name)?;
     let around = |factor: f64| match value {
         Some(v) if v > 0.0 => Ok((v / factor, v * factor)),
-        _ => Err(format!(
+        _ => Err(LabError::Input(format!(
             "{}: the scene's value is 0 or unset, so give bounds: {}=LOW:HIGH",
             param.name, param.name
-        )),
+        ))),
     };
     match param.name {
         "young_modulus" | "bulk_modulus" | "limit_stiffness" | "region_young_modulus" => {
@@ -85,16 +86,16 @@ pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), String
         "guide_friction" => Ok((0.0, 5.0)),
         "restitution" => Ok((0.0, 1.0)),
         "contact_stiffness_scale" => Ok((0.1, 10.0)),
-        other => Err(format!(
+        other => Err(LabError::Input(format!(
             "{other} has no default bounds; give them: {other}=LOW:HIGH"
-        )),
+        ))),
     }
 }
 
 /// Parses `--params` entries: `name`, `name=LOW:HIGH`, with `:log` or
 /// `:lin` to choose the scale (default: the parameter's natural one);
 /// entries may be comma-separated.
-pub fn parse_params(entries: &[String], scene: &Scene) -> Result<Vec<FitParam>, String> {
+pub fn parse_params(entries: &[String], scene: &Scene) -> Result<Vec<FitParam>, LabError> {
     let mut out: Vec<FitParam> = Vec::new();
     for text in entries.iter().flat_map(|e| e.split(',')) {
         let text = text.trim();
@@ -102,7 +103,9 @@ pub fn parse_params(entries: &[String], scene: &Scene) -> Result<Vec<FitParam>, 
             continue;
         }
         let bad = |why: &str| {
-            format!("--params {text:?}: {why}; write name or name=LOW:HIGH (add :log or :lin)")
+            LabError::Input(format!(
+                "--params {text:?}: {why}; write name or name=LOW:HIGH (add :log or :lin)"
+            ))
         };
         let (name, spec) = match text.split_once('=') {
             Some((n, s)) => (n.trim(), Some(s)),
@@ -144,7 +147,8 @@ pub fn parse_params(entries: &[String], scene: &Scene) -> Result<Vec<FitParam>, 
             return Err(bad("a log scale needs positive bounds (or add :lin)"));
         }
         for v in [lower, upper] {
-            params::set(scene, param.name, v).map_err(|e| format!("--params {text:?}: {e}"))?;
+            params::set(scene, param.name, v)
+                .map_err(|e| LabError::Input(format!("--params {text:?}: {e}")))?;
         }
         out.push(FitParam {
             param,
@@ -154,7 +158,9 @@ pub fn parse_params(entries: &[String], scene: &Scene) -> Result<Vec<FitParam>, 
         });
     }
     if out.is_empty() {
-        return Err("--params: no parameter to fit; e.g. --params young_modulus,alpha".into());
+        return Err(LabError::input(
+            "--params: no parameter to fit; e.g. --params young_modulus,alpha",
+        ));
     }
     Ok(out)
 }
@@ -263,7 +269,7 @@ pub struct Uncertainty {
 pub struct Trial {
     pub values: Vec<f64>,
     /// NRMSE, or why the run failed.
-    pub nrmse: Result<f64, String>,
+    pub nrmse: Result<f64, LabError>,
 }
 
 /// A fit and its evidence.
@@ -288,28 +294,24 @@ pub struct Fit {
     pub sensitivity: Vec<Sensitivity>,
 }
 
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum FitError {
-    #[error("the starting point does not run: {0}")]
-    Start(String),
-    /// Stopped through its `softgrip_core::cancel` token.
-    #[error("cancelled")]
-    Cancelled,
-}
+/// Why a fit did not run: [`LabError::FitStart`] or [`LabError::Cancelled`].
+pub type FitError = LabError;
 
-/// `FitError::Cancelled` once the fit's cancel token is set (its
+/// `LabError::Cancelled` once the fit's cancel token is set (its
 /// simulations then fail at once, which must not read as bad points).
-fn check_cancel() -> Result<(), FitError> {
-    softgrip_core::cancel::check_scope(|| FitError::Cancelled)
+fn check_cancel() -> Result<(), LabError> {
+    softgrip_core::cancel::check_scope(|| LabError::Cancelled)
 }
 
 /// A run's error as the fit's: cancelled, or the start's.
-fn start_error(e: String) -> FitError {
-    check_cancel().err().unwrap_or(FitError::Start(e))
+fn start_error(e: LabError) -> LabError {
+    check_cancel()
+        .err()
+        .unwrap_or(LabError::FitStart(Box::new(e)))
 }
 
 /// `scene` with `params` set to `values`.
-pub fn scene_with(scene: &Scene, params: &[FitParam], values: &[f64]) -> Result<Scene, String> {
+pub fn scene_with(scene: &Scene, params: &[FitParam], values: &[f64]) -> Result<Scene, LabError> {
     let mut s = scene.clone();
     for (p, v) in params.iter().zip(values) {
         s = params::set(&s, p.param.name, *v)?;
@@ -320,12 +322,12 @@ pub fn scene_with(scene: &Scene, params: &[FitParam], values: &[f64]) -> Result<
 /// A fit's replay, on the default thread count: one simulation per core
 /// while a batch has several, both cores for the last one left
 /// (`Simulation::set_threads`).
-fn run(recording: &Recording, scene: &Scene) -> Result<Replay, String> {
+fn run(recording: &Recording, scene: &Scene) -> Result<Replay, LabError> {
     let options = ReplayOptions {
         rest: RestTolerance::for_fits(),
         ..ReplayOptions::default()
     };
-    replay(recording, scene, options, |_| {}).map_err(|e| e.to_string())
+    replay(recording, scene, options, |_| {}).map_err(LabError::from)
 }
 
 /// Progress of a fit: simulations done and the best NRMSE so far.
@@ -339,7 +341,7 @@ pub fn fit(
     params: &[FitParam],
     options: FitOptions,
     progress: Progress,
-) -> Result<Fit, FitError> {
+) -> Result<Fit, LabError> {
     let scene = &recording.scene;
     let start: Vec<f64> = params
         .iter()
@@ -348,7 +350,7 @@ pub fn fit(
             v.map_or_else(|| p.value(0.5), |v| p.value(p.unit(v)))
         })
         .collect();
-    let at_values = |values: &[f64]| -> Result<Replay, String> {
+    let at_values = |values: &[f64]| -> Result<Replay, LabError> {
         run(recording, &scene_with(scene, params, values)?)
     };
     let first = at_values(&start).map_err(start_error)?;

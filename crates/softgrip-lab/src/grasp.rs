@@ -10,6 +10,7 @@
 
 use glam::DVec3;
 
+use crate::error::LabError;
 use crate::params;
 use softgrip_core::error::SimError;
 use softgrip_core::model::{AxisDrive, Model};
@@ -75,20 +76,22 @@ fn lifters(model: &Model) -> Vec<usize> {
 }
 
 /// When the lift ends (s): every lifting finger has moved its `travel`.
-pub fn lift_end(model: &Model) -> Result<f64, String> {
+pub fn lift_end(model: &Model) -> Result<f64, LabError> {
     let lifting = lifters(model);
     if lifting.is_empty() {
-        return Err("no finger lifts: give one a velocity-driven axis moving it up, against gravity (and a travel)".into());
+        return Err(LabError::input(
+            "no finger lifts: give one a velocity-driven axis moving it up, against gravity (and a travel)",
+        ));
     }
     let mut end: f64 = 0.0;
     for k in lifting {
         let f = &model.fingers[k];
         let speed = driven_velocity(f).length();
         let Some(travel) = f.travel else {
-            return Err(format!(
+            return Err(LabError::Input(format!(
                 "finger {} lifts but has no travel: give [[finger]] travel = the lift height (m)",
                 k + 1
-            ));
+            )));
         };
         end = end.max(f.start_time + 0.5 * f.ramp_time + travel / speed);
     }

@@ -12,12 +12,14 @@
 //!   a mismatch the mesh and step make, the diagnosis scored on hidden effects.
 //! - [`grasp`]: squeeze, lift and hold, and the least friction that holds.
 //! - [`plot`], [`report`]: PNG plots and the Markdown reports around them.
+//! - [`LabError`]: why a sweep, fit, diagnosis or proof could not run.
 
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod compare;
 pub mod diagnose;
 pub mod discretisation;
+pub mod error;
 pub mod fit;
 pub mod grasp;
 pub mod modulus;
@@ -30,3 +32,5 @@ pub mod replay;
 pub mod report;
 pub mod sweep;
 pub mod synth;
+
+pub use error::LabError;

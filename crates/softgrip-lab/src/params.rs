@@ -3,6 +3,7 @@
 //! value is an error naming the parameter and the allowed range), and the
 //! grids of `softgrip sweep`.
 
+use crate::error::LabError;
 use softgrip_core::scene::Scene;
 
 /// A parameter that sweeps and fits may vary.
@@ -154,18 +155,18 @@ pub const PARAMS: &[Param] = &[
 ];
 
 /// The parameter called `name`, or an error listing the known ones.
-pub fn find(name: &str) -> Result<&'static Param, String> {
+pub fn find(name: &str) -> Result<&'static Param, LabError> {
     PARAMS.iter().find(|p| p.name == name).ok_or_else(|| {
-        format!(
+        LabError::Input(format!(
             "unknown parameter {name:?}; known: {}",
             PARAMS.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
-        )
+        ))
     })
 }
 
 /// The parameter's value in `scene` (`None`: a limit that is off, or a
 /// finger parameter in a scene without fingers).
-pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, String> {
+pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, LabError> {
     find(name)?;
     let first = scene.fingers.first();
     Ok(match name {
@@ -198,7 +199,7 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, String> {
 
 /// `scene` with `name` set to `value`, checked as a scene file is: a value
 /// the file would reject is an error naming the parameter and the rule.
-pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
+pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
     find(name)?;
     let mut s = scene.clone();
     match name {
@@ -219,7 +220,9 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
         "prony_tau" => s.model.prony_tau = value,
         "region_young_modulus" => {
             if s.regions.is_empty() {
-                return Err("region_young_modulus needs a [[region]] in the scene".into());
+                return Err(LabError::input(
+                    "region_young_modulus needs a [[region]] in the scene",
+                ));
             }
             for r in &mut s.regions {
                 r.young_modulus = value;
@@ -227,18 +230,17 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
         }
         "table_friction" => {
             if s.support.kind != softgrip_core::scene::SupportKind::Table {
-                return Err(
-                    "table_friction needs a table: the scene's [support] kind is not \"table\""
-                        .into(),
-                );
+                return Err(LabError::input(
+                    "table_friction needs a table: the scene's [support] kind is not \"table\"",
+                ));
             }
             s.support.friction = value;
         }
         "friction" | "restitution" | "contact_stiffness_scale" | "guide_friction" => {
             if s.fingers.is_empty() {
-                return Err(format!(
+                return Err(LabError::Input(format!(
                     "{name} is a finger parameter and the scene has no finger"
-                ));
+                )));
             }
             for f in &mut s.fingers {
                 match name {
@@ -257,7 +259,7 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, String> {
         let rule = message
             .split_once("is not allowed: ")
             .map_or(message.as_str(), |(_, r)| r);
-        format!("{name} = {value}: not allowed: {rule}")
+        LabError::Input(format!("{name} = {value}: not allowed: {rule}"))
     })?;
     checked.source.clone_from(&scene.source);
     if let (
@@ -279,15 +281,15 @@ pub struct Axis {
 
 /// Parses `name=start:end:count`, with `:log` for log spacing (e.g.
 /// `tau_c=0.01:0.25:25`, `alpha=1e5:1e8:7:log`), or `name=v1,v2,...`.
-pub fn parse_axis(text: &str) -> Result<Axis, String> {
+pub fn parse_axis(text: &str) -> Result<Axis, LabError> {
     let bad = |why: &str| {
-        format!(
+        LabError::Input(format!(
             "--param {text:?}: {why}; write name=start:end:count (add :log for log spacing) or name=v1,v2,..."
-        )
+        ))
     };
     let (name, spec) = text.split_once('=').ok_or_else(|| bad("no '='"))?;
     let param = find(name.trim())?;
-    let number = |t: &str| -> Result<f64, String> {
+    let number = |t: &str| -> Result<f64, LabError> {
         t.trim()
             .parse::<f64>()
             .ok()

@@ -1,4 +1,4 @@
-//! Lab recordings (`shared/spec/scene-and-recording.md`, "Recording"): a
+//! Lab recordings (`docs/formats.md`, "Recording"): a
 //! TOML header naming the scene, the samples CSV, the mode and the
 //! markers' reference positions, and the CSV of observed positions, one
 //! row per marker per sample, an empty cell for an axis not observed.

@@ -8,6 +8,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::compare::Errors;
+use crate::error::LabError;
 use crate::params::{self, Axis};
 use crate::recording::Recording;
 use crate::replay::{ReplayOptions, replay};
@@ -17,7 +18,7 @@ use crate::replay::{ReplayOptions, replay};
 pub struct SweepPoint {
     /// One value per axis, in the axes' order.
     pub values: Vec<f64>,
-    pub result: Result<Errors, String>,
+    pub result: Result<Errors, LabError>,
 }
 
 /// The grid points, the last axis varying fastest.
@@ -63,7 +64,7 @@ pub fn sweep(
 
 /// The recording simulated with the parameters `names` set to `values`
 /// (one thread: callers run several at once).
-pub fn evaluate(recording: &Recording, names: &[&str], values: &[f64]) -> Result<Errors, String> {
+pub fn evaluate(recording: &Recording, names: &[&str], values: &[f64]) -> Result<Errors, LabError> {
     let mut scene = recording.scene.clone();
     for (name, v) in names.iter().zip(values) {
         scene = params::set(&scene, name, *v)?;
@@ -76,7 +77,7 @@ pub fn evaluate(recording: &Recording, names: &[&str], values: &[f64]) -> Result
     };
     replay(recording, &scene, options, |_| {})
         .map(|r| r.errors)
-        .map_err(|e| e.to_string())
+        .map_err(LabError::from)
 }
 
 /// `f` of each item on `workers` threads (0: one per core), results in
@@ -165,7 +166,7 @@ pub fn to_csv(axes: &[Axis], points: &[SweepPoint]) -> String {
                 );
             }
             Err(m) => {
-                let _ = writeln!(s, ",,,,\"{}\"", m.replace('"', "'"));
+                let _ = writeln!(s, ",,,,\"{}\"", m.to_string().replace('"', "'"));
             }
         }
     }

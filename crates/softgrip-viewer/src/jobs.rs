@@ -3,8 +3,8 @@
 //! polls its result (a channel of one). Each result carries the generation it was started in
 //! (the panel bumps it for every recording opened), so a result of a replaced recording is
 //! ignored. Stop cancels a job through its `softgrip_core::cancel` token: its simulations stop at
-//! their next step, and the job shows "stopping" until its thread has ended (with the error
-//! "cancelled", shown as "stopped"). A job dropped (another recording opened, the viewer closed)
+//! their next step, and the job shows "stopping" until its thread has ended (with
+//! `LabError::Cancelled`, shown as "stopped"). A job dropped (another recording opened, the viewer closed)
 //! is cancelled the same way, instead of keeping the cores busy for minutes.
 
 use std::sync::Arc;
@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use eframe::egui;
 use softgrip_core::cancel::Cancel;
+use softgrip_lab::LabError;
 
 /// What a job's thread reports while it runs.
 #[derive(Debug, Default)]
@@ -33,7 +34,7 @@ pub(crate) struct Job<T> {
     pub(crate) progress: Arc<Progress>,
     /// What `done` counts up to (a fit's budget: it may stop earlier).
     pub(crate) total: usize,
-    result: Receiver<(u64, Result<T, String>)>,
+    result: Receiver<(u64, Result<T, LabError>)>,
     pub(crate) started: Instant,
     /// Set by [`Job::stop`] and when the job is dropped: its simulations
     /// stop at their next step.
@@ -53,7 +54,7 @@ impl<T: Send + 'static> Job<T> {
         name: &str,
         generation: u64,
         total: usize,
-        work: impl FnOnce(&Progress) -> Result<T, String> + Send + 'static,
+        work: impl FnOnce(&Progress) -> Result<T, LabError> + Send + 'static,
     ) -> Result<Job<T>, String> {
         let progress = Arc::new(Progress {
             done: AtomicUsize::new(0),
@@ -82,20 +83,17 @@ impl<T: Send + 'static> Job<T> {
         })
     }
 
-    /// The result, once the thread has sent it; `Err` if the thread
-    /// ended without one (it panicked).
-    pub(crate) fn poll(&self) -> Option<(u64, Result<T, String>)> {
+    /// The result, once the thread has sent it; `JobError::NoResult` if
+    /// the thread ended without one (it panicked).
+    pub(crate) fn poll(&self) -> Option<(u64, Result<T, JobError>)> {
         match self.result.try_recv() {
-            Ok(r) => Some(r),
+            Ok((generation, r)) => Some((generation, r.map_err(JobError::Failed))),
             Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some((
-                self.generation,
-                Err("the background thread stopped without a result".into()),
-            )),
+            Err(TryRecvError::Disconnected) => Some((self.generation, Err(JobError::NoResult))),
         }
     }
 
-    /// Asks the job to stop; its result ("cancelled") comes by `poll`.
+    /// Asks the job to stop; its result (`LabError::Cancelled`) comes by `poll`.
     pub(crate) fn stop(&self) {
         self.cancel.cancel();
     }
@@ -137,12 +135,23 @@ pub(crate) fn progress_with_stop<T: Send + 'static>(
     });
 }
 
+/// Why a job gave no result.
+#[derive(Debug)]
+pub(crate) enum JobError {
+    /// The work's own error.
+    Failed(LabError),
+    /// The thread ended without a result (it panicked).
+    NoResult,
+}
+
 /// A job's error in words: "stopped" for a cancelled one, else `failed`
 /// and the error.
-pub(crate) fn job_error(failed: &str, e: &str) -> String {
-    if e == softgrip_core::cancel::CANCELLED {
-        format!("{failed}: stopped")
-    } else {
-        format!("{failed}: {e}")
+pub(crate) fn job_error(failed: &str, e: &JobError) -> String {
+    match e {
+        JobError::Failed(LabError::Cancelled) => format!("{failed}: stopped"),
+        JobError::Failed(e) => format!("{failed}: {e}"),
+        JobError::NoResult => {
+            format!("{failed}: the background thread stopped without a result")
+        }
     }
 }

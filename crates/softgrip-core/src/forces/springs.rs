@@ -217,7 +217,7 @@ fn limit_and_blocks(
 /// tau_s / tau_c limit. At 0.2 % the limit springs let the springs of the
 /// 1.6 mm thesis mesh settle 1.6e-3 beyond tau_c (the force per spring over
 /// the limit stiffness is 3.6e-3 of l0 there); at 0.5 % they settle inside
-/// on every mesh of ACCURACY.md's convergence table.
+/// on every mesh of the mesh convergence table of docs/results/accuracy.md.
 pub const LIMIT_MARGIN: f64 = 0.005;
 
 /// The rest length and stiffness of the limit spring acting on spring `s` at

@@ -1,4 +1,4 @@
-//! Scene files: the interchange contract of `shared/spec/scene-and-recording.md`, with
+//! Scene files: the interchange format of `docs/formats.md` ("Scene"), with
 //! softgrip's compatible extensions (listed in `docs/design/scene-files.md`).
 //!
 //! The stages, in order: `raw` mirrors the TOML exactly (every key optional, an unknown key an

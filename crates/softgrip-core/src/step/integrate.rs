@@ -107,7 +107,7 @@ pub fn implicit_euler_update(
 /// scene's first second from 22.1 to 18.5 CG iterations a step, and leaves
 /// the rest as quiet (3e-8 m/s against 2e-8, and the light-guide scenes'
 /// 4.5e-6 m/s, which is not the solver's, unchanged); at 1e-1 the built-in
-/// scene's rest rose to 2-3e-6 m/s (BENCHMARKS.md).
+/// scene's rest rose to 2-3e-6 m/s (docs/results/benchmarks-history.md).
 pub const REST_REFERENCE: f64 = 1e-2;
 
 /// The 2-norm of the loads (gravity, `[[load]]`, the fingers' applied forces

@@ -1,6 +1,6 @@
 //! The `bulk_modulus` extension keeps the thesis cuboid from collapsing under
 //! the full 9.73 N load. The thesis model alone (no bulk term, the spring
-//! limits by projection only) inverts elements between 7 and 8 N (ACCURACY.md,
+//! limits by projection only) inverts elements between 7 and 8 N (docs/results/accuracy.md,
 //! "Large loads").
 
 use softgrip_core::Scene;
@@ -61,7 +61,7 @@ fn the_thesis_model_alone_collapses() {
     let sim = loaded(0.0, 0.0);
     assert!(sim.state.inverted_elements(&sim.model) > 0);
     // The limit springs alone already stop the inversion (but see
-    // ACCURACY.md: without the bulk term the run does not come to rest).
+    // docs/results/accuracy.md: without the bulk term the run does not come to rest).
     let sim = loaded(0.0, Scene::thesis().model.limit_stiffness);
     assert_eq!(sim.state.inverted_elements(&sim.model), 0);
 }

@@ -1,7 +1,7 @@
 //! Acceptance 3: a cuboid hanging from its fixed top under its own weight
 //! stretches by rho g L^2 / (2 E) (linear elasticity, uniaxial). The ratio of
 //! simulated to predicted elongation and its change under refinement are
-//! reported in ACCURACY.md; Lloyd's stiffness aims at a ratio near 1.
+//! reported in docs/results/accuracy.md; Lloyd's stiffness aims at a ratio near 1.
 
 use crate::support::{cuboid_scene, rest_within, simulation};
 

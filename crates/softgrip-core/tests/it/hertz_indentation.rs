@@ -1,6 +1,6 @@
 //! Acceptance 4: a sphere pressed into a thick block at small loads follows
 //! Hertz's force-depth law F = 4/3 E* sqrt(R) d^1.5: the fitted exponent is
-//! 1.5 +/- 0.15. The prefactor ratio is reported (ACCURACY.md).
+//! 1.5 +/- 0.15. The prefactor ratio is reported (docs/results/accuracy.md).
 
 use crate::support::{WEIGHTLESS, cuboid_scene, rest_within, simulation};
 
@@ -84,6 +84,6 @@ fn force_depth_exponent_is_hertzian() {
         .collect();
     println!("depths {depths:?} m, exponent {n:.3}, F / F_Hertz {ratios:.3?}");
     assert!((n - 1.5).abs() <= 0.15, "force-depth exponent {n}");
-    // The prefactor is close to Hertz's too (reported in ACCURACY.md).
+    // The prefactor is close to Hertz's too (reported in docs/results/accuracy.md).
     assert!(ratios.iter().all(|r| (0.7..1.4).contains(r)), "{ratios:?}");
 }

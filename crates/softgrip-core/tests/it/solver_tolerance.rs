@@ -6,7 +6,7 @@
 //! The check runs without friction: stick-slip (the friction cone) and the
 //! spring-limit projection are threshold decisions that amplify any rounding,
 //! so with them a 1e-8 solve already differs from a 1e-10 one by ~2e-6 m RMS
-//! after a few steps (ACCURACY.md, "CG tolerance").
+//! after a few steps (docs/results/accuracy.md, "CG tolerance").
 
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
@@ -73,7 +73,7 @@ fn a_loose_tolerance_is_caught() {
     );
 }
 
-/// The table in ACCURACY.md: the error against a 1e-10 solve grows with the
+/// The table in docs/results/accuracy.md: the error against a 1e-10 solve grows with the
 /// tolerance, so the check above measures the solver and not noise.
 #[test]
 fn error_grows_with_the_tolerance() {

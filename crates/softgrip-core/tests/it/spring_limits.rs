@@ -1,6 +1,6 @@
 //! Acceptance 6: after the projection of Alg. 3 no spring is outside
 //! [(1 - tau_c) l0, (1 + tau_s) l0] by more than the documented tolerance
-//! (ACCURACY.md, "Spring limits"):
+//! (docs/results/accuracy.md, "Spring limits"):
 //! - with the default limit springs, by more than `PROJECTION_BAND` (1e-2 of
 //!   its rest length) at any step, and by more than 1e-3 once at rest: the
 //!   limit springs hold the limit, the projection caps fast transients;
@@ -89,7 +89,7 @@ fn hung_object_springs_stay_within_tau_s() {
 
     // The projection alone (Alg. 3) pulls them back too, but its Jacobi
     // iterations converge slowly on this chain of corner springs: the
-    // remaining violation falls as the iterations rise (figures in ACCURACY.md).
+    // remaining violation falls as the iterations rise (figures in docs/results/accuracy.md).
     let mut scene = scene.clone();
     scene.model.limit_stiffness = 0.0;
     let worst = |iterations: usize| {
@@ -182,7 +182,7 @@ fn tau_c_limits_the_indentation_under_a_finger() {
 /// projection only caps what gets past them, so the two do not pull against
 /// each other: the built-in scene comes truly to rest, with no spring beyond
 /// its limits. (The band is what lets the 1.6 mm mesh come to rest; that
-/// run is too long for the test suite: ACCURACY.md, "Spring limits".)
+/// run is too long for the test suite: docs/results/accuracy.md, "Spring limits".)
 #[test]
 fn limit_springs_and_projection_let_the_built_in_scene_come_to_rest() {
     let mut sim = Simulation::new(&Scene::thesis()).expect("sim");

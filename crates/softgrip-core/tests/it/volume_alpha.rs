@@ -4,7 +4,7 @@
 //! The thesis model (volume preservation left to eq. 11 alone, no
 //! `bulk_modulus`, eq. 27 as printed), its cuboid and finger, the load
 //! through a light guide, compared at rest. At the full 9.73 N this lattice
-//! never comes to rest (ACCURACY.md, "Volume against alpha"): its volume
+//! never comes to rest (docs/results/accuracy.md, "Volume against alpha"): its volume
 //! error at any instant carries the phase of that motion, and alpha = 1e5
 //! changes the error by less than that. At 4 N every run comes to rest and
 //! the comparison is between equilibria.

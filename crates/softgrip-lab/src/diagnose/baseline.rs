@@ -7,6 +7,7 @@
 use super::model_fit::{FitTask, ModelFit, Search, fit_model};
 use super::noise::Noise;
 use super::options::{DiagnoseOptions, check_bounds, within_bounds};
+use crate::error::LabError;
 use crate::fit::FitParam;
 use crate::params;
 use crate::recording::Recording;
@@ -14,7 +15,7 @@ use softgrip_core::scene::Scene;
 
 /// The baseline's parameters: E, alpha, tau_s and tau_c, less the locked
 /// ones and those the scene's model does not use.
-pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, String> {
+pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, LabError> {
     for name in lock {
         params::find(name)?;
     }
@@ -55,16 +56,16 @@ pub fn baseline_params(scene: &Scene, lock: &[String]) -> Result<Vec<FitParam>, 
 pub(super) fn search_params(
     scene: &Scene,
     options: &DiagnoseOptions,
-) -> Result<Vec<FitParam>, String> {
+) -> Result<Vec<FitParam>, LabError> {
     check_bounds(&options.bounds)?;
     let own = baseline_params(scene, &options.lock)?;
     for p in &own {
         for (name, low, high) in &options.bounds {
             if p.param.name == name && (*high < p.lower || *low > p.upper) {
-                return Err(format!(
+                return Err(LabError::Input(format!(
                     "--bound {name}={low}:{high} lies outside the range the baseline searches around the scene's {name} ({:.4e} to {:.4e}): set the scene's {name} inside your range",
                     p.lower, p.upper
-                ));
+                )));
             }
         }
     }
@@ -86,7 +87,7 @@ pub(super) fn fit_unweighted(
     recording: &Recording,
     options: &DiagnoseOptions,
     params: &[FitParam],
-) -> Result<ModelFit, String> {
+) -> Result<ModelFit, LabError> {
     fit_model(
         recording,
         &UNWEIGHTED,
@@ -111,7 +112,7 @@ pub(super) fn refit_weighted(
     options: &DiagnoseOptions,
     params: &[FitParam],
     first: &ModelFit,
-) -> Result<ModelFit, String> {
+) -> Result<ModelFit, LabError> {
     fit_model(
         recording,
         noise,

@@ -3,13 +3,14 @@
 
 use super::model_fit::ModelFit;
 use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z};
+use crate::error::LabError;
 
 /// A candidate tried.
 #[derive(Debug, Clone)]
 pub struct Hypothesis {
     pub effect: &'static str,
     pub variant: String,
-    pub fit: Result<ModelFit, String>,
+    pub fit: Result<ModelFit, LabError>,
     /// BIC against the model it was added to (negative: better).
     pub score: f64,
     /// Share of the weighted residual sum of squares it removed.
@@ -94,7 +95,7 @@ pub(crate) mod tests {
         Hypothesis {
             effect,
             variant: String::new(),
-            fit: Err("not run".into()),
+            fit: Err(LabError::input("not run")),
             score,
             explained,
             round: 0,

@@ -40,6 +40,7 @@ pub use statistics::{
 };
 pub use verdict::Diagnosis;
 
+use crate::error::LabError;
 use crate::recording::Recording;
 use noise::load_turns;
 use options::FitCount;
@@ -50,7 +51,7 @@ pub fn diagnose(
     recording: &Recording,
     options: &DiagnoseOptions,
     progress: Progress,
-) -> Result<Diagnosis, String> {
+) -> Result<Diagnosis, LabError> {
     let base_params = baseline::search_params(&recording.scene, options)?;
     // The fits planned: the baseline's two, and each candidate once a round.
     let planned = 2 + catalogue(recording, &recording.scene).len() * options.max_effects;
@@ -68,7 +69,7 @@ pub fn diagnose(
     let location = locate(recording, &baseline.replay, &noise);
     // Reported, not acted on: refitting them in every candidate, and
     // trying the candidates at the noise level when one was pinned, named
-    // one effect fewer on the suite (docs/diagnosis-pinned-refitted.md).
+    // one effect fewer on the suite (docs/results/diagnosis-notes/pinned-refitted.md).
     let pinned = pinned_at_bounds(&baseline.params, &base_params);
     // The effects that explain it, by a greedy search of the catalogue.
     let found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;

@@ -9,6 +9,7 @@ use super::noise::{Noise, weighted_residuals, weighted_rss};
 use super::options::DiagnoseOptions;
 use super::statistics::{PROMISING, bic};
 use crate::compare::Errors;
+use crate::error::LabError;
 use crate::fit::{FitOptions, FitParam, levenberg_marquardt};
 use crate::params;
 use crate::recording::Recording;
@@ -82,13 +83,13 @@ pub(super) struct FitTask<'a> {
 
 /// Fits the task's parameters of its scene to `recording` minimising the
 /// noise-weighted residual sum of squares over every marker (fingers
-/// included). "cancelled" once the diagnosis's cancel token is set.
+/// included). `LabError::Cancelled` once the diagnosis's cancel token is set.
 pub(super) fn fit_model(
     recording: &Recording,
     noise: &Noise,
     options: &DiagnoseOptions,
     task: FitTask<'_>,
-) -> Result<ModelFit, String> {
+) -> Result<ModelFit, LabError> {
     let fit = fit_task(recording, noise, options, task);
     check_cancel()?;
     fit
@@ -99,7 +100,7 @@ fn fit_task(
     noise: &Noise,
     options: &DiagnoseOptions,
     task: FitTask<'_>,
-) -> Result<ModelFit, String> {
+) -> Result<ModelFit, LabError> {
     let FitTask {
         scene,
         params,
@@ -112,7 +113,7 @@ fn fit_task(
     } = task;
     // On the default thread count: one simulation per core while a batch
     // has several, both cores for the last one left (`Simulation::set_threads`).
-    let run = |values: &[f64]| -> Result<Replay, String> {
+    let run = |values: &[f64]| -> Result<Replay, LabError> {
         let mut s = scene.clone();
         for (p, v) in params.iter().zip(values) {
             s = params::set(&s, p.param.name, *v)?;
@@ -126,7 +127,7 @@ fn fit_task(
             },
             |_| {},
         )
-        .map_err(|e| e.to_string())
+        .map_err(LabError::from)
     };
     let own: Vec<Option<f64>> = params
         .iter()
@@ -227,7 +228,7 @@ fn fit_task(
         if !f0.is_finite() {
             return Err(run(&value_at(&start))
                 .err()
-                .unwrap_or_else(|| "the start failed".into()));
+                .unwrap_or(LabError::StartFailed));
         }
         // A small space-filling design (2 points per parameter) against
         // local minima, then Levenberg-Marquardt (below: from the best
@@ -362,9 +363,9 @@ pub fn same_model(a: &Scene, b: &Scene) -> bool {
     a == b || plain(a) == plain(b)
 }
 
-/// The cancel message once the diagnosis's token is set (`softgrip_core::cancel`):
+/// `LabError::Cancelled` once the diagnosis's token is set (`softgrip_core::cancel`):
 /// its simulations then fail at once, which must not read as candidates
 /// that explain nothing.
-pub(super) fn check_cancel() -> Result<(), String> {
-    softgrip_core::cancel::check_scope(|| softgrip_core::cancel::CANCELLED.to_string())
+pub(super) fn check_cancel() -> Result<(), LabError> {
+    softgrip_core::cancel::check_scope(|| LabError::Cancelled)
 }

@@ -1,6 +1,7 @@
 //! How a diagnosis runs: its options, the ranges the user gives parameters (`--bound`), and
 //! its progress.
 
+use crate::error::LabError;
 use crate::fit::FitParam;
 use crate::params;
 
@@ -69,8 +70,12 @@ impl<'a> FitCount<'a> {
 }
 
 /// Parses `NAME=LOW:HIGH` (a `--bound`).
-pub fn parse_bound(text: &str) -> Result<(String, f64, f64), String> {
-    let bad = || format!("--bound {text:?}: write NAME=LOW:HIGH, e.g. young_modulus=30e3:120e3");
+pub fn parse_bound(text: &str) -> Result<(String, f64, f64), LabError> {
+    let bad = || {
+        LabError::Input(format!(
+            "--bound {text:?}: write NAME=LOW:HIGH, e.g. young_modulus=30e3:120e3"
+        ))
+    };
     let (name, range) = text.split_once('=').ok_or_else(bad)?;
     let (low, high) = range.split_once(':').ok_or_else(bad)?;
     let number = |v: &str| v.trim().parse::<f64>().map_err(|_| bad());
@@ -82,11 +87,11 @@ pub fn parse_bound(text: &str) -> Result<(String, f64, f64), String> {
 /// Checks the user's ranges (`DiagnoseOptions::bounds`): a known
 /// parameter, low below high, both positive where the parameter is
 /// searched on a log scale.
-pub fn check_bounds(bounds: &[(String, f64, f64)]) -> Result<(), String> {
+pub fn check_bounds(bounds: &[(String, f64, f64)]) -> Result<(), LabError> {
     for (name, low, high) in bounds {
-        let p = params::find(name).map_err(|e| format!("--bound {name}: {e}"))?;
+        let p = params::find(name).map_err(|e| LabError::Input(format!("--bound {name}: {e}")))?;
         if !(low.is_finite() && high.is_finite() && low < high) {
-            return Err(format!(
+            return Err(LabError::Input(format!(
                 "--bound {name}={low}:{high}: give two finite values, the low one first \
                  ({name}=LOW:HIGH{})",
                 if p.unit.is_empty() || p.unit == "1" {
@@ -94,12 +99,12 @@ pub fn check_bounds(bounds: &[(String, f64, f64)]) -> Result<(), String> {
                 } else {
                     format!(", in {}", p.unit)
                 }
-            ));
+            )));
         }
         if p.log && *low <= 0.0 {
-            return Err(format!(
+            return Err(LabError::Input(format!(
                 "--bound {name}={low}:{high}: {name} is positive; give a positive low value"
-            ));
+            )));
         }
     }
     Ok(())
@@ -181,7 +186,7 @@ mod tests {
             ("young_modulus", "NAME=LOW:HIGH"),
             ("modulus=1:2", "unknown parameter"),
         ] {
-            let e = parse_bound(text).expect_err(text);
+            let e = parse_bound(text).expect_err(text).to_string();
             assert!(e.contains(says) && e.contains("--bound"), "{text}: {e}");
         }
     }

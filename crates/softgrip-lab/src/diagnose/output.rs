@@ -36,7 +36,7 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                     v["nrmse"] = serde_json::json!(f.errors.nrmse);
                     v["nrmse_all"] = serde_json::json!(f.errors.nrmse_all);
                 }
-                Err(e) => v["error"] = serde_json::json!(e),
+                Err(e) => v["error"] = serde_json::json!(e.to_string()),
             }
             v
         })

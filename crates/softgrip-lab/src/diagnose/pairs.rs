@@ -9,6 +9,7 @@ use super::model_fit::{FitTask, ModelFit, Search, check_cancel, fit_model};
 use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
 use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z, vuong, vuong_by_sample};
+use crate::error::LabError;
 use crate::params;
 use crate::recording::Recording;
 use softgrip_core::scene::Scene;
@@ -106,7 +107,7 @@ pub(super) fn fit_pair(
     (best, hf): (&Hypothesis, &ModelFit),
     (rival, rf): (&Hypothesis, &ModelFit),
     fits: &FitCount,
-) -> Result<Option<PairTest>, String> {
+) -> Result<Option<PairTest>, LabError> {
     let find = |scene: &Scene, h: &Hypothesis| {
         candidates(recording, scene, options)
             .into_iter()
@@ -256,13 +257,12 @@ mod tests {
         }
     }
 
-    /// The pair's verdicts, with the suite's figures (DIAGNOSIS.md): two
-    /// effects both needed are both named, or with one place left the one
-    /// needed more; a pair that needs neither names none when leaving
-    /// either out costs something (control-2: +4 and +1, one form error
-    /// seen by both), and when it does not need one at all (leaving table
-    /// friction out of heterogeneous-stiffness-weak's pair lowers BIC by 3)
-    /// the other is named only if it passes a lone candidate's Vuong test.
+    /// The pair's verdicts, with the suite's figures (docs/results/diagnosis-history.md): two
+    /// effects both needed are both named, or with one place left the one needed more; a pair
+    /// that needs neither names none when leaving either out costs something (control-2: +4 and
+    /// +1, one form error seen by both), and when it does not need one at all (leaving table
+    /// friction out of heterogeneous-stiffness-weak's pair lowers BIC by 3) the other is named
+    /// only if it passes a lone candidate's Vuong test.
     #[test]
     fn a_pair_that_does_not_need_one_judges_the_other_alone() {
         let both = [need(200.0, 0.76, 5.5), need(144.0, 0.65, 3.7)];

@@ -12,6 +12,7 @@ use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
 use super::pairs::{PairTest, fit_pair, judge_pair, tied_rival};
 use super::statistics::{PROMISING, UNEXPLAINED_RATIO, vuong};
+use crate::error::LabError;
 use crate::recording::Recording;
 
 /// What the search found.
@@ -51,7 +52,7 @@ pub(super) fn explain(
     location: &Location,
     baseline: &ModelFit,
     fits: &mut FitCount,
-) -> Result<Explanation, String> {
+) -> Result<Explanation, LabError> {
     let mut found = Explanation {
         hypotheses: Vec::new(),
         effects: Vec::new(),
@@ -147,7 +148,7 @@ fn fit_candidate(
     c: Candidate,
     round: usize,
     fits: &mut FitCount,
-) -> Result<Hypothesis, String> {
+) -> Result<Hypothesis, LabError> {
     fits.starting(c.effect);
     let k = current.k + own_params(&c.params); // the modulus is refitted, not added
     let budget = options.candidate_evaluations_per_param * c.params.len();
@@ -238,7 +239,7 @@ fn name_pair(
     (b, hf): (usize, ModelFit),
     (r, rf): (usize, ModelFit),
     fits: &FitCount,
-) -> Result<(), String> {
+) -> Result<(), LabError> {
     let Some(mut test) = fit_pair(
         recording,
         noise,

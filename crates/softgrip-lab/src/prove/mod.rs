@@ -4,7 +4,8 @@
 //! seen by a side camera, 8 markers and the finger as in the thesis's
 //! experiment), each with one effect at two strengths, three controls with
 //! none and one with two (`suite`); every recording is diagnosed blind
-//! ([`run`]) and the outcome written as `DIAGNOSIS.md` ([`report()`]).
+//! ([`run`]) and the outcome written as a Markdown report ([`report()`]; the
+//! current one is `docs/results/diagnosis.md`).
 
 mod report;
 mod suite;
@@ -18,6 +19,7 @@ pub use suite::{
 use std::path::{Path, PathBuf};
 
 use crate::diagnose::{self, DiagnoseOptions, Diagnosis};
+use crate::error::LabError;
 use crate::recording::Recording;
 use crate::synth::synthesize;
 use softgrip_core::scene::Scene;
@@ -40,7 +42,7 @@ pub struct ProveOptions {
 #[derive(Debug, Clone)]
 pub struct Outcome {
     pub case: Case,
-    pub diagnosis: Result<Diagnosis, String>,
+    pub diagnosis: Result<Diagnosis, LabError>,
     pub seconds: f64,
     /// How far the hidden effect moves each marker (RMS over the samples,
     /// noise-free, m), most first; empty for a control.
@@ -95,21 +97,21 @@ impl Outcome {
 
 /// The recording of `c`'s truth without noise (seed 1, noise 0), made in
 /// `dir/noise-free`.
-pub fn noise_free(c: &Case, dir: &Path) -> Result<Recording, String> {
+pub fn noise_free(c: &Case, dir: &Path) -> Result<Recording, LabError> {
     let clean = dir.join("noise-free");
-    synthesize(&c.truth_scene, &synthesis(c, 1, 0.0), &clean).map_err(|e| e.to_string())?;
-    Recording::load(&clean.join("recording.toml")).map_err(|e| e.to_string())
+    synthesize(&c.truth_scene, &synthesis(c, 1, 0.0), &clean)?;
+    Ok(Recording::load(&clean.join("recording.toml"))?)
 }
 
 /// How far `c`'s hidden effects move each marker: the noise-free
 /// recording of the truth replayed on the truth without the effects.
-pub fn moved_by_effect(c: &Case, dir: &Path) -> Result<Vec<(String, f64)>, String> {
+pub fn moved_by_effect(c: &Case, dir: &Path) -> Result<Vec<(String, f64)>, LabError> {
     moved_in(c, &noise_free(c, dir)?)
 }
 
 /// [`moved_by_effect`] in the noise-free recording `clean` (empty for a
 /// control).
-fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, String> {
+fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, LabError> {
     if c.effects.is_empty() {
         return Ok(Vec::new());
     }
@@ -118,8 +120,7 @@ fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, String> {
         &c.plain_scene,
         crate::replay::ReplayOptions::default(),
         |_| {},
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let mut sums: std::collections::BTreeMap<String, (f64, usize)> = Default::default();
     for res in &r.residuals {
         let e = sums.entry(clean.marker_name(res.marker)).or_default();
@@ -141,7 +142,7 @@ fn moved_in(c: &Case, clean: &Recording) -> Result<Vec<(String, f64)>, String> {
 /// measure it: it needs the truth. Given the noisy recording and the
 /// truth's own scene, it measures that floor instead
 /// ([`Outcome::noise_floor`]).
-pub fn truth_error(scene: &Scene, clean: &Recording) -> Result<f64, String> {
+pub fn truth_error(scene: &Scene, clean: &Recording) -> Result<f64, LabError> {
     crate::replay::replay(
         clean,
         scene,
@@ -149,11 +150,11 @@ pub fn truth_error(scene: &Scene, clean: &Recording) -> Result<f64, String> {
         |_| {},
     )
     .map(|r| r.errors.nrmse_all)
-    .map_err(|e| e.to_string())
+    .map_err(LabError::from)
 }
 
 /// [`truth_error`] of the diagnosis's baseline fit and of its final fit.
-pub fn truth_errors(d: &Diagnosis, clean: &Recording) -> Result<[f64; 2], String> {
+pub fn truth_errors(d: &Diagnosis, clean: &Recording) -> Result<[f64; 2], LabError> {
     Ok([
         truth_error(&d.baseline.scene, clean)?,
         truth_error(&d.final_fit.scene, clean)?,
@@ -166,7 +167,7 @@ pub fn truth_errors(d: &Diagnosis, clean: &Recording) -> Result<[f64; 2], String
 /// unless `base` already bounds E. `softgrip prove` gives no range unless
 /// asked (`--e-measured-within`): on this suite, a range of 2 let the
 /// diagnosis name strong stiffening and cost four cases a second effect
-/// (DIAGNOSIS.md).
+/// (docs/results/diagnosis-notes/e-measured-within-2.md).
 pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -> DiagnoseOptions {
     let mut options = base.clone();
     if let Some(f) = e_within

@@ -1,5 +1,6 @@
-//! `DIAGNOSIS.md`, the outcome of `softgrip prove`: how many cases the diagnosis got right, each
-//! case's figures, the confusion matrix and every candidate fitted.
+//! The report of `softgrip prove` (`--report`, by default `DIAGNOSIS.md`; the current one is
+//! `docs/results/diagnosis.md`): how many cases the diagnosis got right, each case's figures, the
+//! confusion matrix and every candidate fitted.
 
 use std::fmt::Write as _;
 
@@ -7,7 +8,7 @@ use super::{Outcome, ProveOptions};
 use crate::diagnose;
 use softgrip_core::scene::Scene;
 
-/// `DIAGNOSIS.md`: the confusion matrix, NRMSE before and after, and the
+/// The report: the confusion matrix, NRMSE before and after, and the
 /// recovered parameters against the hidden ones.
 pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
     let mut s = String::from("# The diagnosis on concealed data\n\n");

@@ -3,9 +3,11 @@
 //! thesis's camera saw it.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::DVec3;
 
+use crate::error::LabError;
 use crate::recording::{Mode, Recording, Start};
 use crate::synth::{Synthesis, synthesize};
 use softgrip_core::scene::{AaBox, Region, Scene, SupportKind};
@@ -247,11 +249,13 @@ pub fn thesis_markers() -> Vec<(String, DVec3)> {
 
 /// Writes case `c`'s recording into `dir` (the data from its truth, the
 /// nominal scene beside them) and reads it back.
-pub fn write_case(c: &Case, dir: &Path, seed: u64) -> Result<Recording, String> {
-    synthesize(&c.truth_scene, &synthesis(c, seed, NOISE), dir).map_err(|e| e.to_string())?;
-    std::fs::write(dir.join("scene.toml"), c.nominal.to_toml())
-        .map_err(|e| format!("{}: {e}", dir.display()))?;
-    Recording::load(&dir.join("recording.toml")).map_err(|e| e.to_string())
+pub fn write_case(c: &Case, dir: &Path, seed: u64) -> Result<Recording, LabError> {
+    synthesize(&c.truth_scene, &synthesis(c, seed, NOISE), dir)?;
+    std::fs::write(dir.join("scene.toml"), c.nominal.to_toml()).map_err(|e| LabError::Write {
+        dir: dir.to_path_buf(),
+        source: Arc::new(e),
+    })?;
+    Ok(Recording::load(&dir.join("recording.toml"))?)
 }
 
 /// The noise on each observed coordinate, m.

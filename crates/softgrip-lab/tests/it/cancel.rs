@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use softgrip_core::SimError;
 use softgrip_core::cancel::{self, Cancel};
+use softgrip_lab::LabError;
 use softgrip_lab::diagnose::{self, DiagnoseOptions};
 use softgrip_lab::fit::{self, FitError, FitOptions, parse_params};
 use softgrip_lab::replay::{ReplayOptions, replay};
@@ -86,7 +87,7 @@ fn a_diagnosis_cancelled_says_so_instead_of_a_verdict() {
             token.cancel();
         })
     });
-    assert_eq!(r.err().as_deref(), Some(cancel::CANCELLED));
+    assert_eq!(r.err(), Some(LabError::Cancelled));
     // It stopped in its first fit: it never reached the weighted one.
     assert_eq!(*stages.lock().unwrap(), vec!["baseline".to_string()]);
 }

@@ -40,7 +40,7 @@ fn params_parse_with_bounds_and_scales_and_bad_ones_are_errors() {
         (vec![""], "no parameter to fit"),
     ] {
         let entries: Vec<String> = bad.iter().map(|s| s.to_string()).collect();
-        let e = parse_params(&entries, &scene).expect_err(says);
+        let e = parse_params(&entries, &scene).expect_err(says).to_string();
         assert!(e.contains(says), "{bad:?}: {e}");
     }
 }
@@ -50,7 +50,7 @@ fn params_parse_with_bounds_and_scales_and_bad_ones_are_errors() {
 /// start: E, alpha, tau_s and tau_c each within three of the standard
 /// errors the noise implies, and those errors are stated and finite.
 ///
-/// The experiment is chosen so that all four act (`ACCURACY.md` and the
+/// The experiment is chosen so that all four act (`docs/results/accuracy.md` and the
 /// fit report explain): the thesis model without the bulk term (which
 /// would mask alpha), loads up to 3 N (above about 4 N that lattice has
 /// more than one equilibrium and NRMSE jumps), a stretch limit low enough

@@ -85,7 +85,7 @@ fn the_ecoflex_recordings_give_the_database_moduli() {
 /// 3`), each recording's nominal stress falls below it through the middle
 /// levels and rises far above it at the last: it softens, then stiffens,
 /// which no one-term stiffening (it only grows with strain) follows.
-/// `cargo test -p softgrip-lab modulus::ecoflex -- --nocapture` prints the ratios.
+/// `cargo test -p softgrip-lab modulus::the_ecoflex_curves -- --nocapture` prints the ratios.
 #[test]
 fn the_ecoflex_curves_soften_then_stiffen_against_neo_hookean() {
     // The cylinders: D 50 mm, H 30 mm; the plate's z is 30 mm less the

@@ -215,7 +215,7 @@ fn a_case_has_its_seed_whatever_else_is_run() {
     }
 }
 
-/// The "truth" columns of `DIAGNOSIS.md` measure a model against the
+/// The "truth" columns of `docs/results/diagnosis.md` measure a model against the
 /// noise-free recording of the truth: the truth itself scores zero there,
 /// and the nominal scene (which misses the hidden effect and the
 /// concealment) does not; against the noisy recording neither can go
@@ -242,7 +242,7 @@ fn the_truth_scores_zero_against_its_noise_free_recording() {
         (0.001..0.005).contains(&floor),
         "the truth against the noisy recording: {floor}"
     );
-    // `DIAGNOSIS.md`'s column "the truth itself" is this floor: the noise
+    // `docs/results/diagnosis.md`'s column "the truth itself" is this floor: the noise
     // adds to a model's own error, so a model that misses the effect sits
     // above it (errors in quadrature: sqrt(floor^2 + nominal^2) give or take
     // the noise's correlation with the error).

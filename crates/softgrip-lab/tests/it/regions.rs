@@ -171,7 +171,9 @@ fn region_modulus_is_a_parameter_for_sweeps_and_fits() {
     );
     let set = softgrip_lab::params::set(&scene, "region_young_modulus", 2e5).expect("set");
     assert_eq!(set.regions[0].young_modulus, 2e5);
-    let e = softgrip_lab::params::set(&scene, "region_young_modulus", -1.0).expect_err("negative");
+    let e = softgrip_lab::params::set(&scene, "region_young_modulus", -1.0)
+        .expect_err("negative")
+        .to_string();
     assert!(e.contains("region_young_modulus"), "{e}");
 }
 

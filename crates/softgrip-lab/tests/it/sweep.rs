@@ -34,7 +34,7 @@ fn axes_parse_linear_log_and_lists() {
         ("tau_c", "no '='"),
         ("tau_c=a,b", "\"a\" is not a number"),
     ] {
-        let e = parse_axis(bad).expect_err(bad);
+        let e = parse_axis(bad).expect_err(bad).to_string();
         assert!(e.contains(says), "{bad}: {e}");
     }
 }
@@ -42,7 +42,9 @@ fn axes_parse_linear_log_and_lists() {
 #[test]
 fn a_bad_value_names_the_parameter_and_the_rule() {
     let scene = softgrip_core::Scene::thesis();
-    let e = params::set(&scene, "young_modulus", -5.0).expect_err("negative");
+    let e = params::set(&scene, "young_modulus", -5.0)
+        .expect_err("negative")
+        .to_string();
     assert!(e.starts_with("young_modulus = -5: not allowed: "), "{e}");
     let ok = params::set(&scene, "tau_c", 0.2).expect("fine");
     assert_eq!(params::get(&ok, "tau_c").unwrap(), Some(0.2));
@@ -147,6 +149,7 @@ fn a_sweep_finds_the_parameter_a_recording_was_made_with() {
             .result
             .as_ref()
             .unwrap_err()
+            .to_string()
             .contains("young_modulus = -1")
     );
     assert!(points[1].result.is_ok());

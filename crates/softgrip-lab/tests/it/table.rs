@@ -213,12 +213,15 @@ fn table_friction_is_a_parameter_for_sweeps_and_fits() {
     );
     let set = softgrip_lab::params::set(&table, "table_friction", 0.45).expect("set");
     assert_eq!(set.support.friction, 0.45);
-    let negative = softgrip_lab::params::set(&table, "table_friction", -0.1).expect_err("negative");
+    let negative = softgrip_lab::params::set(&table, "table_friction", -0.1)
+        .expect_err("negative")
+        .to_string();
     assert!(
         negative.contains("table_friction") && negative.contains(">= 0"),
         "{negative}"
     );
     let pinned = softgrip_lab::params::set(&sim_scene("fixed-bottom"), "table_friction", 0.3)
-        .expect_err("no table");
+        .expect_err("no table")
+        .to_string();
     assert!(pinned.contains("needs a table"), "{pinned}");
 }

@@ -8,6 +8,7 @@ use std::sync::atomic::Ordering;
 use eframe::egui;
 
 use crate::jobs::{Job, job_error, progress_with_stop};
+use softgrip_lab::LabError;
 use softgrip_lab::fit::{Fit, FitOptions, FitParam, default_bounds, fit};
 use softgrip_lab::params;
 use softgrip_lab::recording::Recording;
@@ -73,7 +74,7 @@ impl FitSection {
         let Some(recording) = recording.cloned() else {
             return;
         };
-        let chosen: Result<Vec<FitParam>, String> = FIT_PARAMS
+        let chosen: Result<Vec<FitParam>, LabError> = FIT_PARAMS
             .iter()
             .zip(self.choice)
             .filter(|(_, on)| *on)
@@ -108,7 +109,7 @@ impl FitSection {
                 progress.done.store(n, Ordering::Relaxed);
                 progress.best.store(best.to_bits(), Ordering::Relaxed);
             };
-            let fit = fit(&recording, &params, options, &report).map_err(|e| e.to_string())?;
+            let fit = fit(&recording, &params, options, &report)?;
             Ok(Fitted { recording, fit })
         });
         match job {
@@ -146,12 +147,13 @@ impl FitSection {
             for (k, name) in FIT_PARAMS.iter().enumerate() {
                 let bounds = scene
                     .as_ref()
-                    .ok_or_else(String::new)
-                    .and_then(|s| Ok((params::find(name)?, s)))
-                    .and_then(|(p, s)| default_bounds(p, s).map(|b| (p, b)));
+                    .map(|s| params::find(name).and_then(|p| default_bounds(p, s).map(|b| (p, b))));
                 let hint = match &bounds {
-                    Ok((p, (lo, hi))) => format!("fitted in [{lo:.3e}, {hi:.3e}] {}", p.unit),
-                    Err(e) => e.clone(),
+                    Some(Ok((p, (lo, hi)))) => {
+                        format!("fitted in [{lo:.3e}, {hi:.3e}] {}", p.unit)
+                    }
+                    Some(Err(e)) => e.to_string(),
+                    None => String::new(),
                 };
                 ui.checkbox(&mut self.choice[k], *name).on_hover_text(hint);
             }

@@ -33,15 +33,14 @@ pub(super) fn spawn(recording: Arc<Recording>, generation: u64) -> Result<Job<Re
     let total = recording.samples.len();
     Job::spawn("softgrip-replay", generation, total, move |progress| {
         let scene = &recording.scene;
-        let model = Arc::new(Model::from_scene(scene).map_err(|e| e.to_string())?);
+        let model = Arc::new(Model::from_scene(scene)?);
         let options = ReplayOptions {
             keep_states: true,
             ..Default::default()
         };
         let replay = replay(&recording, scene, options, |n| {
             progress.done.store(n, Ordering::Relaxed);
-        })
-        .map_err(|e| e.to_string())?;
+        })?;
         Ok(Replayed::new(recording, model, replay))
     })
 }
