@@ -146,7 +146,7 @@ pub fn run(args: Args) -> Result<()> {
             "Lower the load, refine the mesh, or raise [model] bulk_modulus".to_string()
         };
         println!(
-            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see ACCURACY.md, \"Large loads\"). {remedy}",
+            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see docs/results/accuracy.md, \"Large loads\"). {remedy}",
             sim.model.tets.len(),
         );
     }

@@ -18,7 +18,7 @@ pub struct Args {
     edge_length: Option<f64>,
     /// Benchmark: run this many seconds with the solver playing as fast
     /// as it goes and the view redrawn continuously, print the UI frame
-    /// times and close (BENCHMARKS.md).
+    /// times and close (docs/results/benchmarks.md).
     #[arg(long)]
     measure: Option<f64>,
     /// With --measure: keep the solver paused, for comparison.
