@@ -25,5 +25,4 @@ mod spring_limits;
 mod spring_oscillator;
 mod support;
 mod surface_meshes;
-mod threads;
 mod volume_alpha;

@@ -1,8 +1,9 @@
 //! The helper thread changes nothing but the speed: the thesis scene on one
 //! thread and on two gives bit-identical trajectories (the work is split in
 //! the same places and summed in the same order either way). Its own test
-//! binary, so no other simulation in the process holds the helper slot
-//! (one test function: the tests of a binary run side by side).
+//! binary, the one exception to one binary per crate: the helper slot is
+//! the process's, and the other tests of a binary run side by side and take
+//! it (one test function here for the same reason).
 
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
