@@ -71,3 +71,27 @@ pub struct WorkersArgs {
     #[arg(long, default_value_t = 0)]
     pub workers: usize,
 }
+
+// How a quasi-static load is brought to rest.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct SettleArgs {
+    /// How each quasi-static load reaches rest: `dynamic` runs time steps until nothing
+    /// moves; `static` solves for the equilibrium by Newton's method (docs/design/equilibrium.md).
+    #[arg(long, value_enum, default_value_t = SettleMode::Dynamic)]
+    pub settle: SettleMode,
+}
+
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SettleMode {
+    Static,
+    Dynamic,
+}
+
+impl SettleMode {
+    pub fn replay(self) -> softgrip_lab::replay::Settle {
+        match self {
+            SettleMode::Static => softgrip_lab::replay::Settle::Static,
+            SettleMode::Dynamic => softgrip_lab::replay::Settle::Dynamic,
+        }
+    }
+}

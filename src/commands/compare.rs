@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use softgrip_lab::recording::Recording;
 
-use super::args::ReportArgs;
+use super::args::{ReportArgs, SettleArgs};
 use super::figures::{describe, errors_json_for, write_json, wrote};
 use super::progress::progress_bar;
 
@@ -27,6 +27,8 @@ pub struct Args {
     #[arg(long)]
     discretisation: bool,
     #[command(flatten)]
+    settle: SettleArgs,
+    #[command(flatten)]
     report: ReportArgs,
 }
 
@@ -39,7 +41,10 @@ pub fn run(args: Args) -> Result<()> {
     let run = softgrip_lab::replay::replay(
         &recording,
         &recording.scene,
-        softgrip_lab::replay::ReplayOptions::default(),
+        softgrip_lab::replay::ReplayOptions {
+            settle: args.settle.settle.replay(),
+            ..Default::default()
+        },
         |n| bar.set_position(n as u64),
     )?;
     bar.finish_and_clear();

@@ -22,6 +22,8 @@ pub struct Args {
     /// Rest: every particle and finger slower than this (m/s).
     #[arg(long, default_value_t = 1e-5)]
     rest_speed: f64,
+    #[command(flatten)]
+    settle: super::args::SettleArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -45,19 +47,30 @@ pub fn run(args: Args) -> Result<()> {
         max_seconds,
         give_up_after: None,
     };
+    let to_rest = match args.settle.settle {
+        super::args::SettleMode::Dynamic => "steps to rest",
+        super::args::SettleMode::Static => "to equilibrium",
+    };
     println!(
-        "| load (N) | indentation (mm) | contact force (N) | penetration (mm) | volume error | inverted elements | steps to rest |"
+        "| load (N) | indentation (mm) | contact force (N) | penetration (mm) | volume error | inverted elements | {to_rest} |"
     );
     println!("|---|---|---|---|---|---|---|");
     for &load in loads {
         sim.set_load(k, load);
         let bar = progress_bar((max_seconds / sim.model.dt) as u64, "steps");
         bar.set_message(format!("load {load} N"));
-        let rest = sim.settle(tol, |s| bar.set_position(s));
+        let rest = match args.settle.settle {
+            super::args::SettleMode::Dynamic => sim
+                .settle(tol, |s| bar.set_position(s))
+                .map(|r| r.steps.to_string()),
+            super::args::SettleMode::Static => sim
+                .equilibrium(Default::default())
+                .map(|r| format!("{} Newton iterations", r.iterations)),
+        };
         bar.finish_and_clear();
         let f = sim.state.fingers[k];
         let rest = match rest {
-            Ok(r) => r.steps.to_string(),
+            Ok(r) => r,
             Err(softgrip_core::SimError::NoRest { max_speed, .. }) => {
                 format!("not at rest (speed {max_speed:.1e} m/s)")
             }

@@ -85,6 +85,19 @@ pub enum SimError {
         tolerance: f64,
     },
 
+    #[error("no static equilibrium under a load of {load:.4} N: {why}. {advice}")]
+    NoEquilibrium {
+        /// The applied load (N): the force-controlled fingers' forces.
+        load: f64,
+        /// What failed and where.
+        why: String,
+        /// Elements (0-based) the last rejected iteration turned inside out.
+        inverted: Vec<usize>,
+        /// The centre of the region where it fails (m).
+        near: [f64; 3],
+        advice: String,
+    },
+
     #[error("cancelled")]
     Cancelled,
 }

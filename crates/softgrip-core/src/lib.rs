@@ -16,6 +16,7 @@
 pub mod bench;
 pub mod cancel;
 pub mod contact;
+pub mod equilibrium;
 pub mod error;
 pub mod fields;
 pub mod forces;

@@ -151,6 +151,9 @@ pub struct StepStats {
     pub contacts: usize,
     /// Largest particle speed (m/s).
     pub max_speed: f64,
+    /// 2-norm of the force on the free components at the step's start (N):
+    /// the equilibrium residual the static solver drives to zero.
+    pub force_residual: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]

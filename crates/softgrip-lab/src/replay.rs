@@ -15,6 +15,7 @@ use std::sync::Arc;
 
 use crate::compare::{Attachment, Errors, Residual, attach, errors, marker_position};
 use crate::recording::{Mode, Recording, Start};
+use softgrip_core::equilibrium::StaticOptions;
 use softgrip_core::error::SimError;
 use softgrip_core::model::AxisDrive;
 use softgrip_core::quasi_static::RestTolerance;
@@ -50,10 +51,24 @@ pub struct SampleState {
     pub fingers: Vec<glam::DVec3>,
 }
 
+/// How a quasi-static load (and a time series' starting equilibrium) is reached.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Settle {
+    /// The static solver (`softgrip_core::equilibrium`); where it finds no answer other than
+    /// a load the model cannot carry, the dynamics from where it stopped.
+    Static,
+    /// Running the dynamics until nothing moves (`Simulation::settle`).
+    #[default]
+    Dynamic,
+}
+
 /// Options of a replay.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ReplayOptions {
+    pub settle: Settle,
+    /// For [`Settle::Dynamic`], and for a static solve that a moving finger hands to it.
     pub rest: RestTolerance,
+    pub statics: StaticOptions,
     /// Threads for the simulation (see `Simulation::set_threads`; 0 =
     /// up to 2, as the machine has cores free: see
     /// `Simulation::set_threads`).
@@ -152,7 +167,7 @@ pub fn replay(
         Mode::QuasiStatic => {
             for (i, sample) in recording.samples.iter().enumerate() {
                 set_load(&mut sim, sample.load);
-                sim.settle(options.rest, |_| {})?;
+                settle(&mut sim, options)?;
                 record(&sim, i, &mut residuals);
                 volume_errors.push(sim.state.stats.volume_error);
                 strains(&sim);
@@ -163,7 +178,7 @@ pub fn replay(
             let first = recording.samples.first().map_or(0.0, |s| s.load);
             set_load(&mut sim, first);
             if recording.start == Start::Equilibrium {
-                settle_still(&mut sim, options.rest)?;
+                settle_still(&mut sim, options)?;
                 sim.state.time = 0.0;
                 sim.state.step = 0;
             }
@@ -189,8 +204,27 @@ pub fn replay(
     })
 }
 
+/// Brings the present load to rest as `options` say: statically unless a finger still moves
+/// along its travel (input a static solve cannot hold) or dynamics are asked for.
+fn settle(sim: &mut Simulation, options: ReplayOptions) -> Result<(), SimError> {
+    match options.settle {
+        Settle::Static if !sim.has_moving_input() => match sim.equilibrium(options.statics) {
+            Ok(_) => Ok(()),
+            // Elements turned inside out: the model cannot carry the load.
+            Err(e @ SimError::NoEquilibrium { .. }) if matches!(&e, SimError::NoEquilibrium { inverted, .. } if !inverted.is_empty()) => {
+                Err(e)
+            }
+            // The spring-limit projection can keep Newton cycling where time steps come to
+            // rest (docs/design/equilibrium.md).
+            Err(SimError::NoEquilibrium { .. }) => sim.settle(options.rest, |_| {}).map(|_| ()),
+            Err(e) => Err(e),
+        },
+        _ => sim.settle(options.rest, |_| {}).map(|_| ()),
+    }
+}
+
 /// Settles with every velocity-driven finger axis held still.
-fn settle_still(sim: &mut Simulation, rest: RestTolerance) -> Result<(), SimError> {
+fn settle_still(sim: &mut Simulation, options: ReplayOptions) -> Result<(), SimError> {
     let moving = Arc::clone(&sim.model);
     let mut still = (*moving).clone();
     for f in &mut still.fingers {
@@ -201,10 +235,10 @@ fn settle_still(sim: &mut Simulation, rest: RestTolerance) -> Result<(), SimErro
         }
     }
     sim.model = Arc::new(still);
-    let settled = sim.settle(rest, |_| {});
+    let settled = settle(sim, options);
     sim.model = moving;
     for f in &mut sim.state.fingers {
         f.travelled = 0.0;
     }
-    settled.map(|_| ())
+    settled
 }

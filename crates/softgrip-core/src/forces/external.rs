@@ -7,9 +7,7 @@ use crate::model::{AxisDrive, Model};
 use crate::solver::System;
 use crate::state::State;
 
-/// Below this speed (m/s) a finger's guide friction holds it (static
-/// friction, as a stiff damper).
-pub const GUIDE_REST_SPEED: f64 = 1e-6;
+pub use crate::model::GUIDE_REST_SPEED;
 
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let n = model.particle_count();
@@ -38,7 +36,7 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
         // are smaller than `F_g`).
         if finger.guide_friction > 0.0 && fs.held.is_none() {
             let v = fs.velocity * axes;
-            let d = finger.guide_friction / v.length().max(GUIDE_REST_SPEED);
+            let d = finger.guide_friction / v.length().max(model.guide_rest_speed);
             force[n + k] -= d * v;
             system.add_diag(n + k, DMat3::ZERO, DMat3::from_diagonal(axes * d), &vel);
         }

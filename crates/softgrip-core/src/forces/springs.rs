@@ -49,7 +49,7 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
         force[j] -= f;
 
         let uu = outer(u, u);
-        let transverse = (1.0 - s.rest_length / l).max(0.0);
+        let transverse = clamp_transverse(model, 1.0 - s.rest_length / l);
         let kp = uu * s.stiffness + (DMat3::IDENTITY - uu) * (s.stiffness * transverse);
         limit_and_blocks(model, s, slot, l, u, kp, v, force, system);
     }
@@ -130,9 +130,17 @@ pub fn accumulate_general(model: &Model, state: &State, force: &mut [DVec3], sys
 
         let uu = outer(u, u);
         let kp_linear = uu * law.tangent;
-        let kp = kp_linear + (DMat3::IDENTITY - uu) * law.transverse.max(0.0);
+        let kp = kp_linear + (DMat3::IDENTITY - uu) * clamp_transverse(model, law.transverse);
         limit_and_blocks(model, s, slot, l, u, kp, v, force, system);
     }
+}
+
+/// A compressed spring's transverse stiffness is negative; the implicit step clamps it at zero
+/// (its matrix must stay positive definite), the static solver keeps it
+/// ([`Model::exact_tangent`]) and shifts the matrix instead.
+#[inline]
+fn clamp_transverse(model: &Model, t: f64) -> f64 {
+    if model.exact_tangent { t } else { t.max(0.0) }
 }
 
 /// The springs' dampers alone (eq. 4): the damping of the neo-Hookean
@@ -200,7 +208,7 @@ fn limit_and_blocks(
         let f = k_lim * (l - start) * u;
         force[i] += f;
         force[j] -= f;
-        let t = (1.0 - start / l).max(0.0);
+        let t = clamp_transverse(model, 1.0 - start / l);
         kp += uu * k_lim + (DMat3::IDENTITY - uu) * (k_lim * t);
     }
     let dt = system.dt();

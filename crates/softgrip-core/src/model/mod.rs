@@ -18,6 +18,10 @@ use crate::scene::{Elasticity, Scene, Shape, SupportKind};
 use table::{TABLE_STIFFNESS_FACTOR, TableModel};
 
 /// A spring and its parallel damper between particles `i < j` (thesis Fig. 4).
+/// Below this speed (m/s) a finger's guide friction holds it (static
+/// friction, as a stiff damper): [`Model::guide_rest_speed`] in a run.
+pub const GUIDE_REST_SPEED: f64 = 1e-6;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spring {
     pub i: u32,
@@ -51,6 +55,13 @@ pub struct Model {
     pub fingers: Vec<FingerModel>,
     pub gravity: DVec3,
     pub dt: f64,
+    /// Below this speed (m/s) a finger's guide friction holds it:
+    /// [`GUIDE_REST_SPEED`] in time, scaled to the
+    /// pseudo time step in a static solve (`crate::equilibrium`).
+    pub guide_rest_speed: f64,
+    /// Springs' Jacobians with their negative transverse terms (the static solver's Newton
+    /// tangent); false in time steps, whose matrix must stay positive definite.
+    pub exact_tangent: bool,
     pub cg_tolerance: f64,
     pub cg_max_iterations: usize,
     pub alpha: f64,
@@ -486,6 +497,8 @@ impl Model {
             fingers,
             gravity,
             dt: scene.simulation.dt,
+            guide_rest_speed: GUIDE_REST_SPEED,
+            exact_tangent: false,
             cg_tolerance: scene.simulation.cg_tolerance,
             cg_max_iterations: scene.simulation.cg_max_iterations,
             alpha: if fem_mode { 0.0 } else { scene.model.alpha },
@@ -563,6 +576,8 @@ impl Model {
             fingers: Vec::new(),
             gravity,
             dt,
+            guide_rest_speed: GUIDE_REST_SPEED,
+            exact_tangent: false,
             cg_tolerance: 1e-12,
             cg_max_iterations: 1000,
             alpha: 0.0,

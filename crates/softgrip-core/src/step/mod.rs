@@ -300,6 +300,7 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
     parallel.finish_assembly(&mut s.force, &mut system);
     system.finish();
+    let force_residual = static_residual(model, state, &s.force, &system.mask);
     drop(system);
     lap(&mut mark, &mut times.forces);
 
@@ -327,11 +328,35 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     st.limit_violation = projection.violation;
     st.projection_sweeps = projection.sweeps;
     st.contacts = state.contacts.len();
+    st.force_residual = force_residual;
     update_diagnostics(model, state);
     let checked = check_divergence(model, state)
         .and_then(|()| watch_energy(model, state, &mut s.energy_watch));
     lap(&mut mark, &mut times.diagnostics);
     checked
+}
+
+/// The 2-norm of the force on the free components (N), less on each finger what its guide's
+/// static friction can hold: the equilibrium residual of `crate::equilibrium` (whose
+/// iterations start at rest, where the guide's friction, a damper, exerts no force).
+fn static_residual(model: &Model, state: &State, force: &[DVec3], mask: &[DVec3]) -> f64 {
+    let n = model.particle_count();
+    let particles: f64 = force[..n]
+        .iter()
+        .zip(mask)
+        .map(|(f, m)| (*f * *m).length_squared())
+        .sum();
+    let fingers: f64 = (0..model.fingers.len())
+        .map(|k| {
+            let f = (force[n + k] * mask[n + k]).length();
+            let held = state.fingers[k]
+                .held
+                .is_none()
+                .then_some(model.fingers[k].guide_friction);
+            (f - held.unwrap_or(0.0)).max(0.0).powi(2)
+        })
+        .sum();
+    (particles + fingers).sqrt()
 }
 
 fn watch_energy(model: &Model, state: &State, w: &mut EnergyWatch) -> Result<(), SimError> {

@@ -6,7 +6,7 @@ use softgrip_core::Simulation;
 
 use crate::support::{rest_within, shipped_scene};
 
-fn light_guide(guide_friction: f64) -> Simulation {
+pub fn light_guide(guide_friction: f64) -> Simulation {
     let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
     scene.object.edge_length = 0.006;
     // Nothing else path-dependent: no contact friction, no spring limits.
@@ -31,7 +31,7 @@ fn loop_path(sim: &mut Simulation, up: &[f64], down: &[f64]) -> (Vec<f64>, Vec<f
 }
 
 /// The loading curve's load at depth `d` (linear interpolation).
-fn load_at(depths: &[f64], loads: &[f64], d: f64) -> f64 {
+pub fn load_at(depths: &[f64], loads: &[f64], d: f64) -> f64 {
     let i = depths
         .windows(2)
         .position(|w| w[0] <= d && d <= w[1])

@@ -5,6 +5,7 @@ mod bulk_modulus;
 mod contact_regressions;
 mod contact_stiffness;
 mod dragging;
+mod equilibrium;
 mod fem;
 mod fields;
 mod finger_shapes;

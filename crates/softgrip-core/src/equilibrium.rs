@@ -1,0 +1,403 @@
+//! Static equilibrium under a quasi-static load: Newton's method on the force residual,
+//! globalised by pseudo-transient continuation (Kelley and Keyes, SIAM J. Numer. Anal. 1998).
+//!
+//! An iteration is one implicit-Euler step from rest with a pseudo time step `h`: its move solves
+//! `(M / h^2 + Dp / h + K) dx = f(x)`, Newton's step with the exact spring tangent
+//! ([`Model::exact_tangent`]) shifted by `M / h^2`. Where `K` is indefinite (a saddle, a buckling
+//! lattice) CG fails and `h` is cut until the shift makes the matrix definite, so the iteration
+//! leaves saddles. `h` grows fourfold after each kept iteration; one that fails, turns an element
+//! inside out or moves a point by more than a quarter of an edge is undone and `h` cut. Converged:
+//! the free force at most `tolerance` times the load, or a full Newton step that moves nothing.
+//! Guide friction is a return mapping ([`Simulation::equilibrium`]). Design and measurements:
+//! `docs/design/equilibrium.md`.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::error::SimError;
+use crate::model::{AxisDrive, Model};
+use crate::step::Simulation;
+
+/// How the static solver iterates and when it stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticOptions {
+    /// Converged when the 2-norm of the force on the free components is at most this times
+    /// [`load_scale`].
+    pub tolerance: f64,
+    /// Iterations at most (undone ones count), then "no equilibrium".
+    pub max_iterations: usize,
+    /// The largest move of a point in one iteration, in edge lengths.
+    pub max_move: f64,
+    /// Converged also when a full Newton step moves no point by more than this (in edge
+    /// lengths): where the spring-limit projection holds springs at their limits, its
+    /// reaction is no force of the model and the residual stays.
+    pub move_tolerance: f64,
+    /// The largest pseudo time step (s): past the slowest mode's period the shift `M / h^2` is
+    /// negligible and a larger `h` only worsens CG's conditioning.
+    pub max_pseudo_step: f64,
+}
+
+impl Default for StaticOptions {
+    fn default() -> Self {
+        StaticOptions {
+            tolerance: 1e-6,
+            max_iterations: 400,
+            max_move: 0.25,
+            move_tolerance: 1e-6,
+            max_pseudo_step: 100.0,
+        }
+    }
+}
+
+/// What a static solve did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StaticReport {
+    /// Iterations, undone ones included.
+    pub iterations: usize,
+    /// Iterations undone (and retried with a smaller pseudo step).
+    pub rejected: usize,
+    /// The force on the free components at the answer (N).
+    pub residual: f64,
+    /// The load the residual is measured against (N, [`load_scale`]).
+    pub load_scale: f64,
+    /// CG iterations, summed.
+    pub cg_iterations: usize,
+    /// Converged by [`StaticOptions::move_tolerance`] (a full Newton step moved nothing) with
+    /// a residual above the tolerance: the spring-limit projection's reaction, or CG's floor.
+    pub by_move: bool,
+}
+
+/// The applied load (N) the residual is measured against: the sum of the magnitudes of every
+/// constant force (gravity, `[[load]]`) and of the fingers' applied forces and weights.
+pub fn load_scale(model: &Model, state: &crate::state::State) -> f64 {
+    let object: f64 = model.constant_force.iter().map(|f| f.length()).sum();
+    let fingers: f64 = model
+        .fingers
+        .iter()
+        .zip(&state.fingers)
+        .map(|(f, s)| f.driving_force(s.applied_force).length())
+        .sum();
+    object + fingers
+}
+
+/// Pseudo steps below this share of the scene's `dt` are not tried: the model gets no nearer to
+/// an equilibrium that way.
+const SMALLEST_STEP: f64 = 1e-3;
+
+/// The pseudo step grows by this after an iteration that was kept.
+const GROWTH: f64 = 4.0;
+
+impl Simulation {
+    /// Whether a velocity-driven finger still moves along its travel (input that a static
+    /// solve cannot hold).
+    pub fn has_moving_input(&self) -> bool {
+        self.model
+            .fingers
+            .iter()
+            .zip(&self.state.fingers)
+            .any(|(f, s)| {
+                f.drive
+                    .iter()
+                    .any(|d| matches!(d, AxisDrive::Velocity(v) if *v != 0.0))
+                    && f.travel.is_none_or(|t| s.travelled < t)
+            })
+    }
+
+    /// Moves the state to the static equilibrium under the present loads (see the module
+    /// docs). Time does not advance; velocities end at zero. A model with no equilibrium
+    /// there gets [`SimError::NoEquilibrium`], with where and why.
+    pub fn equilibrium(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
+        // Guide friction is a return mapping on the finger's force axes: held where it is, the
+        // finger stays if the guide can bear the force on it; if not it slides until the force
+        // left is the friction's, F_g against the slide.
+        let guided: Vec<usize> = (0..self.model.fingers.len())
+            .filter(|&k| {
+                let f = &self.model.fingers[k];
+                f.guide_friction > 0.0
+                    && f.is_force_controlled()
+                    && self.state.fingers[k].held.is_none()
+            })
+            .collect();
+        if guided.is_empty() {
+            return self.solve(options);
+        }
+        for &k in &guided {
+            self.state.fingers[k].held = Some(self.state.fingers[k].position);
+        }
+        let held = self.solve(options);
+        for &k in &guided {
+            self.state.fingers[k].held = None;
+        }
+        let held = held?;
+        let slides: Vec<(usize, DVec3)> = guided
+            .iter()
+            .filter_map(|&k| {
+                let (f, fs) = (&self.model.fingers[k], &self.state.fingers[k]);
+                let axes =
+                    DVec3::from_array(f.drive.map(|d| f64::from(u8::from(d == AxisDrive::Force))));
+                let force = (f.driving_force(fs.applied_force) + fs.contact_force) * axes;
+                (force.length() > f.guide_friction)
+                    .then(|| (k, force.normalize() * f.guide_friction))
+            })
+            .collect();
+        if slides.is_empty() {
+            return Ok(held);
+        }
+        let base = Arc::clone(&self.model);
+        let mut sliding = (*base).clone();
+        let applied: Vec<DVec3> = self.state.fingers.iter().map(|f| f.applied_force).collect();
+        for &(k, friction) in &slides {
+            sliding.fingers[k].guide_friction = 0.0;
+            self.state.fingers[k].applied_force -= friction;
+        }
+        self.model = Arc::new(sliding);
+        let slid = self.solve(options);
+        self.model = base;
+        for (f, a) in self.state.fingers.iter_mut().zip(applied) {
+            f.applied_force = a;
+        }
+        slid.map(|r| StaticReport {
+            iterations: r.iterations + held.iterations,
+            rejected: r.rejected + held.rejected,
+            cg_iterations: r.cg_iterations + held.cg_iterations,
+            ..r
+        })
+    }
+
+    /// [`Simulation::equilibrium`] with the guide's friction as the model says.
+    fn solve(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
+        let base = Arc::clone(&self.model);
+        let (time, step) = (self.state.time, self.state.step);
+        let result = self.iterate(&base, options);
+        self.model = base;
+        self.state.time = time;
+        self.state.step = step;
+        self.state.velocities.fill(DVec3::ZERO);
+        for f in &mut self.state.fingers {
+            f.velocity = DVec3::ZERO;
+        }
+        result
+    }
+
+    fn iterate(&mut self, base: &Arc<Model>, o: StaticOptions) -> Result<StaticReport, SimError> {
+        let scale = load_scale(base, &self.state);
+        let tolerance = o.tolerance * scale.max(f64::MIN_POSITIVE);
+        let max_move = o.max_move * base.edge_length;
+        let smallest = SMALLEST_STEP * base.dt;
+        // The guide holds a finger to the distance it creeps in one step of the scene's dt.
+        let guide_hold = base.guide_rest_speed * base.dt;
+        let mut report = StaticReport {
+            load_scale: scale,
+            ..StaticReport::default()
+        };
+        let mut models: Vec<(f64, Arc<Model>)> = Vec::new();
+        let mut h = base.dt;
+        let mut last_failure = Failure::Still(0.0);
+        let cancel = crate::cancel::current();
+        let mut one_back = points(&self.state);
+        let mut two_back: Option<Vec<DVec3>> = None;
+        while report.iterations < o.max_iterations {
+            crate::cancel::check(cancel.as_ref())?;
+            report.iterations += 1;
+            let before = self.state.clone();
+            self.model = model_with_step(&mut models, base, h, guide_hold);
+            let stepped = self.step();
+            let residual = self.state.stats.force_residual;
+            report.cg_iterations += self.state.stats.cg_iterations;
+            let failure = match stepped {
+                Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                Err(SimError::Diverged { what, .. }) => Failure::Step(what),
+                Err(e) => Failure::Step(e.to_string()),
+                Ok(()) if residual <= tolerance => {
+                    self.state = before;
+                    report.residual = residual;
+                    return Ok(report);
+                }
+                Ok(()) => judge(base, &before, &self.state, max_move),
+            };
+            // The projection can also send the iteration round a cycle of two states.
+            let cycled = two_back.as_ref().map_or(f64::INFINITY, |x: &Vec<DVec3>| {
+                largest_distance(x, &points(&self.state))
+            });
+            two_back = Some(std::mem::replace(&mut one_back, points(&before)));
+            if let Failure::Still(moved) = failure
+                && h >= o.max_pseudo_step
+                && moved.min(cycled) <= o.move_tolerance * base.edge_length
+            {
+                // A full Newton step moves nothing: what force is left is the reaction of the
+                // spring-limit projection (no force of the model) or below CG's accuracy.
+                report.residual = residual;
+                report.by_move = true;
+                return Ok(report);
+            }
+            if let Failure::Still(_) = failure {
+                // First-order continuation: no momentum carried to the next iteration.
+                self.state.velocities.fill(DVec3::ZERO);
+                for f in &mut self.state.fingers {
+                    f.velocity = DVec3::ZERO;
+                }
+                h = (GROWTH * h).min(o.max_pseudo_step);
+                continue;
+            }
+            self.state = before;
+            report.rejected += 1;
+            h *= match failure {
+                Failure::Moved(moved) => (0.5 * max_move / moved).min(0.25),
+                _ => 0.25,
+            };
+            last_failure = failure;
+            if h < smallest {
+                break;
+            }
+        }
+        Err(no_equilibrium(base, &self.state, last_failure, &report, o))
+    }
+}
+
+/// Why an iteration was undone.
+#[derive(Debug, Clone, PartialEq)]
+enum Failure {
+    /// Kept; the largest move (m).
+    Still(f64),
+    /// The step itself failed (CG, divergence).
+    Step(String),
+    /// Elements turned inside out, and their centre.
+    Inverted(Vec<usize>),
+    /// The largest move (m), beyond the limit.
+    Moved(f64),
+}
+
+fn judge(
+    model: &Model,
+    before: &crate::state::State,
+    after: &crate::state::State,
+    max_move: f64,
+) -> Failure {
+    let moved = largest_distance(&points(before), &points(after));
+    if moved > max_move {
+        return Failure::Moved(moved);
+    }
+    let inverted = newly_inverted(model, &before.positions, &after.positions);
+    if !inverted.is_empty() {
+        return Failure::Inverted(inverted);
+    }
+    Failure::Still(moved)
+}
+
+/// The particles' and the fingers' positions.
+fn points(state: &crate::state::State) -> Vec<DVec3> {
+    let fingers = state.fingers.iter().map(|f| f.position);
+    state.positions.iter().copied().chain(fingers).collect()
+}
+
+fn largest_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f64::max)
+}
+
+fn signed_volume(model: &Model, x: &[DVec3], t: usize) -> f64 {
+    let [a, b, c, d] = model.tets[t].map(|i| x[i as usize]);
+    crate::mesh::signed_volume(a, b, c, d)
+}
+
+/// Elements with a positive volume in `before` and none in `after`.
+fn newly_inverted(model: &Model, before: &[DVec3], after: &[DVec3]) -> Vec<usize> {
+    (0..model.tets.len())
+        .filter(|&t| signed_volume(model, after, t) <= 0.0 && signed_volume(model, before, t) > 0.0)
+        .collect()
+}
+
+/// The model with pseudo step `h` (cached: the helper thread restarts when the model changes).
+fn model_with_step(
+    cache: &mut Vec<(f64, Arc<Model>)>,
+    base: &Arc<Model>,
+    h: f64,
+    guide_hold: f64,
+) -> Arc<Model> {
+    if let Some((_, m)) = cache.iter().find(|(k, _)| *k == h) {
+        return Arc::clone(m);
+    }
+    let mut m = (**base).clone();
+    m.dt = h;
+    m.guide_rest_speed = guide_hold / h;
+    m.exact_tangent = true;
+    let m = Arc::new(m);
+    cache.push((h, Arc::clone(&m)));
+    m
+}
+
+fn no_equilibrium(
+    model: &Model,
+    state: &crate::state::State,
+    failure: Failure,
+    report: &StaticReport,
+    o: StaticOptions,
+) -> SimError {
+    let load: f64 = model
+        .fingers
+        .iter()
+        .zip(&state.fingers)
+        .filter(|(f, _)| f.is_force_controlled())
+        .map(|(_, s)| s.applied_force.length())
+        .sum();
+    let centre = |points: &mut dyn Iterator<Item = DVec3>| {
+        let (sum, n) = points.fold((DVec3::ZERO, 0.0), |(s, n), p| (s + p, n + 1.0));
+        if n > 0.0 { sum / n } else { DVec3::ZERO }
+    };
+    let (why, inverted, near, advice) = match failure {
+        Failure::Inverted(elements) => {
+            let near = centre(
+                &mut elements
+                    .iter()
+                    .flat_map(|&t| model.tets[t].map(|i| state.positions[i as usize])),
+            );
+            (
+                format!(
+                    "every step towards it turns {} element(s) inside out near ({:.4}, {:.4}, {:.4}) m",
+                    elements.len(),
+                    near.x,
+                    near.y,
+                    near.z
+                ),
+                elements,
+                near,
+                "The lattice cannot carry this load there: give the object the bulk term its material \
+                 implies ([model] bulk_modulus = E / (3 (1 - 2 nu))), a finer mesh there, or a smaller load"
+                    .to_string(),
+            )
+        }
+        Failure::Step(what) => {
+            let near = centre(&mut state.positions.iter().copied());
+            (
+                format!("the iterations fail ({what})"),
+                Vec::new(),
+                near,
+                "Check the scene's supports (is the object held?) and its loads".to_string(),
+            )
+        }
+        Failure::Still(_) | Failure::Moved(_) => {
+            let near = centre(&mut state.positions.iter().copied());
+            (
+                format!(
+                    "after {} iterations the unbalanced force is still above {:.1e} of the load",
+                    report.iterations, o.tolerance
+                ),
+                Vec::new(),
+                near,
+                "The object may be free to move (no support, a frictionless table) or at a \
+                 buckling load; check its supports, or replay with --settle dynamic"
+                    .to_string(),
+            )
+        }
+    };
+    SimError::NoEquilibrium {
+        load,
+        why,
+        inverted,
+        near: near.to_array(),
+        advice,
+    }
+}
