@@ -89,21 +89,6 @@ const SMALLEST_STEP: f64 = 1e-3;
 const GROWTH: f64 = 4.0;
 
 impl Simulation {
-    /// Whether a velocity-driven finger still moves along its travel (input that a static
-    /// solve cannot hold).
-    pub fn has_moving_input(&self) -> bool {
-        self.model
-            .fingers
-            .iter()
-            .zip(&self.state.fingers)
-            .any(|(f, s)| {
-                f.drive
-                    .iter()
-                    .any(|d| matches!(d, AxisDrive::Velocity(v) if *v != 0.0))
-                    && f.travel.is_none_or(|t| s.travelled < t)
-            })
-    }
-
     /// Moves the state to the static equilibrium under the present loads (see the module
     /// docs). Time does not advance; velocities end at zero. A model with no equilibrium
     /// there gets [`SimError::NoEquilibrium`], with where and why.
@@ -134,8 +119,10 @@ impl Simulation {
             .iter()
             .filter_map(|&k| {
                 let (f, fs) = (&self.model.fingers[k], &self.state.fingers[k]);
-                let axes =
-                    DVec3::from_array(f.drive.map(|d| f64::from(u8::from(d == AxisDrive::Force))));
+                let axes = DVec3::from_array(
+                    f.drive
+                        .map(|d| if d == AxisDrive::Force { 1.0 } else { 0.0 }),
+                );
                 let force = (f.driving_force(fs.applied_force) + fs.contact_force) * axes;
                 (force.length() > f.guide_friction)
                     .then(|| (k, force.normalize() * f.guide_friction))
@@ -203,6 +190,7 @@ impl Simulation {
             let before = self.state.clone();
             self.model = model_with_step(&mut models, base, h, guide_hold);
             let stepped = self.step();
+            let (before_points, now_points) = (points(&before), points(&self.state));
             let residual = self.state.stats.force_residual;
             report.cg_iterations += self.state.stats.cg_iterations;
             let failure = match stepped {
@@ -214,13 +202,20 @@ impl Simulation {
                     report.residual = residual;
                     return Ok(report);
                 }
-                Ok(()) => judge(base, &before, &self.state, max_move),
+                Ok(()) => judge(
+                    base,
+                    &before_points,
+                    &now_points,
+                    &before,
+                    &self.state,
+                    max_move,
+                ),
             };
             // The projection can also send the iteration round a cycle of two states.
             let cycled = two_back.as_ref().map_or(f64::INFINITY, |x: &Vec<DVec3>| {
-                largest_distance(x, &points(&self.state))
+                largest_distance(x, &now_points)
             });
-            two_back = Some(std::mem::replace(&mut one_back, points(&before)));
+            two_back = Some(std::mem::replace(&mut one_back, before_points));
             if let Failure::Still(moved) = failure
                 && h >= o.max_pseudo_step
                 && moved.min(cycled) <= o.move_tolerance * base.edge_length
@@ -268,13 +263,16 @@ enum Failure {
     Moved(f64),
 }
 
+/// Whether the iteration from `before` to `after` (their [`points`] given) is kept.
 fn judge(
     model: &Model,
+    before_points: &[DVec3],
+    after_points: &[DVec3],
     before: &crate::state::State,
     after: &crate::state::State,
     max_move: f64,
 ) -> Failure {
-    let moved = largest_distance(&points(before), &points(after));
+    let moved = largest_distance(before_points, after_points);
     if moved > max_move {
         return Failure::Moved(moved);
     }
@@ -365,7 +363,7 @@ fn no_equilibrium(
                 elements,
                 near,
                 "The lattice cannot carry this load there: give the object the bulk term its material \
-                 implies ([model] bulk_modulus = E / (3 (1 - 2 nu))), a finer mesh there, or a smaller load"
+                 implies ([model] bulk_modulus = E / (3 (1 - 2 nu))), or a smaller load"
                     .to_string(),
             )
         }

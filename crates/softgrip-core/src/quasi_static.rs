@@ -92,6 +92,21 @@ impl Simulation {
             .position(|f| f.is_force_controlled())
     }
 
+    /// Whether a velocity-driven finger still moves along its travel (input, not unrest;
+    /// a static solve cannot hold it).
+    pub fn has_moving_input(&self) -> bool {
+        self.model
+            .fingers
+            .iter()
+            .zip(&self.state.fingers)
+            .any(|(f, s)| {
+                f.drive
+                    .iter()
+                    .any(|d| matches!(d, crate::model::AxisDrive::Velocity(v) if *v != 0.0))
+                    && f.travel.is_none_or(|t| s.travelled < t)
+            })
+    }
+
     /// Steps until at rest (see [`RestTolerance`]); `progress` gets the step count.
     pub fn settle(
         &mut self,
@@ -117,17 +132,7 @@ impl Simulation {
                 .fold(0.0, f64::max);
             let speed = self.state.stats.max_speed.max(finger_speed);
             // Velocity-driven fingers that still move are not "at rest" input.
-            let moving_input = self
-                .model
-                .fingers
-                .iter()
-                .zip(&self.state.fingers)
-                .any(|(f, s)| {
-                    f.drive
-                        .iter()
-                        .any(|d| matches!(d, crate::model::AxisDrive::Velocity(v) if *v != 0.0))
-                        && f.travel.is_none_or(|t| s.travelled < t)
-                });
+            let moving_input = self.has_moving_input();
             calm = if speed < tol.speed && !moving_input {
                 calm + 1
             } else {
