@@ -77,8 +77,9 @@ pub struct WorkersArgs {
 pub struct SettleArgs {
     /// How each quasi-static load reaches rest: `dynamic` runs time steps until nothing
     /// moves; `static` solves for the equilibrium by Newton's method (docs/design/equilibrium.md).
-    #[arg(long, value_enum, default_value_t = SettleMode::Dynamic)]
-    pub settle: SettleMode,
+    /// Default: the scene's `[simulation] settle` (static unless it says otherwise).
+    #[arg(long, value_enum)]
+    pub settle: Option<SettleMode>,
 }
 
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,10 +89,10 @@ pub enum SettleMode {
 }
 
 impl SettleMode {
-    pub fn replay(self) -> softgrip_lab::replay::Settle {
+    pub fn replay(self) -> softgrip_core::scene::Settle {
         match self {
-            SettleMode::Static => softgrip_lab::replay::Settle::Static,
-            SettleMode::Dynamic => softgrip_lab::replay::Settle::Dynamic,
+            SettleMode::Static => softgrip_core::scene::Settle::Static,
+            SettleMode::Dynamic => softgrip_core::scene::Settle::Dynamic,
         }
     }
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use softgrip_lab::recording::Recording;
 
-use super::args::{ReportArgs, SettleArgs};
+use super::args::{ReportArgs, SettleArgs, SettleMode};
 use super::figures::{describe, errors_json_for, write_json, wrote};
 use super::progress::progress_bar;
 
@@ -42,7 +42,7 @@ pub fn run(args: Args) -> Result<()> {
         &recording,
         &recording.scene,
         softgrip_lab::replay::ReplayOptions {
-            settle: args.settle.settle.replay(),
+            settle: args.settle.settle.map(SettleMode::replay),
             ..Default::default()
         },
         |n| bar.set_position(n as u64),

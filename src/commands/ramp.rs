@@ -7,6 +7,8 @@ use anyhow::Result;
 
 use super::load::{load_scene, simulation};
 use super::progress::progress_bar;
+use softgrip_core::equilibrium::Settled;
+use softgrip_core::scene::Settle;
 
 /// Quasi-static load steps: set the first force-controlled finger's load to
 /// each value in turn (N, along the scene's force direction) and step to rest.
@@ -47,25 +49,41 @@ pub fn run(args: Args) -> Result<()> {
         max_seconds,
         give_up_after: None,
     };
-    let to_rest = match args.settle.settle {
-        super::args::SettleMode::Dynamic => "steps to rest",
-        super::args::SettleMode::Static => "to equilibrium",
+    let settle = args
+        .settle
+        .settle
+        .map_or(scene.simulation.settle, super::args::SettleMode::replay);
+    let to_rest = match settle {
+        Settle::Dynamic => "steps to rest",
+        Settle::Static => "to equilibrium",
     };
     println!(
         "| load (N) | indentation (mm) | contact force (N) | penetration (mm) | volume error | inverted elements | {to_rest} |"
     );
     println!("|---|---|---|---|---|---|---|");
     for &load in loads {
+        let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
         sim.set_load(k, load);
         let bar = progress_bar((max_seconds / sim.model.dt) as u64, "steps");
         bar.set_message(format!("load {load} N"));
-        let rest = match args.settle.settle {
-            super::args::SettleMode::Dynamic => sim
+        let rest = match settle {
+            Settle::Dynamic => sim
                 .settle(tol, |s| bar.set_position(s))
                 .map(|r| r.steps.to_string()),
-            super::args::SettleMode::Static => sim
-                .equilibrium(Default::default())
-                .map(|r| format!("{} Newton iterations", r.iterations)),
+            Settle::Static => sim
+                .settle_to_equilibrium(&from, Default::default(), tol, |s| bar.set_position(s))
+                .map(|r| match r {
+                    Settled::Static(r) => format!("{} Newton iterations", r.iterations),
+                    Settled::Dynamic { rest, stalled } => format!(
+                        "Newton {}, then {} time steps",
+                        if stalled {
+                            "stalled"
+                        } else {
+                            "did not converge"
+                        },
+                        rest.steps
+                    ),
+                }),
         };
         bar.finish_and_clear();
         let f = sim.state.fingers[k];

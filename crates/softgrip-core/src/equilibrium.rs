@@ -66,6 +66,8 @@ pub struct StaticReport {
     /// Converged by [`StaticOptions::move_tolerance`] (a full Newton step moved nothing) with
     /// a residual above the tolerance: the spring-limit projection's reaction, or CG's floor.
     pub by_move: bool,
+    /// Cycles of two states met, each answered by a smaller largest pseudo step.
+    pub cycles: usize,
 }
 
 /// The applied load (N) the residual is measured against: the sum of the magnitudes of every
@@ -85,10 +87,142 @@ pub fn load_scale(model: &Model, state: &crate::state::State) -> f64 {
 /// an equilibrium that way.
 const SMALLEST_STEP: f64 = 1e-3;
 
+/// A kept iteration at the largest pseudo step that lands nearer than this share of its move to
+/// the state two back is a cycle.
+const CYCLE: f64 = 0.1;
+
+/// Full Newton steps in a row that do not take the residual below [`STALL_DROP`] times its
+/// smallest yet: the iteration stalls (held by the spring-limit projection, whose reaction is no
+/// force of the model, or cycling through contact states).
+const STALL_ITERATIONS: usize = 100;
+const STALL_DROP: f64 = 0.5;
+
 /// The pseudo step grows by this after an iteration that was kept.
 const GROWTH: f64 = 4.0;
 
+/// How [`Simulation::settle_to_equilibrium`] came to rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Settled {
+    /// The static solver converged.
+    Static(StaticReport),
+    /// It did not (stalled, or out of iterations), and time steps came to rest.
+    Dynamic {
+        rest: crate::quasi_static::RestReport,
+        stalled: bool,
+    },
+}
+
+/// A load step is halved after a failed solve down to this share of the whole change; then
+/// the answer is "no equilibrium" at the load last tried.
+pub const SMALLEST_INCREMENT: f64 = 1.0 / 16.0;
+
 impl Simulation {
+    /// As [`Simulation::equilibrium`], from an equilibrium under the fingers' applied forces
+    /// `from` to one under their present ones, in load increments: the whole change first,
+    /// each failed solve undone and its increment halved (down to [`SMALLEST_INCREMENT`]),
+    /// each success followed by a doubled one. Near a limit load Newton's basin shrinks; a
+    /// slow load passes through the states between, as the lab's weights did.
+    pub fn equilibrium_from(
+        &mut self,
+        from: &[DVec3],
+        options: StaticOptions,
+    ) -> Result<StaticReport, SimError> {
+        let to: Vec<DVec3> = self.state.fingers.iter().map(|f| f.applied_force).collect();
+        if from == to {
+            return self.equilibrium(options);
+        }
+        let load_at = |share: f64| -> Vec<DVec3> {
+            from.iter()
+                .zip(&to)
+                .map(|(a, b)| {
+                    if share >= 1.0 {
+                        *b
+                    } else {
+                        *a + (*b - *a) * share
+                    }
+                })
+                .collect()
+        };
+        let mut total = StaticReport::default();
+        let (mut done, mut increment) = (0.0f64, 1.0f64);
+        loop {
+            let share = (done + increment).min(1.0);
+            let saved = self.state.clone();
+            for (f, load) in self.state.fingers.iter_mut().zip(load_at(share)) {
+                f.applied_force = load;
+            }
+            match self.equilibrium(options) {
+                Ok(r) => {
+                    total = StaticReport {
+                        iterations: total.iterations + r.iterations,
+                        rejected: total.rejected + r.rejected,
+                        cg_iterations: total.cg_iterations + r.cg_iterations,
+                        ..r
+                    };
+                    if share >= 1.0 {
+                        return Ok(total);
+                    }
+                    done = share;
+                    increment = (2.0 * increment).min(1.0 - done);
+                }
+                Err(SimError::NoEquilibrium { stalled: false, .. })
+                    if increment > SMALLEST_INCREMENT =>
+                {
+                    self.state = saved;
+                    increment *= 0.5;
+                }
+                Err(e) => {
+                    // A caller's dynamic fallback goes on from here (a stalled iteration ends
+                    // near rest) under the asked load.
+                    for (f, load) in self.state.fingers.iter_mut().zip(&to) {
+                        f.applied_force = *load;
+                    }
+                    return Err(e);
+                }
+            }
+        }
+    }
+
+    /// A quasi-static load brought to rest: [`Simulation::equilibrium_from`], and where it finds
+    /// no answer other than a load the model cannot carry (elements turned inside out), time
+    /// steps from where it stopped until at rest ([`Simulation::settle`]).
+    pub fn settle_to_equilibrium(
+        &mut self,
+        from: &[DVec3],
+        options: StaticOptions,
+        rest: crate::quasi_static::RestTolerance,
+        progress: impl FnMut(u64),
+    ) -> Result<Settled, SimError> {
+        match self.equilibrium_from(from, options) {
+            Ok(r) => Ok(Settled::Static(r)),
+            Err(SimError::NoEquilibrium {
+                load,
+                why,
+                inverted,
+                near,
+                advice,
+                stalled,
+            }) if inverted.is_empty() => match self.settle(rest, progress) {
+                Ok(r) => Ok(Settled::Dynamic { rest: r, stalled }),
+                // Neither finds a rest: the model has none there (a lattice creeping into
+                // collapse), which is the answer.
+                Err(SimError::NoRest { max_speed, .. }) => Err(SimError::NoEquilibrium {
+                    load,
+                    why: format!(
+                        "{why}; time steps from there do not come to rest either (still \
+                         {max_speed:.1e} m/s)"
+                    ),
+                    inverted,
+                    near,
+                    advice,
+                    stalled,
+                }),
+                Err(e) => Err(e),
+            },
+            Err(e) => Err(e),
+        }
+    }
+
     /// Moves the state to the static equilibrium under the present loads (see the module
     /// docs). Time does not advance; velocities end at zero. A model with no equilibrium
     /// there gets [`SimError::NoEquilibrium`], with where and why.
@@ -182,8 +316,11 @@ impl Simulation {
         let mut h = base.dt;
         let mut last_failure = Failure::Still(0.0);
         let cancel = crate::cancel::current();
-        let mut one_back = points(&self.state);
+        // The state before the last kept iteration, for spotting a cycle of two states.
         let mut two_back: Option<Vec<DVec3>> = None;
+        let mut largest_step = o.max_pseudo_step;
+        // The smallest residual at the largest pseudo step, and the iterations since it fell.
+        let (mut best, mut since_best) = (f64::INFINITY, 0usize);
         while report.iterations < o.max_iterations {
             crate::cancel::check(cancel.as_ref())?;
             report.iterations += 1;
@@ -211,40 +348,54 @@ impl Simulation {
                     max_move,
                 ),
             };
-            // The projection can also send the iteration round a cycle of two states.
+            // The projection or a contact's stick/slip switch can send Newton round a cycle of
+            // two states.
             let cycled = two_back.as_ref().map_or(f64::INFINITY, |x: &Vec<DVec3>| {
                 largest_distance(x, &now_points)
             });
-            two_back = Some(std::mem::replace(&mut one_back, before_points));
-            if let Failure::Still(moved) = failure
-                && h >= o.max_pseudo_step
-                && moved.min(cycled) <= o.move_tolerance * base.edge_length
-            {
-                // A full Newton step moves nothing: what force is left is the reaction of the
+            let Failure::Still(moved) = failure else {
+                self.state = before;
+                report.rejected += 1;
+                h *= match failure {
+                    Failure::Moved(moved) => (0.5 * max_move / moved).min(0.25),
+                    _ => 0.25,
+                };
+                last_failure = failure;
+                if h < smallest {
+                    break;
+                }
+                continue;
+            };
+            if h >= largest_step && moved.min(cycled) <= o.move_tolerance * base.edge_length {
+                // A full step moves nothing: what force is left is the reaction of the
                 // spring-limit projection (no force of the model) or below CG's accuracy.
                 report.residual = residual;
                 report.by_move = true;
                 return Ok(report);
             }
-            if let Failure::Still(_) = failure {
-                // First-order continuation: no momentum carried to the next iteration.
-                self.state.velocities.fill(DVec3::ZERO);
-                for f in &mut self.state.fingers {
-                    f.velocity = DVec3::ZERO;
+            if h >= largest_step {
+                if residual < STALL_DROP * best {
+                    (best, since_best) = (residual, 0);
+                } else {
+                    since_best += 1;
                 }
-                h = (GROWTH * h).min(o.max_pseudo_step);
-                continue;
+                if since_best >= STALL_ITERATIONS {
+                    last_failure = Failure::Stalled(residual, moving(&before_points, &now_points));
+                    break;
+                }
             }
-            self.state = before;
-            report.rejected += 1;
-            h *= match failure {
-                Failure::Moved(moved) => (0.5 * max_move / moved).min(0.25),
-                _ => 0.25,
-            };
-            last_failure = failure;
-            if h < smallest {
-                break;
+            two_back = Some(before_points);
+            if h >= largest_step && cycled < CYCLE * moved && largest_step > base.dt {
+                // A cycle: smaller pseudo steps damp the switch as time steps do.
+                largest_step = (largest_step / (GROWTH * GROWTH)).max(base.dt);
+                report.cycles += 1;
             }
+            // First-order continuation: no momentum carried to the next iteration.
+            self.state.velocities.fill(DVec3::ZERO);
+            for f in &mut self.state.fingers {
+                f.velocity = DVec3::ZERO;
+            }
+            h = (GROWTH * h).min(largest_step);
         }
         Err(no_equilibrium(base, &self.state, last_failure, &report, o))
     }
@@ -261,6 +412,8 @@ enum Failure {
     Inverted(Vec<usize>),
     /// The largest move (m), beyond the limit.
     Moved(f64),
+    /// Full steps stopped reducing the residual (N); where the points move most.
+    Stalled(f64, DVec3),
 }
 
 /// Whether the iteration from `before` to `after` (their [`points`] given) is kept.
@@ -287,6 +440,17 @@ fn judge(
 fn points(state: &crate::state::State) -> Vec<DVec3> {
     let fingers = state.fingers.iter().map(|f| f.position);
     state.positions.iter().copied().chain(fingers).collect()
+}
+
+/// The centre of the points that move at least half as far as the farthest.
+fn moving(before: &[DVec3], after: &[DVec3]) -> DVec3 {
+    let far = largest_distance(before, after);
+    let (sum, n) = before
+        .iter()
+        .zip(after)
+        .filter(|(p, q)| p.distance(**q) >= 0.5 * far)
+        .fold((DVec3::ZERO, 0.0), |(s, n), (_, q)| (s + *q, n + 1.0));
+    if n > 0.0 { sum / n } else { DVec3::ZERO }
 }
 
 fn largest_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
@@ -345,6 +509,7 @@ fn no_equilibrium(
         let (sum, n) = points.fold((DVec3::ZERO, 0.0), |(s, n), p| (s + p, n + 1.0));
         if n > 0.0 { sum / n } else { DVec3::ZERO }
     };
+    let stalled = matches!(failure, Failure::Stalled(..));
     let (why, inverted, near, advice) = match failure {
         Failure::Inverted(elements) => {
             let near = centre(
@@ -376,6 +541,19 @@ fn no_equilibrium(
                 "Check the scene's supports (is the object held?) and its loads".to_string(),
             )
         }
+        Failure::Stalled(residual, near) => (
+            format!(
+                "Newton's iterations stall with {residual:.2e} N unbalanced, moving most near \
+                     ({:.4}, {:.4}, {:.4}) m: springs held at their tau_s / tau_c limits by the \
+                     projection (whose reaction is no force of the model), or contacts switching",
+                near.x, near.y, near.z
+            ),
+            Vec::new(),
+            near,
+            "Give the spring limits a stiffness ([model] limit_stiffness, default 1000) so \
+                 that they act as forces Newton can balance"
+                .to_string(),
+        ),
         Failure::Still(_) | Failure::Moved(_) => {
             let near = centre(&mut state.positions.iter().copied());
             (
@@ -397,5 +575,6 @@ fn no_equilibrium(
         inverted,
         near: near.to_array(),
         advice,
+        stalled,
     }
 }

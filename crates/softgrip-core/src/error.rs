@@ -96,6 +96,9 @@ pub enum SimError {
         /// The centre of the region where it fails (m).
         near: [f64; 3],
         advice: String,
+        /// The iterations stalled at the largest pseudo step: a smaller load step does not help
+        /// (the spring-limit projection's reaction is no force of the model).
+        stalled: bool,
     },
 
     #[error("cancelled")]

@@ -13,6 +13,8 @@
 
 use std::sync::Arc;
 
+use glam::DVec3;
+
 use crate::compare::{Attachment, Errors, Residual, attach, errors, marker_position};
 use crate::recording::{Mode, Recording, Start};
 use softgrip_core::equilibrium::StaticOptions;
@@ -47,25 +49,20 @@ pub struct Replay {
 /// The object and the fingers where a sample was taken.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampleState {
-    pub positions: Vec<glam::DVec3>,
-    pub fingers: Vec<glam::DVec3>,
+    pub positions: Vec<DVec3>,
+    pub fingers: Vec<DVec3>,
 }
 
-/// How a quasi-static load (and a time series' starting equilibrium) is reached.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub enum Settle {
-    /// The static solver (`softgrip_core::equilibrium`); where it finds no answer other than
-    /// a load the model cannot carry, the dynamics from where it stopped.
-    Static,
-    /// Running the dynamics until nothing moves (`Simulation::settle`).
-    #[default]
-    Dynamic,
-}
+/// How a quasi-static load (and a time series' starting equilibrium) is reached. With
+/// `Static`, where the solver finds no answer other than a load the model cannot carry, the
+/// dynamics go on from the last equilibrium.
+pub use softgrip_core::scene::Settle;
 
 /// Options of a replay.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ReplayOptions {
-    pub settle: Settle,
+    /// `None`: as the scene's `[simulation] settle` says.
+    pub settle: Option<Settle>,
     /// For [`Settle::Dynamic`], and for a static solve that a moving finger hands to it.
     pub rest: RestTolerance,
     pub statics: StaticOptions,
@@ -87,6 +84,10 @@ pub fn replay(
 ) -> Result<Replay, SimError> {
     let mut sim = Simulation::new(scene)?;
     sim.set_threads(options.threads);
+    let options = ReplayOptions {
+        settle: Some(options.settle.unwrap_or(scene.simulation.settle)),
+        ..options
+    };
     let references: Vec<_> = recording.markers.iter().map(|m| m.reference).collect();
     let attachments = attach(&sim.model, &references);
     let limit = OFF_SURFACE * sim.model.extent;
@@ -113,7 +114,7 @@ pub fn replay(
     if load > 0.0 {
         let why = match loaded {
             None => Some("the scene has no force-controlled finger".to_string()),
-            Some(k) if sim.model.fingers[k].load_direction == glam::DVec3::ZERO => Some(format!(
+            Some(k) if sim.model.fingers[k].load_direction == DVec3::ZERO => Some(format!(
                 "finger #{} has force = [0, 0, 0], which gives no direction",
                 k + 1
             )),
@@ -166,8 +167,9 @@ pub fn replay(
     match recording.mode {
         Mode::QuasiStatic => {
             for (i, sample) in recording.samples.iter().enumerate() {
+                let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
                 set_load(&mut sim, sample.load);
-                settle(&mut sim, options)?;
+                settle(&mut sim, &from, options)?;
                 record(&sim, i, &mut residuals);
                 volume_errors.push(sim.state.stats.volume_error);
                 strains(&sim);
@@ -206,17 +208,11 @@ pub fn replay(
 
 /// Brings the present load to rest as `options` say: statically unless a finger still moves
 /// along its travel (input a static solve cannot hold) or dynamics are asked for.
-fn settle(sim: &mut Simulation, options: ReplayOptions) -> Result<(), SimError> {
+fn settle(sim: &mut Simulation, from: &[DVec3], options: ReplayOptions) -> Result<(), SimError> {
     match options.settle {
-        Settle::Static if !sim.has_moving_input() => match sim.equilibrium(options.statics) {
-            // Not converged, with no element turned inside out: Newton can cycle where time
-            // steps come to rest (docs/design/equilibrium.md, "Open"), so the dynamics go on
-            // from there. Inverted elements are the answer: the model cannot carry the load.
-            Err(SimError::NoEquilibrium { inverted, .. }) if inverted.is_empty() => {
-                sim.settle(options.rest, |_| {}).map(|_| ())
-            }
-            other => other.map(|_| ()),
-        },
+        Some(Settle::Static) if !sim.has_moving_input() => sim
+            .settle_to_equilibrium(from, options.statics, options.rest, |_| {})
+            .map(|_| ()),
         _ => sim.settle(options.rest, |_| {}).map(|_| ()),
     }
 }
@@ -233,7 +229,9 @@ fn settle_still(sim: &mut Simulation, options: ReplayOptions) -> Result<(), SimE
         }
     }
     sim.model = Arc::new(still);
-    let settled = settle(sim, options);
+    // From the undeformed state, where no finger load acted.
+    let from = vec![DVec3::ZERO; sim.state.fingers.len()];
+    let settled = settle(sim, &from, options);
     sim.model = moving;
     for f in &mut sim.state.fingers {
         f.travelled = 0.0;

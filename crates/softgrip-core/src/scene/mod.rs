@@ -58,6 +58,27 @@ pub struct Simulation {
     pub gravity: DVec3,
     pub cg_tolerance: f64,
     pub cg_max_iterations: usize,
+    /// How a quasi-static load comes to rest in replays and ramps.
+    pub settle: Settle,
+}
+
+/// How a quasi-static load comes to rest (`[simulation] settle`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Settle {
+    /// The static equilibrium, by Newton's method (`crate::equilibrium`).
+    #[default]
+    Static,
+    /// Time steps until nothing moves (`Simulation::settle`).
+    Dynamic,
+}
+
+impl Settle {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Settle::Static => "static",
+            Settle::Dynamic => "dynamic",
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -31,6 +31,7 @@ pub(super) struct RawSimulation {
     pub(super) gravity: Option<[f64; 3]>,
     pub(super) cg_tolerance: Option<f64>,
     pub(super) cg_max_iterations: Option<i64>,
+    pub(super) settle: Option<String>,
 }
 
 #[derive(Debug, Default, Deserialize, Serialize)]

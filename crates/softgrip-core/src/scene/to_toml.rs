@@ -135,6 +135,7 @@ fn raw_simulation(s: &Simulation) -> RawSimulation {
         gravity: Some(s.gravity.to_array()),
         cg_tolerance: Some(s.cg_tolerance),
         cg_max_iterations: Some(s.cg_max_iterations as i64),
+        settle: Some(s.settle.as_str().to_string()),
     }
 }
 

@@ -176,3 +176,81 @@ fn the_thesis_lattice_without_the_bulk_term_has_no_equilibrium_at_8_n() {
         other => panic!("expected no equilibrium, got {other:?}"),
     }
 }
+
+#[test]
+#[ignore = "slow: the lattice creeps into collapse for seconds of simulated time (1 min in debug)"]
+fn loaded_to_12_n_the_lattice_without_the_bulk_term_says_where_it_fails() {
+    // Loads to 12 N in the recordings' steps of 2 N, each from the last equilibrium: the first
+    // load without one gets the typed answer with the load and the region under the finger,
+    // whichever way it fails (elements inside out, or Newton and time steps both without rest).
+    let scene = shipped_scene("thesis_cuboid_no_bulk.toml");
+    let mut sim = Simulation::new(&scene).expect("sim");
+    let k = sim.load_finger().expect("a loaded finger");
+    let rest = softgrip_core::quasi_static::RestTolerance::for_fits();
+    let mut carried = 0.0;
+    for load in [2.0, 4.0, 6.0, 8.0, 10.0, 12.0] {
+        let from: Vec<DVec3> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+        sim.set_load(k, load);
+        match sim.settle_to_equilibrium(&from, StaticOptions::default(), rest, |_| {}) {
+            Ok(_) => carried = load,
+            Err(e @ SimError::NoEquilibrium { .. }) => {
+                let text = e.to_string();
+                eprintln!("{text}");
+                let SimError::NoEquilibrium { load: at, near, .. } = e else {
+                    unreachable!()
+                };
+                // The lattice carries 4 N (the thesis's loads to 6.95 N on this mesh, with its
+                // bulk term, are in the shipped scenes) and fails past it, below 12 N.
+                assert!(
+                    carried >= 4.0 && at > carried && at <= load,
+                    "{carried} {at}"
+                );
+                assert!(
+                    near[0].abs() < 0.01 && near[1].abs() < 0.01 && near[2] > 0.005,
+                    "{near:?}"
+                );
+                assert!(
+                    text.contains("bulk_modulus") || text.contains("limit"),
+                    "{text}"
+                );
+                return;
+            }
+            Err(e) => panic!("at {load} N: {e}"),
+        }
+    }
+    panic!("the lattice without the bulk term carried 12 N");
+}
+
+#[test]
+#[ignore = "slow: seven loads on the 4 mm cuboid (40 s in debug)"]
+fn the_seven_thesis_loads_are_carried_to_15_n_statically() {
+    // The thesis's 7-load scene (mu 0.5): after the loads below it, 15 N sent Newton round a
+    // cycle of two contact states; each load must converge (not hand over to time steps).
+    let scene = Scene::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/recordings/synthetic/thesis_7_loads/scene.toml"
+    )))
+    .expect("scene");
+    let mut sim = Simulation::new(&scene).expect("sim");
+    let k = sim.load_finger().expect("a loaded finger");
+    let mut deepest = 0.0;
+    for load in [2.14, 4.29, 6.43, 8.57, 10.71, 12.86, 15.0] {
+        let from: Vec<DVec3> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+        sim.set_load(k, load);
+        let r = sim
+            .equilibrium_from(&from, StaticOptions::default())
+            .unwrap_or_else(|e| panic!("at {load} N: {e}"));
+        eprintln!("{load} N: {r:?}");
+        // At rest the object pushes back on the light finger with the load, and a larger load
+        // goes deeper.
+        let dir = sim.model.fingers[k].load_direction;
+        let pushed = -sim.state.fingers[k].contact_force.dot(dir);
+        assert!(
+            (pushed - load).abs() < 1e-3,
+            "at {load} N the contact force is {pushed} N"
+        );
+        let depth = sim.indentation(k);
+        assert!(depth > deepest, "at {load} N: {depth} after {deepest}");
+        deepest = depth;
+    }
+}

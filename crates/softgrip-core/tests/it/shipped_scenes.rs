@@ -64,6 +64,7 @@ fn thesis_scene_has_the_thesis_values() {
                 "elasticity",
                 "bulk_pressure",
                 "self_collision",
+                "settle",
             ]
             .iter()
             .any(|k| d.contains(k))

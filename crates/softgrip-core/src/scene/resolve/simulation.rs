@@ -1,10 +1,10 @@
 //! `[simulation]`: the time step, the duration, gravity and the linear solver's limits.
 
 use super::resolver::{At, Resolver};
-use crate::scene::Simulation;
 use crate::scene::defaults::DEFAULT_CG_TOLERANCE;
 use crate::scene::error::SceneError;
 use crate::scene::raw::RawSimulation;
+use crate::scene::{Settle, Simulation};
 
 impl Resolver<'_> {
     pub(super) fn simulation(&mut self, s: RawSimulation) -> Result<Simulation, SceneError> {
@@ -39,6 +39,21 @@ impl Resolver<'_> {
         if !(1..=1_000_000).contains(&cg_max) {
             return Err(self.err(at("cg_max_iterations"), cg_max, "must be in 1..=1000000"));
         }
+        let settle_at = at("settle");
+        let settle = match self
+            .default(settle_at, s.settle, "static".to_string())
+            .as_str()
+        {
+            "static" => Settle::Static,
+            "dynamic" => Settle::Dynamic,
+            other => {
+                return Err(self.err(
+                    settle_at,
+                    format!("{other:?}"),
+                    "must be \"static\" (Newton's method) or \"dynamic\" (time steps until at rest)",
+                ));
+            }
+        };
 
         Ok(Simulation {
             dt,
@@ -46,6 +61,7 @@ impl Resolver<'_> {
             gravity,
             cg_tolerance,
             cg_max_iterations: cg_max as usize,
+            settle,
         })
     }
 }
