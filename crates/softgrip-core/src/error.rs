@@ -98,6 +98,10 @@ pub enum SimError {
         advice: String,
     },
 
+    /// The sensitivities of an equilibrium could not be found (`crate::sensitivity`).
+    #[error("no sensitivity at this state: {why}")]
+    NoSensitivity { why: String },
+
     #[error("cancelled")]
     Cancelled,
 }

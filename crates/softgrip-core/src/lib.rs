@@ -27,6 +27,7 @@ pub mod model;
 pub mod output;
 pub mod quasi_static;
 pub mod scene;
+pub mod sensitivity;
 pub mod solver;
 pub mod state;
 pub mod step;
