@@ -7,8 +7,9 @@
 //! vector ([`SensitivityOptions::probe`]), right-preconditioned by CG on the tangent the step
 //! assembles ([`crate::step::linear`]): the assembled tangent leaves out terms (the volume
 //! forces' and the contact's geometric stiffness, a sliding contact's), which the products
-//! have. Contacts, stick anchors, table modes and held fingers stay as at the equilibrium.
-//! Method and measured accuracy: `docs/design/equilibrium.md`, "Sensitivities".
+//! have. Contacts, stick anchors and held fingers stay as at the equilibrium, sliding finger
+//! contacts sliding; a table's slipping contacts stick (evaluated at rest). Method, what is
+//! not covered and measured accuracy: `docs/design/equilibrium.md`, "Sensitivities".
 
 use std::sync::Arc;
 

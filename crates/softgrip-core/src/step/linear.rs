@@ -1,7 +1,8 @@
 //! The step's force and matrix at a state held fixed, for the sensitivities of a static
 //! equilibrium (`crate::sensitivity`): the free force, and solves with the static tangent
 //! `-df/dx` the step assembles. Nothing here changes the simulation: the force stages run on a
-//! copy of the state, so contacts, stick anchors, table modes and held fingers stay as they are.
+//! copy of the state, so contacts, stick anchors and held fingers stay as they are (a table's
+//! slipping contacts, evaluated at rest, stick).
 //!
 //! The static tangent is the step's matrix `A = M + dt Dp + dt^2 Kp` for a step so long
 //! ([`STATIC_DT`]) that `M / dt^2` and `Dp / dt` vanish next to `Kp`, with the exact spring
