@@ -101,6 +101,10 @@ pub enum SimError {
         stalled: bool,
     },
 
+    /// The sensitivities of an equilibrium could not be found (`crate::sensitivity`).
+    #[error("no sensitivity at this state: {why}")]
+    NoSensitivity { why: String },
+
     #[error("cancelled")]
     Cancelled,
 }

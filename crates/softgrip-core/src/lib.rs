@@ -8,7 +8,8 @@
 //!
 //! Layers, lowest first (each module imports only those before it; `ARCHITECTURE.md`):
 //! [`mesh`] -> [`scene`] -> [`model`] -> [`state`] -> [`solver`] -> [`forces`], [`contact`]
-//! -> [`step`] -> [`quasi_static`], [`equilibrium`], [`live`], [`output`], [`fields`], [`mod@bench`].
+//! -> [`step`] -> [`quasi_static`], [`equilibrium`], [`live`], [`output`], [`fields`], [`mod@bench`]
+//! -> [`sensitivity`].
 //! [`error`] and [`cancel`] are shared by all.
 
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
@@ -27,6 +28,7 @@ pub mod model;
 pub mod output;
 pub mod quasi_static;
 pub mod scene;
+pub mod sensitivity;
 pub mod solver;
 pub mod state;
 pub mod step;

@@ -83,6 +83,10 @@ pub struct ContactMemory {
     pub anchor_weights: [f64; 3],
     /// ... and where it should be relative to the finger centre.
     pub anchor_offset: DVec3,
+    /// Held sliding: the stick drift kept on the friction cone's edge whatever its length, so
+    /// that a linearisation at a sliding equilibrium stays on the sliding branch
+    /// (`crate::sensitivity`). Steps never set it.
+    pub sliding: bool,
 }
 
 /// A boundary particle pressed against a facet of the same object

@@ -11,6 +11,7 @@
 //! - [`diagnose`], [`discretisation`], [`prove`]: what physics the model left out, how much of
 //!   a mismatch the mesh and step make, the diagnosis scored on hidden effects.
 //! - [`grasp`]: squeeze, lift and hold, and the least friction that holds.
+//! - [`sensitivity`]: `dx/dp` of a static equilibrium for named parameters.
 //! - [`plot`], [`report`]: PNG plots and the Markdown reports around them.
 //! - [`LabError`]: why a sweep, fit, diagnosis or proof could not run.
 
@@ -30,6 +31,7 @@ pub mod prove;
 pub mod recording;
 pub mod replay;
 pub mod report;
+pub mod sensitivity;
 pub mod sweep;
 pub mod synth;
 

@@ -84,6 +84,17 @@ pub fn limit_drift(p: &StickSlipParams, normal_force: f64, drift: DVec3) -> (DVe
     }
 }
 
+/// [`limit_drift`] for a contact held sliding: the drift put on the cone's edge, inside the
+/// cone too.
+pub fn slide_drift(p: &StickSlipParams, normal_force: f64, drift: DVec3) -> (DVec3, DVec3) {
+    let d = drift.length();
+    if p.stick_stiffness <= 0.0 || d == 0.0 {
+        return limit_drift(p, normal_force, drift);
+    }
+    let kept = drift * (p.friction * normal_force / p.stick_stiffness / d);
+    (kept, drift - kept)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -25,7 +25,7 @@ use crate::scene::FingerShape;
 use crate::solver::System;
 use crate::solver::system::outer;
 use crate::state::{Contact, ContactMemory, State};
-use friction::{StickSlipParams, limit_drift, stick_slip_force};
+use friction::{StickSlipParams, limit_drift, slide_drift, stick_slip_force};
 pub use geometry::Geometry;
 use hunt_crossley::hunt_crossley_normal_force;
 
@@ -172,6 +172,7 @@ pub fn accumulate(
                 approach_speed: penetration_rate.max(HUNT_CROSSLEY_MIN_APPROACH_SPEED),
                 anchor_weights: w,
                 anchor_offset: g.point - centre,
+                sliding: false,
             });
             scratch.touched.push(key);
 
@@ -190,7 +191,11 @@ pub fn accumulate(
             let projector = DMat3::IDENTITY - outer(g.normal, g.normal);
             let anchor_point: DVec3 = (0..3).map(|a| memory.anchor_weights[a] * p[a]).sum();
             let raw_drift = projector * (anchor_point - centre - memory.anchor_offset);
-            let (drift, anchor_moved) = limit_drift(&params, normal.force, raw_drift);
+            let (drift, anchor_moved) = if memory.sliding {
+                slide_drift(&params, normal.force, raw_drift)
+            } else {
+                limit_drift(&params, normal.force, raw_drift)
+            };
             memory.anchor_offset += anchor_moved;
             let v_t = projector * v_rel; // eq. 33
             let slip_speed = anchor_moved.length() / model.dt;

@@ -2,6 +2,7 @@
 //! thesis eq. 43 and the preconditioned conjugate gradient that solves it.
 
 pub mod cg;
+pub mod gmres;
 pub mod system;
 
 pub use cg::{CgError, CgParams, CgReport, LinearOperator, conjugate_gradient};

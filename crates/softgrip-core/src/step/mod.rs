@@ -18,6 +18,7 @@ use parallel::Parallel;
 
 pub mod constraints;
 pub mod integrate;
+pub mod linear;
 pub mod parallel;
 
 /// Scratch memory of a step: allocated once, reused every step.
@@ -268,41 +269,14 @@ impl Simulation {
 
 /// One step: the thesis's simulation loop body (Fig. 9).
 pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<(), SimError> {
-    let n = model.particle_count();
-    let total = n + model.fingers.len();
     let mut mark = Instant::now();
-    s.force.clear();
-    s.force.resize(total, DVec3::ZERO);
     integrate::drive_fingers(model, state);
-    s.ensure_parallel(model, state.step);
-    let Some(parallel) = s.parallel.as_ref() else {
-        unreachable!("ensure_parallel sets it")
-    };
-    // The helper thread runs the springs and half the elements meanwhile.
-    parallel.start_assembly(state);
-    let mut system = parallel.system_mut();
-    system.begin(model, model.dt);
-    integrate::set_mask(model, state, &mut system);
-
+    let force_residual = assemble(model, state, s);
     let times = &mut s.stage_seconds;
-    forces::external::accumulate(model, state, &mut s.force, &mut system);
-    forces::pull::accumulate(model, state, &mut s.force, &mut system);
-    contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
-    contact::table::accumulate(model, state, &mut s.force, &mut system);
-    contact::self_collision::accumulate(
-        model,
-        state,
-        &mut s.force,
-        &mut system,
-        &mut s.self_collision,
-    );
-    let elements = parallel.main_elements();
-    forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
-    parallel.finish_assembly(&mut s.force, &mut system);
-    system.finish();
-    let force_residual = static_residual(model, state, &s.force, &system.mask);
-    drop(system);
     lap(&mut mark, &mut times.forces);
+    let Some(parallel) = s.parallel.as_ref() else {
+        unreachable!("assemble sets it")
+    };
 
     let report = integrate::implicit_euler_update(
         model,
@@ -334,6 +308,43 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
         .and_then(|()| watch_energy(model, state, &mut s.energy_watch));
     lap(&mut mark, &mut times.diagnostics);
     checked
+}
+
+/// The forces of every stage into `s.force` (particles then fingers) and the system `A` of
+/// eq. 43 with its mask into the work split's system, at `state`'s positions and velocities.
+/// Updates what the force stages keep in `state` (contacts and their stick anchors, table
+/// modes, the fingers' contact forces); returns [`static_residual`].
+fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
+    let n = model.particle_count();
+    let total = n + model.fingers.len();
+    s.force.clear();
+    s.force.resize(total, DVec3::ZERO);
+    s.ensure_parallel(model, state.step);
+    let Some(parallel) = s.parallel.as_ref() else {
+        unreachable!("ensure_parallel sets it")
+    };
+    // The helper thread runs the springs and half the elements meanwhile.
+    parallel.start_assembly(state);
+    let mut system = parallel.system_mut();
+    system.begin(model, model.dt);
+    integrate::set_mask(model, state, &mut system);
+
+    forces::external::accumulate(model, state, &mut s.force, &mut system);
+    forces::pull::accumulate(model, state, &mut s.force, &mut system);
+    contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
+    contact::table::accumulate(model, state, &mut s.force, &mut system);
+    contact::self_collision::accumulate(
+        model,
+        state,
+        &mut s.force,
+        &mut system,
+        &mut s.self_collision,
+    );
+    let elements = parallel.main_elements();
+    forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
+    parallel.finish_assembly(&mut s.force, &mut system);
+    system.finish();
+    static_residual(model, state, &s.force, &system.mask)
 }
 
 /// The 2-norm of the force on the free components (N), less on each finger what its guide's

@@ -19,6 +19,7 @@ mod mesh_scenes;
 mod pinch;
 mod rest;
 mod self_collision;
+mod sensitivity;
 mod shipped_scenes;
 mod solver_tolerance;
 mod spring_laws;

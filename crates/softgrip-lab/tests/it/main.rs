@@ -13,6 +13,7 @@ mod prove;
 mod recordings;
 mod regions;
 mod replay;
+mod sensitivity;
 mod support;
 mod sweep;
 mod table;

@@ -1,0 +1,234 @@
+//! The step's force and matrix at a state held fixed, for the sensitivities of a static
+//! equilibrium (`crate::sensitivity`): the free force, and solves with the static tangent
+//! `-df/dx` the step assembles. Nothing here changes the simulation: the force stages run on a
+//! copy of the state, so contacts, stick anchors and held fingers stay as they are (a table's
+//! slipping contacts, evaluated at rest, stick).
+//!
+//! The static tangent is the step's matrix `A = M + dt Dp + dt^2 Kp` for a step so long
+//! ([`STATIC_DT`]) that `M / dt^2` and `Dp / dt` vanish next to `Kp`, with the exact spring
+//! tangent ([`Model::exact_tangent`]): `A y = dt^2 g` is `Kp y = g`. The method, what is held
+//! fixed and its accuracy: `docs/design/equilibrium.md`, "Sensitivities".
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use super::parallel::SystemOperator;
+use super::{Scratch, Simulation, assemble};
+use crate::error::SimError;
+use crate::model::Model;
+use crate::solver::cg::{CgError, CgParams, CgReport, CgScratch, conjugate_gradient};
+use crate::state::State;
+
+/// The pseudo time step (s) of the static tangent: past every mode's period by so much that
+/// `M / dt^2` and `Dp / dt` are about 1e-8 of the stiffness on the thesis scenes (a light
+/// guide's damping `|F| / guide_speed` the most). The sensitivities' products have no shift.
+pub const STATIC_DT: f64 = 1e6;
+
+/// A finger contact whose tangential force is within this share of `mu F_n` is sliding: at a
+/// converged equilibrium a sliding contact's force is on the edge to about 1e-9, a sticking
+/// one's well inside.
+pub const CONE_EDGE: f64 = 1e-6;
+
+/// CG's relative tolerance of [`Simulation::solve_tangent`].
+pub const TANGENT_CG_TOLERANCE: f64 = 1e-12;
+
+/// `model` as the static tangent sees it: a step of [`STATIC_DT`], the exact spring tangent.
+pub fn static_model(model: &Model) -> Model {
+    let mut m = model.clone();
+    m.dt = STATIC_DT;
+    m.exact_tangent = true;
+    m
+}
+
+/// A state held fixed, at rest, with the static tangent of one model assembled at it.
+#[derive(Debug)]
+pub struct FixedState {
+    model: Arc<Model>,
+    state: State,
+    /// Holds the tangent's system, assembled once.
+    tangent: Scratch,
+    /// For the force evaluations, which overwrite their system.
+    forces: Scratch,
+    work: State,
+    cg: CgScratch,
+    /// The static residual at the state (N, `super::static_residual`).
+    residual: f64,
+}
+
+impl FixedState {
+    /// Holds `state` (velocities set to zero) and assembles the tangent of `model` (a
+    /// [`static_model`]) there.
+    pub fn new(model: Arc<Model>, state: &State) -> FixedState {
+        let mut state = state.clone();
+        state.velocities.fill(DVec3::ZERO);
+        for f in &mut state.fingers {
+            f.velocity = DVec3::ZERO;
+        }
+        let mut fixed = FixedState {
+            model,
+            work: state.clone(),
+            state,
+            tangent: Scratch::default(),
+            forces: Scratch::default(),
+            cg: CgScratch::default(),
+            residual: 0.0,
+        };
+        fixed.residual = assemble(&fixed.model, &mut fixed.work, &mut fixed.tangent);
+        fixed.hold_sliding_contacts();
+        fixed
+    }
+
+    /// Marks the finger contacts on their friction cone's edge as held sliding: at a sliding
+    /// equilibrium they sit on the edge, and a force difference across it would mix the stick
+    /// and the slip branch.
+    fn hold_sliding_contacts(&mut self) {
+        for c in &self.work.contacts {
+            let mu = self.model.fingers[c.finger as usize].friction;
+            let limit = mu * c.normal_force;
+            if limit > 0.0
+                && c.tangential_force.length() >= (1.0 - CONE_EDGE) * limit
+                && let Some(m) = self.state.contact_memory.get_mut(&(c.finger, c.facet))
+            {
+                m.sliding = true;
+            }
+        }
+    }
+
+    /// The finger contacts held sliding (finger, facet).
+    pub fn sliding_contacts(&self) -> Vec<(u32, u32)> {
+        let memory = &self.state.contact_memory;
+        memory
+            .iter()
+            .filter(|(_, m)| m.sliding)
+            .map(|(k, _)| *k)
+            .collect()
+    }
+
+    /// The model whose tangent is assembled.
+    pub fn model(&self) -> &Arc<Model> {
+        &self.model
+    }
+
+    /// The state held (at rest).
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The 2-norm of the force on the free components there (N), less what the fingers'
+    /// guides hold: zero at an equilibrium.
+    pub fn residual(&self) -> f64 {
+        self.residual
+    }
+
+    /// 1 on the free components, 0 on the fixed ones (particles then fingers).
+    pub fn mask(&self) -> Vec<DVec3> {
+        system_of(&self.tangent, |s| s.mask.clone())
+    }
+
+    /// The masked force of `model` (on the same mesh) at the held state, its particles and
+    /// fingers moved by `scale` times `displacement` (particles then fingers) if given.
+    pub fn force(
+        &mut self,
+        model: &Arc<Model>,
+        displacement: Option<(&[DVec3], f64)>,
+    ) -> Vec<DVec3> {
+        self.work.clone_from(&self.state);
+        if let Some((d, scale)) = displacement {
+            let n = self.work.positions.len();
+            for (x, d) in self.work.positions.iter_mut().zip(d) {
+                *x += scale * *d;
+            }
+            for (f, d) in self.work.fingers.iter_mut().zip(&d[n..]) {
+                f.position += scale * *d;
+            }
+        }
+        assemble(model, &mut self.work, &mut self.forces);
+        let force = &self.forces.force;
+        system_of(&self.forces, |s| {
+            force.iter().zip(&s.mask).map(|(f, m)| *f * *m).collect()
+        })
+    }
+
+    /// `y` with `Kp y = g` on the free components (zero on the fixed ones), by CG on the
+    /// assembled tangent from the start `y` holds (zero if its length is wrong).
+    pub fn solve(
+        &mut self,
+        g: &[DVec3],
+        y: &mut Vec<DVec3>,
+        params: CgParams,
+    ) -> Result<CgReport, CgError> {
+        let Some(parallel) = self.tangent.parallel.as_ref() else {
+            unreachable!("assemble sets it")
+        };
+        let system = parallel.system();
+        if y.len() != g.len() {
+            y.clear();
+            y.resize(g.len(), DVec3::ZERO);
+        }
+        for (y, m) in y.iter_mut().zip(&system.mask) {
+            *y *= *m;
+        }
+        let dt2 = self.model.dt * self.model.dt;
+        let rhs: Vec<DVec3> = g
+            .iter()
+            .zip(&system.mask)
+            .map(|(g, m)| *g * *m * dt2)
+            .collect();
+        let op = SystemOperator {
+            system: &system,
+            parallel,
+        };
+        conjugate_gradient(&op, &rhs, y, params, &mut self.cg)
+    }
+}
+
+/// `read` of the system a [`Scratch`] assembled.
+fn system_of<T>(scratch: &Scratch, read: impl FnOnce(&crate::solver::System) -> T) -> T {
+    let Some(parallel) = scratch.parallel.as_ref() else {
+        unreachable!("assemble sets it")
+    };
+    read(&parallel.system())
+}
+
+impl Simulation {
+    /// The present state held fixed, with the [`static_model`] of the simulation's model.
+    pub fn fixed_state(&self) -> FixedState {
+        FixedState::new(Arc::new(static_model(&self.model)), &self.state)
+    }
+
+    /// The force at the present state (N, particles then fingers), zero on the fixed
+    /// components: what the next step would start from, its fingers not driven. The state
+    /// is not changed.
+    pub fn free_force(&mut self) -> Vec<DVec3> {
+        let mut state = self.state.clone();
+        assemble(&self.model, &mut state, &mut self.scratch);
+        let force = &self.scratch.force;
+        system_of(&self.scratch, |s| {
+            force.iter().zip(&s.mask).map(|(f, m)| *f * *m).collect()
+        })
+    }
+
+    /// `y` with `Kp y = g` on the free components, `Kp = -df/dx` the static tangent the step
+    /// assembles at the present state, held at rest (see the module docs); CG to
+    /// [`TANGENT_CG_TOLERANCE`] in at most `max_iterations`. The state is not changed.
+    pub fn solve_tangent(
+        &self,
+        g: &[DVec3],
+        max_iterations: usize,
+    ) -> Result<Vec<DVec3>, SimError> {
+        let mut fixed = self.fixed_state();
+        let mut y = Vec::new();
+        let params = CgParams {
+            tolerance: TANGENT_CG_TOLERANCE,
+            reference: 0.0,
+            max_iterations,
+        };
+        fixed
+            .solve(g, &mut y, params)
+            .map_err(|e| SimError::NoSensitivity {
+                why: format!("the static tangent's solve failed: {e}"),
+            })?;
+        Ok(y)
+    }
+}

@@ -1,0 +1,98 @@
+//! Sensitivities `dx/dp` of a static equilibrium to the scene's named parameters
+//! ([`crate::params`]): the models at `p -+ delta` are built on the equilibrium's own mesh and
+//! handed to `softgrip_core::sensitivity`, which holds the equilibrium fixed and solves with
+//! its tangent (no re-solve per parameter). Method and accuracy: `docs/design/equilibrium.md`,
+//! "Sensitivities".
+
+use glam::DVec3;
+use softgrip_core::Simulation;
+use softgrip_core::mesh::TetMesh;
+use softgrip_core::model::Model;
+use softgrip_core::scene::Scene;
+use softgrip_core::sensitivity::{ParameterStep, SensitivityOptions};
+
+use crate::error::LabError;
+use crate::params;
+
+/// The force's difference quotient steps `delta = RELATIVE_STEP |p|` (the force is smooth in
+/// every parameter but at the few springs a spring limit's start crosses) ...
+pub const RELATIVE_STEP: f64 = 1e-5;
+/// ... or this where `p = 0`.
+pub const ABSOLUTE_STEP: f64 = 1e-6;
+
+/// The sensitivity of an equilibrium to one named parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterSensitivity {
+    pub name: &'static str,
+    /// The parameter's value in the scene.
+    pub value: f64,
+    /// `dx/dp` (m per unit of the parameter): the particles, then the fingers.
+    pub dx_dp: Vec<DVec3>,
+    /// GMRES products the solve took.
+    pub iterations: usize,
+}
+
+impl ParameterSensitivity {
+    /// The particles' part of `dx/dp`.
+    pub fn particles(&self, particles: usize) -> &[DVec3] {
+        &self.dx_dp[..particles]
+    }
+
+    /// Finger `k`'s `dx/dp`.
+    pub fn finger(&self, particles: usize, k: usize) -> DVec3 {
+        self.dx_dp[particles + k]
+    }
+}
+
+/// `dx/dp` at `sim`'s state, an equilibrium of `scene` on `mesh` (the mesh the simulation was
+/// built on), for each parameter in `names`. A parameter that is off in the scene (a spring
+/// limit not set, a finger parameter without fingers) is an input error.
+pub fn sensitivities(
+    scene: &Scene,
+    mesh: &TetMesh,
+    sim: &Simulation,
+    names: &[&str],
+    options: SensitivityOptions,
+) -> Result<Vec<ParameterSensitivity>, LabError> {
+    let mut steps = Vec::with_capacity(names.len());
+    let mut found = Vec::with_capacity(names.len());
+    for &name in names {
+        let param = params::find(name)?;
+        let value = params::get(scene, name)?.ok_or_else(|| {
+            LabError::Input(format!(
+                "{name} is off in this scene: set it to find the sensitivity to it"
+            ))
+        })?;
+        let delta = if value == 0.0 {
+            ABSOLUTE_STEP
+        } else {
+            RELATIVE_STEP * value.abs()
+        };
+        let model_at = |v: f64| -> Result<Model, LabError> {
+            Ok(Model::from_mesh(
+                &params::set(scene, name, v)?,
+                mesh.clone(),
+            )?)
+        };
+        let plus = model_at(value + delta)?;
+        // At a lower bound (a friction or a stiffening of 0) the step goes forward only.
+        let (minus, span) = match model_at(value - delta) {
+            Ok(m) => (m, 2.0 * delta),
+            Err(LabError::Input(_)) => (model_at(value)?, delta),
+            Err(e) => return Err(e),
+        };
+        steps.push(ParameterStep { span, minus, plus });
+        found.push((param.name, value));
+    }
+    let solved = sim.sensitivity(&steps, options)?;
+    Ok(found
+        .into_iter()
+        .zip(solved)
+        .map(|((name, value), s)| ParameterSensitivity {
+            name,
+            value,
+            dx_dp: s.dx_dp,
+            iterations: s.report.iterations,
+        })
+        .collect())
+}
