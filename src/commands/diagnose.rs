@@ -129,7 +129,15 @@ pub fn run(args: Args) -> Result<()> {
             params(&t.fit.params)
         );
     }
-    println!("verdict: {}", d.verdict());
+    if d.model_finding.is_some() {
+        // The finding leads the evidence; the verdict is of the model that carries the loads.
+        println!(
+            "verdict: {} (of the scene's model with what it lacked: it had no equilibrium)",
+            d.verdict()
+        );
+    } else {
+        println!("verdict: {}", d.verdict());
+    }
     if !d.effects.is_empty() {
         println!("effects: {}", d.effects.join(" + "));
         println!("fitted: {}", params(&d.fitted_params()));

@@ -14,6 +14,7 @@ mod catalogue;
 mod hypothesis;
 mod locate;
 mod model_fit;
+mod nominal;
 pub(crate) mod noise;
 mod options;
 mod output;
@@ -26,6 +27,7 @@ pub use baseline::{baseline_params, pinned_at_bounds};
 pub use catalogue::{Candidate, EFFECTS, catalogue, effect_label};
 pub use hypothesis::{Hypothesis, accepted};
 pub use locate::{Location, locate};
+pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use model_fit::{JACOBIAN_STEP, LOCAL_SEARCHES, ModelFit, same_model};
 pub use noise::{
     NOISE_FLOOR_M, Noise, estimate_noise, estimate_noise_split, rms_beyond_noise,
@@ -52,6 +54,8 @@ pub fn diagnose(
     options: &DiagnoseOptions,
     progress: Progress,
 ) -> Result<Diagnosis, LabError> {
+    let (repaired, model_finding) = nominal::carries_the_loads(recording)?;
+    let recording = repaired.as_ref().unwrap_or(recording);
     let base_params = baseline::search_params(&recording.scene, options)?;
     // The fits planned: the baseline's two, and each candidate once a round.
     let planned = 2 + catalogue(recording, &recording.scene).len() * options.max_effects;
@@ -88,7 +92,10 @@ pub fn diagnose(
         &noise,
         RestTolerance::for_fits(),
     );
-    let evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
+    let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
+    if let Some(f) = &model_finding {
+        evidence = format!("{f} {evidence}");
+    }
     fits.done = fits.planned;
     fits.starting("done");
     let simulations = first.evaluations + baseline.evaluations + found.simulations();
@@ -107,5 +114,6 @@ pub fn diagnose(
         bounds: options.bounds.clone(),
         pinned,
         discretisation,
+        model_finding,
     })
 }

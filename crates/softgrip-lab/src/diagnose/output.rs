@@ -109,6 +109,7 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
             "nrmse_all_beyond_noise_before": beyond_noise.0,
             "nrmse_all_beyond_noise_after": beyond_noise.1,
             "evidence": d.evidence,
+            "model_finding": d.model_finding,
         }
     })
 }

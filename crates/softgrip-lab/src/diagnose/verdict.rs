@@ -39,6 +39,10 @@ pub struct Diagnosis {
     /// step, against the noise (`crate::discretisation`): reported, not
     /// acted on.
     pub discretisation: Discretisation,
+    /// The nominal model had no equilibrium under the recorded loads: what and where, and
+    /// what the diagnosis gave it to carry them (a finding about the model, not about the
+    /// physics the lab left out).
+    pub model_finding: Option<String>,
 }
 
 impl Diagnosis {

@@ -26,7 +26,12 @@ pub fn diagnosis(
     } else {
         d.effects.join(" + ")
     };
-    let _ = writeln!(md, "## Verdict: {effects}\n\n{}\n", d.evidence);
+    let model = if d.model_finding.is_some() {
+        " (the scene's model has no equilibrium: see below)"
+    } else {
+        ""
+    };
+    let _ = writeln!(md, "## Verdict: {effects}{model}\n\n{}\n", d.evidence);
     md += &errors_table(&[
         ("baseline", &d.baseline.errors),
         ("with the effects", &d.final_fit.errors),

@@ -8,6 +8,7 @@ mod discretisation;
 mod fit;
 mod grasp;
 mod modulus;
+mod no_equilibrium;
 mod plot;
 mod prove;
 mod recordings;

@@ -1,0 +1,89 @@
+//! Before the diagnosis: whether the scene's own model carries the recorded loads. A lattice
+//! without the bulk term its E and nu imply can have no equilibrium under a lab's weights; that
+//! is a finding about the model, reported as such, and the diagnosis goes on with the term.
+
+use softgrip_core::error::SimError;
+use softgrip_core::quasi_static::RestTolerance;
+
+use crate::error::LabError;
+use crate::recording::{Mode, Recording};
+use crate::replay::{ReplayOptions, replay};
+
+/// `(None, None)` when the scene carries every recorded load; otherwise the recording with the
+/// bulk term its material implies and the finding in words. An error when even that model
+/// cannot carry them.
+pub fn carries_the_loads(
+    recording: &Recording,
+) -> Result<(Option<Recording>, Option<String>), LabError> {
+    let options = ReplayOptions {
+        rest: RestTolerance::for_fits(),
+        ..ReplayOptions::default()
+    };
+    if recording.mode != Mode::QuasiStatic {
+        return Ok((None, None));
+    }
+    let failure: LabError = match replay(recording, &recording.scene, options, |_| {}) {
+        Ok(_) => return Ok((None, None)),
+        Err(e @ SimError::NoEquilibrium { .. }) => e.into(),
+        Err(e) => return Err(e.into()),
+    };
+    let (object, model) = (&recording.scene.object, &recording.scene.model);
+    // What the scene leaves out that would let the model carry the loads: the bulk term its E
+    // and nu imply, then the spring limits as forces (the projection alone lets a lattice
+    // creep into collapse).
+    let bulk = implied_bulk_modulus(object.young_modulus, object.poisson_ratio);
+    let mut repairs: Vec<(&str, f64, String)> = Vec::new();
+    if model.bulk_modulus == 0.0 && object.poisson_ratio > 0.0 {
+        repairs.push((
+            "bulk_modulus",
+            bulk,
+            format!(
+                "the bulk term E and nu imply ([model] bulk_modulus = E / (3 (1 - 2 nu)) = \
+                 {bulk:.4e} Pa; the lattice without it ignores the scene's poisson_ratio = {})",
+                object.poisson_ratio
+            ),
+        ));
+    }
+    if model.limit_stiffness == 0.0 && (model.tau_s.is_some() || model.tau_c.is_some()) {
+        let k = softgrip_core::scene::DEFAULT_LIMIT_STIFFNESS;
+        repairs.push((
+            "limit_stiffness",
+            k,
+            format!("spring limits that act as forces ([model] limit_stiffness = {k})"),
+        ));
+    }
+    let LabError::Sim(e) = &failure else {
+        unreachable!("made above")
+    };
+    let SimError::NoEquilibrium { load, near, .. } = &**e else {
+        unreachable!("matched above")
+    };
+    // The fewest repairs that carry every load: the first alone, then the first two.
+    for n in 1..=repairs.len() {
+        let mut with = recording.clone();
+        for (name, value, _) in &repairs[..n] {
+            with.scene = crate::params::set(&with.scene, name, *value)?;
+        }
+        if replay(&with, &with.scene, options, |_| {}).is_err() {
+            continue;
+        }
+        let given: Vec<&str> = repairs[..n].iter().map(|r| r.2.as_str()).collect();
+        let finding = format!(
+            "The scene's model has no equilibrium at {load:.2} N (near ({:.1}, {:.1}, {:.1}) mm): \
+             a finding about the model, not physics the lab left out. With {} it carries every \
+             recorded load, and the diagnosis below is of that model.",
+            1e3 * near[0],
+            1e3 * near[1],
+            1e3 * near[2],
+            given.join(" and "),
+        );
+        return Ok((Some(with), Some(finding)));
+    }
+    Err(failure)
+}
+
+/// The bulk modulus of an isotropic material, K = E / (3 (1 - 2 nu)), with nu held below 0.5
+/// (where K is infinite) at 0.499.
+pub fn implied_bulk_modulus(young_modulus: f64, poisson_ratio: f64) -> f64 {
+    young_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio.min(0.499)))
+}
