@@ -30,6 +30,11 @@ pub struct Args {
     /// is not timed.
     #[arg(long, value_delimiter = ',')]
     diagnosis: Vec<String>,
+    /// Instead: replay these quasi-static recordings (comma-separated recording.toml paths)
+    /// statically and by dynamic settling, side by side: seconds, Newton iterations per load,
+    /// equilibria per second.
+    #[arg(long, value_delimiter = ',')]
+    statics: Vec<std::path::PathBuf>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -39,8 +44,11 @@ pub fn run(args: Args) -> Result<()> {
         seconds,
         options,
         diagnosis,
+        statics,
     } = args;
-    if !diagnosis.is_empty() {
+    if !statics.is_empty() {
+        bench_statics(&statics)
+    } else if !diagnosis.is_empty() {
         bench_diagnosis(&diagnosis)
     } else if options {
         bench_options(edges.first().copied().unwrap_or(4.0), seconds, threads)
@@ -175,6 +183,62 @@ fn bench_diagnosis(names: &[String]) -> Result<()> {
             softgrip_core::bench::peak_memory_mib()
                 .map(|m| format!("{m:.1}"))
                 .unwrap_or_else(|| "n/a".into())
+        );
+    }
+    Ok(())
+}
+
+/// Each recording replayed by the static solver and by dynamic settling in one run.
+fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
+    use softgrip_core::scene::Settle;
+    use softgrip_lab::recording::{Mode, Recording};
+    use softgrip_lab::replay::{ReplayOptions, replay};
+    println!("{}", softgrip_core::bench::machine_description());
+    println!(
+        "| recording | tetrahedra | loads | static (s) | Newton iterations per load | equilibria per s | dynamic (s) | dynamic / static | NRMSE static / dynamic |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for path in recordings {
+        let recording = Recording::load(path)?;
+        if recording.mode != Mode::QuasiStatic {
+            anyhow::bail!(
+                "{}: not quasi-static: the static solver does not replay time series",
+                path.display()
+            );
+        }
+        let timed = |settle: Settle| -> Result<(f64, f64)> {
+            let options = ReplayOptions {
+                settle: Some(settle),
+                ..ReplayOptions::default()
+            };
+            let started = std::time::Instant::now();
+            let r = replay(&recording, &recording.scene, options, |_| {})?;
+            Ok((started.elapsed().as_secs_f64(), r.errors.nrmse_all))
+        };
+        let (static_s, static_nrmse) = timed(Settle::Static)?;
+        let (dynamic_s, dynamic_nrmse) = timed(Settle::Dynamic)?;
+        // The Newton iterations, counted on the same path of loads.
+        let mut sim = softgrip_core::Simulation::new(&recording.scene)?;
+        let k = sim.load_finger();
+        let mut iterations = 0;
+        for s in &recording.samples {
+            let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+            if let Some(k) = k {
+                sim.set_load(k, s.load);
+            }
+            iterations += sim
+                .equilibrium_from(&from, Default::default())
+                .map(|r| r.iterations)
+                .unwrap_or(0);
+        }
+        let loads = recording.samples.len();
+        println!(
+            "| {} | {} | {loads} | {static_s:.2} | {:.0} | {:.1} | {dynamic_s:.2} | {:.1} | {static_nrmse:.4} / {dynamic_nrmse:.4} |",
+            path.display(),
+            sim.model.tets.len(),
+            iterations as f64 / loads as f64,
+            loads as f64 / static_s,
+            dynamic_s / static_s,
         );
     }
     Ok(())

@@ -36,6 +36,10 @@ pub struct Args {
     max_evaluations: usize,
     #[command(flatten)]
     workers: WorkersArgs,
+    /// Levenberg-Marquardt's Jacobian from the equilibria's sensitivities (one replay for all
+    /// parameters) where the fitted parameters have them, instead of finite differences.
+    #[arg(long)]
+    sensitivities: bool,
     /// Also write the spec's JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -65,6 +69,7 @@ pub fn run(args: Args) -> Result<()> {
         bounds,
         max_evaluations,
         workers,
+        sensitivities: args.sensitivities,
         ..DiagnoseOptions::default()
     };
     let bar = progress_bar(1, "fits");

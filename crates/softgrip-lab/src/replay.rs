@@ -16,12 +16,13 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::compare::{Attachment, Errors, Residual, attach, errors, marker_position};
-use crate::recording::{Mode, Recording, Start};
+use crate::recording::{MarkerRef, Mode, Recording, Start};
 use softgrip_core::equilibrium::StaticOptions;
 use softgrip_core::error::SimError;
 use softgrip_core::model::AxisDrive;
 use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::scene::Scene;
+use softgrip_core::sensitivity::SensitivityOptions;
 use softgrip_core::step::Simulation;
 
 /// A marker's reference farther than this fraction of the object's
@@ -80,9 +81,41 @@ pub fn replay(
     recording: &Recording,
     scene: &Scene,
     options: ReplayOptions,
-    mut progress: impl FnMut(usize),
+    progress: impl FnMut(usize),
 ) -> Result<Replay, SimError> {
-    let mut sim = Simulation::new(scene)?;
+    replay_with_sensitivities(recording, scene, options, &[], progress).map(|(r, _)| r)
+}
+
+/// The derivative of each residual's simulated position (in [`Replay::residuals`]' order) by
+/// each named parameter: `[residual][parameter]`, m per unit of the parameter.
+pub type MarkerSensitivities = Vec<Vec<DVec3>>;
+
+/// How the equilibria's sensitivities are solved in a replay: to a thousandth, what a fit's
+/// step needs (`softgrip_core::sensitivity`).
+fn fit_sensitivity_options() -> SensitivityOptions {
+    SensitivityOptions {
+        tolerance: 1e-5,
+        acceptable: 1e-3,
+        cg_tolerance: 1e-6,
+        ..SensitivityOptions::default()
+    }
+}
+
+/// [`replay`], and for a quasi-static recording the markers' sensitivities to `names` at each
+/// load's equilibrium (the stick/slip state held: `crate::sensitivity`). `None` where they
+/// cannot be had (a time series, a load that came to rest dynamically, a solve that failed):
+/// the caller falls back to finite differences.
+pub fn replay_with_sensitivities(
+    recording: &Recording,
+    scene: &Scene,
+    options: ReplayOptions,
+    names: &[&str],
+    mut progress: impl FnMut(usize),
+) -> Result<(Replay, Option<MarkerSensitivities>), SimError> {
+    let mesh = softgrip_core::model::Model::mesh_of(scene)?;
+    let mut sim = Simulation::on_mesh(scene, mesh.clone())?;
+    let mut sensitivities: Option<MarkerSensitivities> =
+        (!names.is_empty() && recording.mode == Mode::QuasiStatic).then(Vec::new);
     sim.set_threads(options.threads);
     let options = ReplayOptions {
         settle: Some(options.settle.unwrap_or(scene.simulation.settle)),
@@ -171,6 +204,24 @@ pub fn replay(
                 set_load(&mut sim, sample.load);
                 settle(&mut sim, &from, options)?;
                 record(&sim, i, &mut residuals);
+                if let Some(columns) = sensitivities.as_mut() {
+                    let solved = crate::sensitivity::sensitivities(
+                        scene,
+                        &mesh,
+                        &sim,
+                        names,
+                        fit_sensitivity_options(),
+                    );
+                    match solved {
+                        Ok(s) => columns.extend(marker_sensitivities(
+                            &sim,
+                            &attachments,
+                            &recording.samples[i].observations,
+                            &s,
+                        )),
+                        Err(_) => sensitivities = None,
+                    }
+                }
                 volume_errors.push(sim.state.stats.volume_error);
                 strains(&sim);
                 progress(i + 1);
@@ -196,14 +247,43 @@ pub fn replay(
         }
     }
     let errors = errors(&residuals, sim.model.extent);
-    Ok(Replay {
+    let replay = Replay {
         attachments,
         residuals,
         errors,
         volume_errors,
         largest_strain,
         states,
-    })
+    };
+    Ok((replay, sensitivities))
+}
+
+/// Each observed marker's `dx/dp` (in the order `record` keeps them): an object marker's is
+/// its facet's weights applied to the particles' (positions are linear in them).
+fn marker_sensitivities(
+    sim: &Simulation,
+    attachments: &[Attachment],
+    observations: &[crate::recording::Observation],
+    s: &[crate::sensitivity::ParameterSensitivity],
+) -> Vec<Vec<DVec3>> {
+    let n = sim.model.particle_count();
+    observations
+        .iter()
+        .filter_map(|o| {
+            let of = |d: &crate::sensitivity::ParameterSensitivity| -> Option<DVec3> {
+                match o.marker {
+                    MarkerRef::Object(k) => attachments.get(k).map(|a| {
+                        let tri = sim.model.facets[a.facet as usize];
+                        (0..3)
+                            .map(|j| a.weights[j] * d.dx_dp[tri[j] as usize])
+                            .sum()
+                    }),
+                    MarkerRef::Finger(k) => d.dx_dp.get(n + k).copied(),
+                }
+            };
+            s.iter().map(of).collect::<Option<Vec<DVec3>>>()
+        })
+        .collect()
 }
 
 /// Brings the present load to rest as `options` say: statically unless a finger still moves

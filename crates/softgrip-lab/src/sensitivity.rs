@@ -96,3 +96,15 @@ pub fn sensitivities(
         })
         .collect())
 }
+
+/// The parameters whose sensitivities are checked against finite differences of whole
+/// equilibria (`tests/it/sensitivity.rs`); fits take the others' Jacobian by differences.
+pub const WITH_SENSITIVITY: &[&str] = &[
+    "young_modulus",
+    "alpha",
+    "bulk_modulus",
+    "stiffening",
+    "tau_s",
+    "tau_c",
+    "friction",
+];

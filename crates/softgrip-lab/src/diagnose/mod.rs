@@ -14,8 +14,8 @@ mod catalogue;
 mod hypothesis;
 mod locate;
 mod model_fit;
-mod nominal;
 pub(crate) mod noise;
+mod nominal;
 mod options;
 mod output;
 mod pairs;
@@ -27,12 +27,12 @@ pub use baseline::{baseline_params, pinned_at_bounds};
 pub use catalogue::{Candidate, EFFECTS, catalogue, effect_label};
 pub use hypothesis::{Hypothesis, accepted};
 pub use locate::{Location, locate};
-pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use model_fit::{JACOBIAN_STEP, LOCAL_SEARCHES, ModelFit, same_model};
 pub use noise::{
     NOISE_FLOOR_M, Noise, estimate_noise, estimate_noise_split, rms_beyond_noise,
     weighted_residuals, weighted_rss,
 };
+pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use options::{DiagnoseOptions, Progress, check_bounds, parse_bound};
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};

@@ -10,10 +10,11 @@ use super::options::DiagnoseOptions;
 use super::statistics::{PROMISING, bic};
 use crate::compare::Errors;
 use crate::error::LabError;
-use crate::fit::{FitOptions, FitParam, levenberg_marquardt};
+use crate::fit::{FitOptions, FitParam};
+use crate::optimize::levenberg_marquardt_with;
 use crate::params;
 use crate::recording::Recording;
-use crate::replay::{Replay, ReplayOptions, replay};
+use crate::replay::{Replay, ReplayOptions, replay, replay_with_sensitivities};
 use crate::sweep::parallel_map;
 use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::scene::Scene;
@@ -187,6 +188,56 @@ fn fit_task(
         }
     }
     let mut evaluations = 0usize;
+    // The Jacobian of the weighted residual in the unit box from the equilibria's
+    // sensitivities, where every fitted parameter has one.
+    let names: Vec<&str> = params.iter().map(|p| p.param.name).collect();
+    let analytic = options.sensitivities
+        && names
+            .iter()
+            .all(|n| crate::sensitivity::WITH_SENSITIVITY.contains(n));
+    let jacobian_runs = std::cell::Cell::new(0usize);
+    let mut jacobian = |u: &[f64]| -> Option<Vec<Vec<f64>>> {
+        if !analytic {
+            return None;
+        }
+        let values = value_at(u);
+        let mut s = scene.clone();
+        for (p, v) in params.iter().zip(&values) {
+            s = params::set(&s, p.param.name, *v).ok()?;
+        }
+        let options = ReplayOptions {
+            rest: RestTolerance::for_fits(),
+            ..ReplayOptions::default()
+        };
+        let (replay, d) = replay_with_sensitivities(recording, &s, options, &names, |_| {}).ok()?;
+        let d = d?;
+        // dp/du of each parameter's scale, by a central difference of the map itself.
+        let dp_du: Vec<f64> = params
+            .iter()
+            .zip(u)
+            .map(|(p, &x)| {
+                let e = 1e-6;
+                (p.value((x + e).min(1.0)) - p.value((x - e).max(0.0)))
+                    / ((x + e).min(1.0) - (x - e).max(0.0))
+            })
+            .collect();
+        let columns = (0..params.len())
+            .map(|j| {
+                let mut c = Vec::new();
+                for (r, dr) in replay.residuals.iter().zip(&d) {
+                    let sigma = noise.sigma(r.marker);
+                    for a in 0..3 {
+                        if r.recorded[a].is_some() {
+                            c.push(dr[j][a] * dp_du[j] / sigma);
+                        }
+                    }
+                }
+                c
+            })
+            .collect();
+        jacobian_runs.set(jacobian_runs.get() + 1);
+        Some(columns)
+    };
     let best_u = {
         let mut evaluate = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
             let mut todo: Vec<Vec<f64>> = Vec::new();
@@ -291,8 +342,9 @@ fn fit_task(
             if f < best_f {
                 (best_u, best_f) = (u.clone(), f);
             }
-            let m = levenberg_marquardt(
+            let m = levenberg_marquardt_with(
                 &mut evaluate,
+                &mut jacobian,
                 &u,
                 r,
                 budget.saturating_sub(used),
@@ -309,6 +361,7 @@ fn fit_task(
             _ => best_u,
         }
     };
+    evaluations += jacobian_runs.get();
     let values = value_at(&best_u);
     let replay = match cache.remove(&key(&best_u)).flatten() {
         Some((_, r)) => r,

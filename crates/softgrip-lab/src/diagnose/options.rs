@@ -28,6 +28,9 @@ pub struct DiagnoseOptions {
     pub workers: usize,
     /// At most this many effects are added.
     pub max_effects: usize,
+    /// Levenberg-Marquardt's Jacobian from the equilibria's sensitivities (one replay, however
+    /// many parameters) where the fitted parameters have them; finite differences elsewhere.
+    pub sensitivities: bool,
 }
 
 impl Default for DiagnoseOptions {
@@ -39,6 +42,7 @@ impl Default for DiagnoseOptions {
             candidate_evaluations_per_param: 20,
             workers: 0,
             max_effects: 2,
+            sensitivities: false,
         }
     }
 }

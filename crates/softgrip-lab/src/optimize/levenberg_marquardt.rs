@@ -23,6 +23,24 @@ pub fn levenberg_marquardt(
     options: impl Into<Tolerances>,
     jacobian_step: f64,
 ) -> Minimum {
+    levenberg_marquardt_with(f, &mut |_| None, x0, r0, budget, options, jacobian_step)
+}
+
+/// The Jacobian's columns `dr/dx_i` at a point, each as long as the residual, from one run
+/// (`None`: not to be had there; finite differences instead).
+pub type JacobianAt<'a> = dyn FnMut(&[f64]) -> Option<Vec<Vec<f64>>> + 'a;
+
+/// [`levenberg_marquardt`] with the Jacobian from `jacobian` where it gives one (one evaluation,
+/// however many parameters), from forward differences elsewhere.
+pub fn levenberg_marquardt_with(
+    f: &mut ResidualBatch,
+    jacobian: &mut JacobianAt,
+    x0: &[f64],
+    r0: Vec<f64>,
+    budget: usize,
+    options: impl Into<Tolerances>,
+    jacobian_step: f64,
+) -> Minimum {
     let options = options.into();
     let n = x0.len();
     let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
@@ -32,35 +50,46 @@ pub fn levenberg_marquardt(
     let mut lambda = 1e-2;
     let mut converged = false;
     while evaluations + n + 2 <= budget {
-        // Jacobian, column by column.
-        let steps: Vec<f64> = x
-            .iter()
-            .map(|&v| {
-                if v + jacobian_step <= 1.0 {
-                    jacobian_step
-                } else {
-                    -jacobian_step
-                }
-            })
-            .collect();
-        let probes: Vec<Vec<f64>> = (0..n)
-            .map(|i| {
-                let mut p = x.clone();
-                p[i] += steps[i];
-                p
-            })
-            .collect();
-        let columns = f(&probes);
-        evaluations += n;
-        let mut jac: Vec<Vec<f64>> = Vec::with_capacity(n);
-        for (i, c) in columns.into_iter().enumerate() {
-            match c {
-                Some(c) if c.len() == r.len() => {
-                    jac.push(c.iter().zip(&r).map(|(a, b)| (a - b) / steps[i]).collect())
-                }
-                _ => jac.push(vec![0.0; r.len()]),
+        let analytic =
+            jacobian(&x).filter(|c| c.len() == n && c.iter().all(|c| c.len() == r.len()));
+        let jac = match analytic {
+            Some(columns) => {
+                evaluations += 1;
+                columns
             }
-        }
+            None => {
+                // Jacobian, column by column.
+                let steps: Vec<f64> = x
+                    .iter()
+                    .map(|&v| {
+                        if v + jacobian_step <= 1.0 {
+                            jacobian_step
+                        } else {
+                            -jacobian_step
+                        }
+                    })
+                    .collect();
+                let probes: Vec<Vec<f64>> = (0..n)
+                    .map(|i| {
+                        let mut p = x.clone();
+                        p[i] += steps[i];
+                        p
+                    })
+                    .collect();
+                let columns = f(&probes);
+                evaluations += n;
+                let mut jac: Vec<Vec<f64>> = Vec::with_capacity(n);
+                for (i, c) in columns.into_iter().enumerate() {
+                    match c {
+                        Some(c) if c.len() == r.len() => {
+                            jac.push(c.iter().zip(&r).map(|(a, b)| (a - b) / steps[i]).collect())
+                        }
+                        _ => jac.push(vec![0.0; r.len()]),
+                    }
+                }
+                jac
+            }
+        };
         // Normal equations.
         let jtj: Vec<Vec<f64>> = (0..n)
             .map(|i| {
@@ -215,6 +244,54 @@ mod tests {
         assert!((m.x[0] - 0.3).abs() < 1e-4, "{:?}", m.x);
         assert!((m.x[1] - 0.6).abs() < 1e-4, "{:?}", m.x);
         assert!(m.evaluations <= 200);
+    }
+
+    /// With the exact Jacobian given (one evaluation for both columns), the exponential rise is
+    /// fitted back as with differences, in fewer evaluations; a Jacobian that is not to be had
+    /// falls back to differences.
+    #[test]
+    fn an_analytic_jacobian_fits_back_in_fewer_evaluations() {
+        let ts: Vec<f64> = (0..20).map(|k| 0.1 * k as f64).collect();
+        let ab = |u: &[f64]| (1.0 + 4.0 * u[0], 0.5 + 5.0 * u[1]);
+        let model = |u: &[f64]| -> Vec<f64> {
+            let (a, b) = ab(u);
+            ts.iter().map(|t| a * (1.0 - (-b * t).exp())).collect()
+        };
+        let data = model(&[0.3, 0.6]);
+        let mut f = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
+            points
+                .iter()
+                .map(|u| Some(model(u).iter().zip(&data).map(|(m, d)| m - d).collect()))
+                .collect()
+        };
+        let mut exact = |u: &[f64]| -> Option<Vec<Vec<f64>>> {
+            let (a, b) = ab(u);
+            let da: Vec<f64> = ts.iter().map(|t| 4.0 * (1.0 - (-b * t).exp())).collect();
+            let db: Vec<f64> = ts.iter().map(|t| 5.0 * a * t * (-b * t).exp()).collect();
+            Some(vec![da, db])
+        };
+        let x0 = [0.8, 0.1];
+        let r0 = f(&[x0.to_vec()]).remove(0).unwrap_or_default();
+        let o = tolerances(1e-9, 1e-12);
+        let with = levenberg_marquardt_with(&mut f, &mut exact, &x0, r0.clone(), 200, o, 1e-6);
+        let without = levenberg_marquardt(&mut f, &x0, r0.clone(), 200, o, 1e-6);
+        for m in [&with, &without] {
+            assert!(
+                (m.x[0] - 0.3).abs() < 1e-4 && (m.x[1] - 0.6).abs() < 1e-4,
+                "{:?}",
+                m.x
+            );
+        }
+        assert!(
+            with.evaluations < without.evaluations,
+            "{} {}",
+            with.evaluations,
+            without.evaluations
+        );
+        let mut none = |_: &[f64]| -> Option<Vec<Vec<f64>>> { None };
+        let fallback = levenberg_marquardt_with(&mut f, &mut none, &x0, r0, 200, o, 1e-6);
+        assert_eq!(fallback.x, without.x);
+        assert_eq!(fallback.evaluations, without.evaluations);
     }
 
     /// Started at the minimum of a noisy fit (the residual does not

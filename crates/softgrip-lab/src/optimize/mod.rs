@@ -19,7 +19,9 @@ mod scale;
 mod types;
 
 pub use design::halton;
-pub use levenberg_marquardt::{ResidualBatch, levenberg_marquardt};
+pub use levenberg_marquardt::{
+    JacobianAt, ResidualBatch, levenberg_marquardt, levenberg_marquardt_with,
+};
 pub use linalg::invert;
 pub use nelder_mead::{minimize, nelder_mead};
 pub use scale::{BoundedScale, at_bound};

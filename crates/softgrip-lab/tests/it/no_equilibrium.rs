@@ -24,7 +24,10 @@ fn a_lattice_without_the_bulk_term_is_a_finding_with_the_load_and_where() {
         .and_then(|t| t.parse().ok())
         .expect("the load in the finding");
     assert!((4.0..=8.0).contains(&load), "{load}");
-    assert!(finding.contains("near (") && finding.contains("bulk_modulus"), "{finding}");
+    assert!(
+        finding.contains("near (") && finding.contains("bulk_modulus"),
+        "{finding}"
+    );
     // What it was given is the material's own bulk modulus, E / (3 (1 - 2 nu)).
     let e = rec.scene.object.young_modulus;
     let nu = rec.scene.object.poisson_ratio;
