@@ -195,9 +195,9 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
     use softgrip_lab::replay::{ReplayOptions, replay};
     println!("{}", softgrip_core::bench::machine_description());
     println!(
-        "| recording | tetrahedra | loads | static (s) | Newton iterations per load | equilibria per s | dynamic (s) | dynamic / static | NRMSE static / dynamic |"
+        "| recording | tetrahedra | loads | static (s) | Newton iterations per load | equilibria per s | dynamic (s) | dynamic / static | NRMSE static / dynamic | static with sensitivities (s, parameters) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for path in recordings {
         let recording = Recording::load(path)?;
         if recording.mode != Mode::QuasiStatic {
@@ -217,6 +217,28 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
         };
         let (static_s, static_nrmse) = timed(Settle::Static)?;
         let (dynamic_s, dynamic_nrmse) = timed(Settle::Dynamic)?;
+        // With the sensitivities a baseline fit's Jacobian takes, where the scene has them.
+        let names: Vec<&str> = ["young_modulus", "alpha", "tau_s", "tau_c"]
+            .into_iter()
+            .filter(|n| matches!(softgrip_lab::params::get(&recording.scene, n), Ok(Some(_))))
+            .collect();
+        let started = std::time::Instant::now();
+        let (_, sensitivities) = softgrip_lab::sensitivity::replay_with_sensitivities(
+            &recording,
+            &recording.scene,
+            ReplayOptions {
+                settle: Some(Settle::Static),
+                ..ReplayOptions::default()
+            },
+            &names,
+            |_| {},
+        )?;
+        let with_s = started.elapsed().as_secs_f64();
+        let with = if sensitivities.is_some() {
+            format!("{with_s:.2} ({})", names.len())
+        } else {
+            "n/a".to_string()
+        };
         // The Newton iterations, counted on the same path of loads.
         let mut sim = softgrip_core::Simulation::new(&recording.scene)?;
         let k = sim.load_finger();
@@ -233,7 +255,7 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
         }
         let loads = recording.samples.len();
         println!(
-            "| {} | {} | {loads} | {static_s:.2} | {:.0} | {:.1} | {dynamic_s:.2} | {:.1} | {static_nrmse:.4} / {dynamic_nrmse:.4} |",
+            "| {} | {} | {loads} | {static_s:.2} | {:.0} | {:.1} | {dynamic_s:.2} | {:.1} | {static_nrmse:.4} / {dynamic_nrmse:.4} | {with} |",
             path.display(),
             sim.model.tets.len(),
             iterations as f64 / loads as f64,

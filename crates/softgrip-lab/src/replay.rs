@@ -19,10 +19,10 @@ use crate::compare::{Attachment, Errors, Residual, attach, errors, marker_positi
 use crate::recording::{MarkerRef, Mode, Recording, Start};
 use softgrip_core::equilibrium::StaticOptions;
 use softgrip_core::error::SimError;
+use softgrip_core::mesh::TetMesh;
 use softgrip_core::model::AxisDrive;
 use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::scene::Scene;
-use softgrip_core::sensitivity::SensitivityOptions;
 use softgrip_core::step::Simulation;
 
 /// A marker's reference farther than this fraction of the object's
@@ -83,39 +83,32 @@ pub fn replay(
     options: ReplayOptions,
     progress: impl FnMut(usize),
 ) -> Result<Replay, SimError> {
-    replay_with_sensitivities(recording, scene, options, &[], progress).map(|(r, _)| r)
+    replay_observing(recording, scene, options, None, progress).map(|(r, _)| r)
 }
 
 /// The derivative of each residual's simulated position (in [`Replay::residuals`]' order) by
-/// each named parameter: `[residual][parameter]`, m per unit of the parameter.
+/// each parameter: `[residual][parameter]`, m per unit of the parameter.
 pub type MarkerSensitivities = Vec<Vec<DVec3>>;
 
-/// How the equilibria's sensitivities are solved in a replay: to a thousandth, what a fit's
-/// step needs (`softgrip_core::sensitivity`).
-fn fit_sensitivity_options() -> SensitivityOptions {
-    SensitivityOptions {
-        tolerance: 1e-5,
-        acceptable: 1e-3,
-        cg_tolerance: 1e-6,
-        ..SensitivityOptions::default()
-    }
-}
+/// At an equilibrium (the simulation, and the mesh it was built on): `dx/dp` of the particles
+/// then the fingers, one vector per parameter, or `None` where it cannot be had.
+pub type AtEquilibrium<'a> = dyn FnMut(&Simulation, &TetMesh) -> Option<Vec<Vec<DVec3>>> + 'a;
 
-/// [`replay`], and for a quasi-static recording the markers' sensitivities to `names` at each
-/// load's equilibrium (the stick/slip state held: `crate::sensitivity`). `None` where they
-/// cannot be had (a time series, a load that came to rest dynamically, a solve that failed):
-/// the caller falls back to finite differences.
-pub fn replay_with_sensitivities(
+/// [`replay`], and for a quasi-static recording the markers' sensitivities from
+/// `at_equilibrium` at each load's equilibrium (`crate::sensitivity::replay_with_sensitivities`
+/// gives it). `None` where one load's cannot be had (a time series, a load that came to rest
+/// dynamically, a solve that failed): the caller falls back to finite differences.
+pub fn replay_observing(
     recording: &Recording,
     scene: &Scene,
     options: ReplayOptions,
-    names: &[&str],
+    mut at_equilibrium: Option<&mut AtEquilibrium>,
     mut progress: impl FnMut(usize),
 ) -> Result<(Replay, Option<MarkerSensitivities>), SimError> {
     let mesh = softgrip_core::model::Model::mesh_of(scene)?;
     let mut sim = Simulation::on_mesh(scene, mesh.clone())?;
     let mut sensitivities: Option<MarkerSensitivities> =
-        (!names.is_empty() && recording.mode == Mode::QuasiStatic).then(Vec::new);
+        (at_equilibrium.is_some() && recording.mode == Mode::QuasiStatic).then(Vec::new);
     sim.set_threads(options.threads);
     let options = ReplayOptions {
         settle: Some(options.settle.unwrap_or(scene.simulation.settle)),
@@ -204,22 +197,16 @@ pub fn replay_with_sensitivities(
                 set_load(&mut sim, sample.load);
                 settle(&mut sim, &from, options)?;
                 record(&sim, i, &mut residuals);
-                if let Some(columns) = sensitivities.as_mut() {
-                    let solved = crate::sensitivity::sensitivities(
-                        scene,
-                        &mesh,
-                        &sim,
-                        names,
-                        fit_sensitivity_options(),
-                    );
-                    match solved {
-                        Ok(s) => columns.extend(marker_sensitivities(
+                if let (Some(columns), Some(f)) = (sensitivities.as_mut(), at_equilibrium.as_mut())
+                {
+                    match f(&sim, &mesh) {
+                        Some(d) => columns.extend(marker_sensitivities(
                             &sim,
                             &attachments,
                             &recording.samples[i].observations,
-                            &s,
+                            &d,
                         )),
-                        Err(_) => sensitivities = None,
+                        None => sensitivities = None,
                     }
                 }
                 volume_errors.push(sim.state.stats.volume_error);
@@ -264,24 +251,22 @@ fn marker_sensitivities(
     sim: &Simulation,
     attachments: &[Attachment],
     observations: &[crate::recording::Observation],
-    s: &[crate::sensitivity::ParameterSensitivity],
+    d: &[Vec<DVec3>],
 ) -> Vec<Vec<DVec3>> {
     let n = sim.model.particle_count();
     observations
         .iter()
         .filter_map(|o| {
-            let of = |d: &crate::sensitivity::ParameterSensitivity| -> Option<DVec3> {
+            let of = |dx_dp: &Vec<DVec3>| -> Option<DVec3> {
                 match o.marker {
                     MarkerRef::Object(k) => attachments.get(k).map(|a| {
                         let tri = sim.model.facets[a.facet as usize];
-                        (0..3)
-                            .map(|j| a.weights[j] * d.dx_dp[tri[j] as usize])
-                            .sum()
+                        (0..3).map(|j| a.weights[j] * dx_dp[tri[j] as usize]).sum()
                     }),
-                    MarkerRef::Finger(k) => d.dx_dp.get(n + k).copied(),
+                    MarkerRef::Finger(k) => dx_dp.get(n + k).copied(),
                 }
             };
-            s.iter().map(of).collect::<Option<Vec<DVec3>>>()
+            d.iter().map(of).collect::<Option<Vec<DVec3>>>()
         })
         .collect()
 }
