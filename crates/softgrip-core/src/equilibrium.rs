@@ -172,8 +172,11 @@ impl Simulation {
                     increment *= 0.5;
                 }
                 Err(e) => {
-                    // A caller's dynamic fallback goes on from here (a stalled iteration ends
-                    // near rest) under the asked load.
+                    // A caller's dynamic fallback goes on under the asked load from a stalled
+                    // iteration (near rest), else from the last equilibrium on the way.
+                    if !matches!(e, SimError::NoEquilibrium { stalled: true, .. }) {
+                        self.state = saved;
+                    }
                     for (f, load) in self.state.fingers.iter_mut().zip(&to) {
                         f.applied_force = *load;
                     }
@@ -184,8 +187,8 @@ impl Simulation {
     }
 
     /// A quasi-static load brought to rest: [`Simulation::equilibrium_from`], and where it finds
-    /// no answer other than a load the model cannot carry (elements turned inside out), time
-    /// steps from where it stopped until at rest ([`Simulation::settle`]).
+    /// no answer, time steps from where it stopped until at rest ([`Simulation::settle`]).
+    /// Neither finding a rest without elements inside out is [`SimError::NoEquilibrium`].
     pub fn settle_to_equilibrium(
         &mut self,
         from: &[DVec3],
@@ -193,34 +196,44 @@ impl Simulation {
         rest: crate::quasi_static::RestTolerance,
         progress: impl FnMut(u64),
     ) -> Result<Settled, SimError> {
-        match self.equilibrium_from(from, options) {
-            Ok(r) => Ok(Settled::Static(r)),
-            Err(SimError::NoEquilibrium {
-                load,
-                why,
-                inverted,
-                near,
-                advice,
-                stalled,
-            }) if inverted.is_empty() => match self.settle(rest, progress) {
-                Ok(r) => Ok(Settled::Dynamic { rest: r, stalled }),
-                // Neither finds a rest: the model has none there (a lattice creeping into
-                // collapse), which is the answer.
-                Err(SimError::NoRest { max_speed, .. }) => Err(SimError::NoEquilibrium {
+        let (load, why, inverted, near, advice, stalled) =
+            match self.equilibrium_from(from, options) {
+                Ok(r) => return Ok(Settled::Static(r)),
+                Err(SimError::NoEquilibrium {
                     load,
-                    why: format!(
-                        "{why}; time steps from there do not come to rest either (still \
-                         {max_speed:.1e} m/s)"
-                    ),
+                    why,
                     inverted,
                     near,
                     advice,
                     stalled,
-                }),
-                Err(e) => Err(e),
-            },
-            Err(e) => Err(e),
-        }
+                }) => (load, why, inverted, near, advice, stalled),
+                Err(e) => return Err(e),
+            };
+        // Newton's path can fail where time steps still find rest (an element turned inside out
+        // by a full step under a plate's edge): they are the judge. Neither finding a rest
+        // without inverted elements is the answer.
+        let why = match self.settle(rest, progress) {
+            Ok(r) if self.state.inverted_elements(&self.model) == 0 => {
+                return Ok(Settled::Dynamic { rest: r, stalled });
+            }
+            Ok(_) => format!("{why}; time steps come to rest with elements inside out"),
+            Err(SimError::NoRest { max_speed, .. }) => format!(
+                "{why}; time steps from there do not come to rest either (still \
+                 {max_speed:.1e} m/s)"
+            ),
+            Err(SimError::Diverged { what, .. }) => {
+                format!("{why}; time steps from there diverge ({what})")
+            }
+            Err(e) => return Err(e),
+        };
+        Err(SimError::NoEquilibrium {
+            load,
+            why,
+            inverted,
+            near,
+            advice,
+            stalled,
+        })
     }
 
     /// Moves the state to the static equilibrium under the present loads (see the module

@@ -108,7 +108,11 @@ fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
         bars.map(|h| h.explained.clamp(0.0, 1.0)).sum()
     };
     assert!(grey > 0, "the others' bars are drawn");
-    assert_eq!(grey < green, share(false) < share(true), "{grey} against {green} pixels");
+    assert_eq!(
+        grey < green,
+        share(false) < share(true),
+        "{grey} against {green} pixels"
+    );
 
     // The toggle: "with the effects" replays on the extended model.
     harness.get_by_label("with the effects").click();
