@@ -563,9 +563,14 @@ fn no_equilibrium(
             ),
             Vec::new(),
             near,
-            "Give the spring limits a stiffness ([model] limit_stiffness, default 1000) so \
+            if model.limit_stiffness == 0.0 && (model.tau_s.is_some() || model.tau_c.is_some()) {
+                "Give the spring limits a stiffness ([model] limit_stiffness, default 1000) so \
                  that they act as forces Newton can balance"
-                .to_string(),
+            } else {
+                "The lattice finds no rest under this load: check the supports (a frictionless \
+                 one lets the object slide) and the load's size"
+            }
+            .to_string(),
         ),
         Failure::Still(_) | Failure::Moved(_) => {
             let near = centre(&mut state.positions.iter().copied());
