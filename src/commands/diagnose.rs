@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Result<()> {
     if d.model_finding.is_some() {
         // The finding leads the evidence; the verdict is of the model that carries the loads.
         println!(
-            "verdict: {} (of the scene's model with what it lacked: it had no equilibrium)",
+            "verdict: {} (of the scene's model given what it lacked to have an equilibrium)",
             d.verdict()
         );
     } else {

@@ -70,6 +70,19 @@ pub struct StaticReport {
     pub cycles: usize,
 }
 
+impl StaticReport {
+    /// This solve's work followed by `next`'s, with `next`'s answer.
+    fn then(self, next: StaticReport) -> StaticReport {
+        StaticReport {
+            iterations: self.iterations + next.iterations,
+            rejected: self.rejected + next.rejected,
+            cg_iterations: self.cg_iterations + next.cg_iterations,
+            cycles: self.cycles + next.cycles,
+            ..next
+        }
+    }
+}
+
 /// The applied load (N) the residual is measured against: the sum of the magnitudes of every
 /// constant force (gravity, `[[load]]`) and of the fingers' applied forces and weights.
 pub fn load_scale(model: &Model, state: &crate::state::State) -> f64 {
@@ -153,12 +166,7 @@ impl Simulation {
             }
             match self.equilibrium(options) {
                 Ok(r) => {
-                    total = StaticReport {
-                        iterations: total.iterations + r.iterations,
-                        rejected: total.rejected + r.rejected,
-                        cg_iterations: total.cg_iterations + r.cg_iterations,
-                        ..r
-                    };
+                    total = total.then(r);
                     if share >= 1.0 {
                         return Ok(total);
                     }
@@ -196,44 +204,35 @@ impl Simulation {
         rest: crate::quasi_static::RestTolerance,
         progress: impl FnMut(u64),
     ) -> Result<Settled, SimError> {
-        let (load, why, inverted, near, advice, stalled) =
-            match self.equilibrium_from(from, options) {
-                Ok(r) => return Ok(Settled::Static(r)),
-                Err(SimError::NoEquilibrium {
-                    load,
-                    why,
-                    inverted,
-                    near,
-                    advice,
-                    stalled,
-                }) => (load, why, inverted, near, advice, stalled),
-                Err(e) => return Err(e),
-            };
+        let mut failure = match self.equilibrium_from(from, options) {
+            Ok(r) => return Ok(Settled::Static(r)),
+            Err(e @ SimError::NoEquilibrium { .. }) => e,
+            Err(e) => return Err(e),
+        };
+        let SimError::NoEquilibrium { why, stalled, .. } = &mut failure else {
+            unreachable!("matched above")
+        };
         // Newton's path can fail where time steps still find rest (an element turned inside out
         // by a full step under a plate's edge): they are the judge. Neither finding a rest
         // without inverted elements is the answer.
-        let why = match self.settle(rest, progress) {
+        let dynamics = match self.settle(rest, progress) {
             Ok(r) if self.state.inverted_elements(&self.model) == 0 => {
-                return Ok(Settled::Dynamic { rest: r, stalled });
+                return Ok(Settled::Dynamic {
+                    rest: r,
+                    stalled: *stalled,
+                });
             }
-            Ok(_) => format!("{why}; time steps come to rest with elements inside out"),
+            Ok(_) => "time steps come to rest with elements inside out".to_string(),
             Err(SimError::NoRest { max_speed, .. }) => format!(
-                "{why}; time steps from there do not come to rest either (still \
-                 {max_speed:.1e} m/s)"
+                "time steps from there do not come to rest either (still {max_speed:.1e} m/s)"
             ),
             Err(SimError::Diverged { what, .. }) => {
-                format!("{why}; time steps from there diverge ({what})")
+                format!("time steps from there diverge ({what})")
             }
             Err(e) => return Err(e),
         };
-        Err(SimError::NoEquilibrium {
-            load,
-            why,
-            inverted,
-            near,
-            advice,
-            stalled,
-        })
+        *why = format!("{why}; {dynamics}");
+        Err(failure)
     }
 
     /// Moves the state to the static equilibrium under the present loads (see the module
@@ -291,12 +290,7 @@ impl Simulation {
         for (f, a) in self.state.fingers.iter_mut().zip(applied) {
             f.applied_force = a;
         }
-        slid.map(|r| StaticReport {
-            iterations: r.iterations + held.iterations,
-            rejected: r.rejected + held.rejected,
-            cg_iterations: r.cg_iterations + held.cg_iterations,
-            ..r
-        })
+        slid.map(|r| held.then(r))
     }
 
     /// [`Simulation::equilibrium`] with the guide's friction as the model says.

@@ -101,7 +101,8 @@ pub fn sensitivities(
 }
 
 /// The parameters whose sensitivities are checked against finite differences of whole
-/// equilibria (`tests/it/sensitivity.rs`); fits take the others' Jacobian by differences.
+/// equilibria (`tests/it/sensitivity.rs` takes its list from here); fits take the others'
+/// Jacobian by differences.
 pub const WITH_SENSITIVITY: &[&str] = &[
     "young_modulus",
     "alpha",
@@ -113,8 +114,8 @@ pub const WITH_SENSITIVITY: &[&str] = &[
 ];
 
 /// How the equilibria's sensitivities are solved in a replay: to a percent, what a fit's step
-/// needs (`softgrip_core::sensitivity`). On the 4 mm thesis cuboid, four parameters' add 0.4 of
-/// a replay's time at 1e-2 and 2.3 at 1e-5 (`softgrip bench --statics`).
+/// needs (`softgrip_core::sensitivity`). On the 4 mm thesis cuboid, four parameters' add 0.8 of
+/// a replay's time at 1e-2, 1.3 to 2.3 at 1e-5 (`softgrip bench --statics`).
 pub fn fit_sensitivity_options() -> SensitivityOptions {
     SensitivityOptions {
         tolerance: 1e-2,

@@ -143,6 +143,14 @@ fn bad_free_axes() {
 }
 
 #[test]
+fn unknown_settle_mode() {
+    expect(
+        &format!("[simulation]\nsettle = \"implicit\"\n{BASE}"),
+        &["settle", "\"static\"", "\"dynamic\""],
+    );
+}
+
+#[test]
 fn bad_control_mode() {
     expect(
         &format!("{BASE}[[finger]]\nposition = [0.0, 0.0, 0.05]\ncontrol = \"position\"\n"),
@@ -318,4 +326,17 @@ fn unknown_bulk_pressure() {
         &format!("{BASE}[model]\nbulk_modulus = 1e6\nbulk_pressure = \"node\"\n"),
         &["bulk_pressure", "node", ":8", "\"nodal\""],
     );
+}
+
+/// The one key of `[simulation]` that is a word: read, defaulted to "static", written back.
+#[test]
+fn the_settle_mode_is_read_and_written_back() {
+    use softgrip_core::scene::Settle;
+    let dynamic = Scene::from_toml_str(&format!("[simulation]\nsettle = \"dynamic\"\n{BASE}"), "t")
+        .expect("dynamic");
+    assert_eq!(dynamic.simulation.settle, Settle::Dynamic);
+    let again = Scene::from_toml_str(&dynamic.to_toml(), "round trip").expect("round trip");
+    assert_eq!(again.simulation.settle, Settle::Dynamic);
+    let plain = Scene::from_toml_str(BASE, "t").expect("plain");
+    assert_eq!(plain.simulation.settle, Settle::Static);
 }

@@ -94,7 +94,12 @@ pub fn diagnose(
     );
     let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
     if let Some(f) = &model_finding {
-        evidence = format!("{f} {evidence}");
+        let mut rest = evidence.chars();
+        let first = rest
+            .next()
+            .map(|c| c.to_uppercase().to_string())
+            .unwrap_or_default();
+        evidence = format!("{f} {first}{}", rest.as_str());
     }
     fits.done = fits.planned;
     fits.starting("done");

@@ -27,7 +27,7 @@ pub fn diagnosis(
         d.effects.join(" + ")
     };
     let model = if d.model_finding.is_some() {
-        " (the scene's model has no equilibrium: see below)"
+        " (of the scene's model given what it lacked to have an equilibrium)"
     } else {
         ""
     };
