@@ -63,6 +63,11 @@ pub struct Model {
     /// tangent); false in time steps, whose matrix must stay positive definite.
     pub exact_tangent: bool,
     pub cg_tolerance: f64,
+    /// CG's tolerance is relative to the right-hand side or to this share of `dt` times the
+    /// loads, whichever is larger ([`crate::step::integrate::REST_REFERENCE`] in time steps;
+    /// the static solver's own tolerance in its Newton steps).
+    pub cg_reference: f64,
+
     pub cg_max_iterations: usize,
     pub alpha: f64,
     pub bulk_modulus: f64,
@@ -500,6 +505,7 @@ impl Model {
             guide_rest_speed: GUIDE_REST_SPEED,
             exact_tangent: false,
             cg_tolerance: scene.simulation.cg_tolerance,
+            cg_reference: crate::step::integrate::REST_REFERENCE,
             cg_max_iterations: scene.simulation.cg_max_iterations,
             alpha: if fem_mode { 0.0 } else { scene.model.alpha },
             bulk_modulus: if fem_mode {
@@ -579,6 +585,7 @@ impl Model {
             guide_rest_speed: GUIDE_REST_SPEED,
             exact_tangent: false,
             cg_tolerance: 1e-12,
+            cg_reference: crate::step::integrate::REST_REFERENCE,
             cg_max_iterations: 1000,
             alpha: 0.0,
             bulk_modulus: 0.0,

@@ -69,7 +69,7 @@ pub fn implicit_euler_update(
     let op = SystemOperator { system, parallel };
     let params = CgParams {
         tolerance: model.cg_tolerance,
-        reference: REST_REFERENCE * dt * load_norm(model, state),
+        reference: model.cg_reference * dt * load_norm(model, state),
         max_iterations: model.cg_max_iterations,
     };
     let report = conjugate_gradient(&op, rhs, dv, params, cg)?;
