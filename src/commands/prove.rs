@@ -29,7 +29,7 @@ pub struct Args {
     #[arg(long)]
     e_measured_within: Option<f64>,
     /// Make the truths with this edge length, m, instead of the
-    /// suite's 0.004: 0.005, the diagnosis's own, takes the mesh's form
+    /// suite's 0.003: 0.004, the diagnosis's own, takes the mesh's form
     /// error out of the proof; a finer one brings the data nearer a
     /// continuum, as a lab's are.
     #[arg(long)]
@@ -51,7 +51,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(h) = options.truth_edge_length {
         anyhow::ensure!(
             h.is_finite() && (0.002..=0.01).contains(&h),
-            "--truth-edge-length {h}: give an edge length in metres between 0.002 and 0.01 (the suite's is 0.004, the diagnosis's 0.005)"
+            "--truth-edge-length {h}: give an edge length in metres between 0.002 and 0.01 (the suite's is 0.003, the diagnosis's 0.004)"
         );
     }
     let bar = progress_bar(1, "recordings");

@@ -95,21 +95,6 @@ pub fn implicit_euler_update(
     Ok(report)
 }
 
-/// CG's tolerance is relative to the right-hand side `dt (f - dt Kp v)`, or
-/// to this fraction of `dt` times the load norm when that is larger. When an
-/// object comes truly to rest the right-hand side is rounding noise, and a
-/// tolerance relative to it alone took ~80 iterations a step to solve the
-/// noise to five digits (measured on the built-in scene with a stiffer limit
-/// spring that let it settle to 1e-9 m/s).
-///
-/// With the default `cg_tolerance` (1e-5) the floor asks for a force
-/// balance to 1e-7 of the loads. 1e-2 (it was 1e-3) takes the built-in
-/// scene's first second from 22.1 to 18.5 CG iterations a step, and leaves
-/// the rest as quiet (3e-8 m/s against 2e-8, and the light-guide scenes'
-/// 4.5e-6 m/s, which is not the solver's, unchanged); at 1e-1 the built-in
-/// scene's rest rose to 2-3e-6 m/s (docs/results/benchmarks-history.md).
-pub const REST_REFERENCE: f64 = 1e-2;
-
 /// The 2-norm of the loads (gravity, `[[load]]`, the fingers' applied forces
 /// and weights), N: the scale of the forces the object carries.
 fn load_norm(model: &Model, state: &State) -> f64 {

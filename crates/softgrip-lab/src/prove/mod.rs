@@ -30,8 +30,8 @@ pub struct ProveOptions {
     /// Tell the diagnosis E's measured range, this factor either way of
     /// the nominal E (`options_for`).
     pub e_measured_within: Option<f64>,
-    /// Make the truths with this edge length instead of the suite's 4 mm:
-    /// the diagnosis's own 5 mm takes the mesh's form error out of the
+    /// Make the truths with this edge length instead of the suite's 3 mm:
+    /// the diagnosis's own 4 mm takes the mesh's form error out of the
     /// proof (what the diagnosis does with no discretisation between it
     /// and the data); a finer one brings the data nearer a continuum, as a
     /// lab's are.

@@ -25,14 +25,14 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
     let e_within = prove.e_measured_within;
     let truth_edge = match prove.truth_edge_length {
         Some(h) => format!(
-            "{} mm edges (`--truth-edge-length {h}`; the suite's are 4 mm)",
+            "{} mm edges (`--truth-edge-length {h}`; the suite's are 3 mm)",
             h * 1e3
         ),
-        None => "4 mm edges".to_string(),
+        None => "3 mm edges".to_string(),
     };
     let _ = writeln!(
         s,
-        "Made by `softgrip prove` ({}). Each recording is made by softgrip from a scene the diagnosis is not given ({truth_edge} and 1 ms steps instead of its 5 mm and 2 ms, E 10 % higher, the spring limits at 0.2), with 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane section (as the thesis's camera saw it) and the finger; the diagnosis gets the nominal scene (the thesis light guide with a sphere; a flat plate for the finger-friction cases and their control) and the recording{}, and is not told what is hidden.\n",
+        "Made by `softgrip prove` ({}). Each recording is made by softgrip from a scene the diagnosis is not given ({truth_edge} and 1 ms steps instead of its 4 mm and 2 ms, E 10 % higher, the spring limits at 0.2), with 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane section (as the thesis's camera saw it) and the finger; the diagnosis gets the nominal scene (the thesis light guide with a sphere; a flat plate for the finger-friction cases and their control) and the recording{}, and is not told what is hidden.\n",
         softgrip_core::bench::machine_description(),
         match e_within {
             Some(f) => format!(
