@@ -311,18 +311,15 @@ impl Simulation {
     /// can cycle round the answer (the thesis lattice without the bulk term at 4 N).
     fn solve(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
         let start = (options.forcing > TIGHT_FORCING).then(|| self.state.clone());
-        match self.solve_with(options) {
-            Err(SimError::NoEquilibrium { stalled: true, .. }) if start.is_some() => {
-                if let Some(start) = start {
-                    self.state = start;
-                }
-                let tight = StaticOptions {
+        match (self.solve_with(options), start) {
+            (Err(SimError::NoEquilibrium { stalled: true, .. }), Some(start)) => {
+                self.state = start;
+                self.solve_with(StaticOptions {
                     forcing: TIGHT_FORCING,
                     ..options
-                };
-                self.solve_with(tight)
+                })
             }
-            result => result,
+            (result, _) => result,
         }
     }
 

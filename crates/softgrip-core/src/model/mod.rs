@@ -82,7 +82,6 @@ pub struct Model {
     /// loads, whichever is larger ([`REST_REFERENCE`] in time steps;
     /// the static solver's own tolerance in its Newton steps).
     pub cg_reference: f64,
-
     pub cg_max_iterations: usize,
     pub alpha: f64,
     pub bulk_modulus: f64,

@@ -72,15 +72,7 @@ fn past_the_buckling_load_it_finds_the_settled_state_or_its_mirror_image() {
     let rest = &fixed.model.rest_positions;
     let index: HashMap<_, _> = rest.iter().enumerate().map(|(i, p)| (key(*p), i)).collect();
     let swap = |p: DVec3, s: bool| if s { DVec3::new(p.y, p.x, p.z) } else { p };
-    let image = |flip: DVec3, s: bool| {
-        (0..rest.len())
-            .map(|i| {
-                let j = index[&key(swap(rest[i], s) * flip)];
-                dynamic.state.positions[i].distance(swap(fixed.state.positions[j] * flip, s))
-            })
-            .fold(0.0, f64::max)
-    };
-    let images = [
+    let symmetries = [
         (1.0, 1.0, false),
         (-1.0, 1.0, false),
         (1.0, -1.0, false),
@@ -89,8 +81,35 @@ fn past_the_buckling_load_it_finds_the_settled_state_or_its_mirror_image() {
         (-1.0, 1.0, true),
         (1.0, -1.0, true),
         (-1.0, -1.0, true),
-    ]
-    .map(|(x, y, s)| image(DVec3::new(x, y, 1.0), s));
+    ];
+    // Each symmetry maps the mesh onto itself, elements and all: else its image of an
+    // equilibrium would be no equilibrium of this mesh.
+    let sorted = |t: [u32; 4]| {
+        let mut t = t.map(|i| i as usize);
+        t.sort_unstable();
+        t
+    };
+    let elements: std::collections::HashSet<[usize; 4]> =
+        fixed.model.tets.iter().map(|t| sorted(*t)).collect();
+    for (x, y, s) in symmetries {
+        let flip = DVec3::new(x, y, 1.0);
+        let moved = |i: u32| index[&key(swap(rest[i as usize], s) * flip)] as u32;
+        let onto = fixed
+            .model
+            .tets
+            .iter()
+            .all(|t| elements.contains(&sorted(t.map(moved))));
+        assert!(onto, "the mesh is not symmetric under ({x}, {y}, swap {s})");
+    }
+    let image = |flip: DVec3, s: bool| {
+        (0..rest.len())
+            .map(|i| {
+                let j = index[&key(swap(rest[i], s) * flip)];
+                dynamic.state.positions[i].distance(swap(fixed.state.positions[j] * flip, s))
+            })
+            .fold(0.0, f64::max)
+    };
+    let images = symmetries.map(|(x, y, s)| image(DVec3::new(x, y, 1.0), s));
     let finger = dynamic.state.fingers[0]
         .position
         .distance(fixed.state.fingers[0].position);
