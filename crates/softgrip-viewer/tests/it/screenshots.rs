@@ -200,6 +200,7 @@ fn matches_reference_quietly(name: &str, image: &RgbaImage) -> Result<(), String
 #[test]
 #[ignore = "slow: every shipped scene rendered on the software rasterizer"]
 fn shipped_scenes_match_their_references() {
+    let _alone = crate::support::one_at_a_time();
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("assets/scenes");
     let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
         .expect("assets/scenes")

@@ -5,7 +5,7 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
@@ -17,6 +17,15 @@ use softgrip_viewer::{Panels, Viewer};
 
 /// How long the solver may take to publish its first frame.
 pub const PATIENCE: Duration = Duration::from_secs(20);
+
+/// Held by the slow tests for their whole run: they start simulations, and
+/// the diagnosis test counts the process's simulations
+/// (`parallel::running`), which other tests running beside it would change.
+pub fn one_at_a_time() -> MutexGuard<'static, ()> {
+    static SLOW: Mutex<()> = Mutex::new(());
+    // A test that failed while holding it leaves nothing to clean up.
+    SLOW.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
 
 /// An empty folder of this name for this test process.
 pub fn temp_dir(name: &str) -> PathBuf {

@@ -70,6 +70,7 @@ fn is_rejected_grey([r, g, b, _]: [u8; 4]) -> bool {
 #[test]
 #[ignore = "slow: a diagnosis run from the panel"]
 fn the_diagnosis_view_shows_the_verdict_the_ranking_and_toggles_the_model() {
+    let _alone = crate::support::one_at_a_time();
     let dir = temp_dir("viewer-diagnosis");
     let path = recording(&dir);
     let d = diagnosis(&path);

@@ -380,6 +380,7 @@ fn the_scene_box_opens_a_recording_as_a_recording() {
 #[test]
 #[ignore = "slow: a fit run from the panel"]
 fn a_fit_from_the_panel_finds_the_modulus_the_recording_was_made_with() {
+    let _alone = crate::support::one_at_a_time();
     let (dir, path, mut harness) = recording_and_panels("rec-fit", Some(80e3));
     harness.state_mut().open_recording(path);
     until_replayed(&mut harness);
