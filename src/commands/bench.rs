@@ -195,9 +195,9 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
     use softgrip_lab::replay::{ReplayOptions, replay};
     println!("{}", softgrip_core::bench::machine_description());
     println!(
-        "| recording | tetrahedra | loads | static (s) | Newton iterations per load | equilibria per s | dynamic (s) | dynamic / static | NRMSE static / dynamic | static with sensitivities (s, parameters) |"
+        "| recording | tetrahedra | loads | static (s) | Newton iterations per load | equilibria per s | dynamic (s) | dynamic / static | NRMSE static / dynamic | static with sensitivities (s, parameters) | a probe at E + 5 % from E's answers (s) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for path in recordings {
         let recording = Recording::load(path)?;
         if recording.mode != Mode::QuasiStatic {
@@ -216,6 +216,30 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
             Ok((started.elapsed().as_secs_f64(), r.errors.nrmse_all))
         };
         let (static_s, static_nrmse) = timed(Settle::Static)?;
+        // A fit's probe: E 5 % up, Newton started from each load's answer at the scene's E.
+        let kept = ReplayOptions {
+            settle: Some(Settle::Static),
+            keep_states: true,
+            ..ReplayOptions::default()
+        };
+        let at_e = replay(&recording, &recording.scene, kept, |_| {})?;
+        let mut probe = recording.scene.clone();
+        probe.object.young_modulus *= 1.05;
+        let started = std::time::Instant::now();
+        softgrip_lab::replay::replay_observing(
+            &recording,
+            &probe,
+            kept,
+            Some(&at_e.states),
+            None,
+            |_| {},
+        )?;
+        let warm_s = started.elapsed().as_secs_f64();
+        let warm = if softgrip_core::model::Model::from_scene(&probe)?.path_independent() {
+            format!("{warm_s:.2}")
+        } else {
+            "n/a (path-dependent)".to_string()
+        };
         let (dynamic_s, dynamic_nrmse) = timed(Settle::Dynamic)?;
         // With the sensitivities a baseline fit's Jacobian takes, where the scene has them.
         let names: Vec<&str> = ["young_modulus", "alpha", "tau_s", "tau_c"]
@@ -230,6 +254,7 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
                 settle: Some(Settle::Static),
                 ..ReplayOptions::default()
             },
+            None,
             &names,
             |_| {},
         )?;
@@ -263,7 +288,7 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
             ),
         };
         println!(
-            "| {} | {} | {loads} | {static_s:.2} | {newton} | {:.1} | {dynamic_s:.2} | {:.1} | {static_nrmse:.4} / {dynamic_nrmse:.4} | {with} |",
+            "| {} | {} | {loads} | {static_s:.2} | {newton} | {:.1} | {dynamic_s:.2} | {:.1} | {static_nrmse:.4} / {dynamic_nrmse:.4} | {with} | {warm} |",
             path.display(),
             sim.model.tets.len(),
             loads as f64 / static_s,

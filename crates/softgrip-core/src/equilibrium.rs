@@ -44,6 +44,10 @@ pub struct StaticOptions {
     /// tighter solve does not converge in fewer iterations: 1e-5 took 2.3 times as long on the
     /// 4 mm cuboid's 7 loads to 15 N (`docs/design/equilibrium.md`).
     pub forcing: f64,
+    /// The state is a guess near the answer (another parameter point's equilibrium under the
+    /// same load, [`Simulation::equilibrium_near`]): the pseudo step starts at its largest, not
+    /// at the scene's `dt`.
+    pub warm: bool,
 }
 
 impl Default for StaticOptions {
@@ -55,6 +59,7 @@ impl Default for StaticOptions {
             move_tolerance: 1e-6,
             max_pseudo_step: 100.0,
             forcing: 0.1,
+            warm: false,
         }
     }
 }
@@ -247,6 +252,41 @@ impl Simulation {
         Err(failure)
     }
 
+    /// [`Simulation::equilibrium`] started from `positions` and `fingers` (the particles' and
+    /// fingers' positions at another parameter point's equilibrium under the present loads) at
+    /// the largest pseudo step: a fit's probes near evaluated points need a few Newton steps,
+    /// not the ramp from `dt`. `None`, with the state as it was, where the model is not
+    /// [`Model::path_independent`] (the answer would depend on the guess), the guess is for
+    /// another mesh or the solve fails: the caller takes the usual path.
+    pub fn equilibrium_near(
+        &mut self,
+        positions: &[DVec3],
+        fingers: &[DVec3],
+        options: StaticOptions,
+    ) -> Result<Option<StaticReport>, SimError> {
+        let fits = positions.len() == self.state.positions.len()
+            && fingers.len() == self.state.fingers.len();
+        if !fits || !self.model.path_independent() {
+            return Ok(None);
+        }
+        let saved = self.state.clone();
+        self.state.positions.copy_from_slice(positions);
+        for (f, &p) in self.state.fingers.iter_mut().zip(fingers) {
+            f.position = p;
+        }
+        match self.solve(StaticOptions {
+            warm: true,
+            ..options
+        }) {
+            Ok(r) => Ok(Some(r)),
+            Err(SimError::Cancelled) => Err(SimError::Cancelled),
+            Err(_) => {
+                self.state = saved;
+                Ok(None)
+            }
+        }
+    }
+
     /// Moves the state to the static equilibrium under the present loads (see the module
     /// docs). Time does not advance; velocities end at zero. A model with no equilibrium
     /// there gets [`SimError::NoEquilibrium`], with where and why.
@@ -349,7 +389,7 @@ impl Simulation {
             ..StaticReport::default()
         };
         let mut models: Vec<(f64, Arc<Model>)> = Vec::new();
-        let mut h = base.dt;
+        let mut h = if o.warm { o.max_pseudo_step } else { base.dt };
         let mut last_failure = Failure::Still(0.0);
         let cancel = crate::cancel::current();
         // The state before the last kept iteration, for spotting a cycle of two states.

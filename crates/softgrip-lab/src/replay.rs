@@ -83,7 +83,7 @@ pub fn replay(
     options: ReplayOptions,
     progress: impl FnMut(usize),
 ) -> Result<Replay, SimError> {
-    replay_observing(recording, scene, options, None, progress).map(|(r, _)| r)
+    replay_observing(recording, scene, options, None, None, progress).map(|(r, _)| r)
 }
 
 /// The derivative of each residual's simulated position (in [`Replay::residuals`]' order) by
@@ -98,10 +98,16 @@ pub type AtEquilibrium<'a> = dyn FnMut(&Simulation, &TetMesh) -> Option<Vec<Vec<
 /// `at_equilibrium` at each load's equilibrium (`crate::sensitivity::replay_with_sensitivities`
 /// gives it). `None` where one load's cannot be had (a time series, a load that came to rest
 /// dynamically, a solve that failed): the caller falls back to finite differences.
+///
+/// `warm`: each sample's state at another parameter point of the same scene (a fit's evaluated
+/// point, [`ReplayOptions::keep_states`]): a quasi-static load starts Newton from there where
+/// the model's equilibria do not depend on the path (`Model::path_independent`), and takes the
+/// usual path where that fails.
 pub fn replay_observing(
     recording: &Recording,
     scene: &Scene,
     options: ReplayOptions,
+    warm: Option<&[SampleState]>,
     mut at_equilibrium: Option<&mut AtEquilibrium>,
     mut progress: impl FnMut(usize),
 ) -> Result<(Replay, Option<MarkerSensitivities>), SimError> {
@@ -195,7 +201,16 @@ pub fn replay_observing(
             for (i, sample) in recording.samples.iter().enumerate() {
                 let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
                 set_load(&mut sim, sample.load);
-                settle(&mut sim, &from, options)?;
+                let guess = warm.and_then(|w| w.get(i));
+                let near = match (guess, options.settle) {
+                    (Some(g), Some(Settle::Static)) if !sim.has_moving_input() => sim
+                        .equilibrium_near(&g.positions, &g.fingers, options.statics)?
+                        .is_some(),
+                    _ => false,
+                };
+                if !near {
+                    settle(&mut sim, &from, options)?;
+                }
                 record(&sim, i, &mut residuals);
                 if let (Some(columns), Some(f)) = (sensitivities.as_mut(), at_equilibrium.as_mut())
                 {

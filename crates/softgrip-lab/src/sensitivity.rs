@@ -14,7 +14,7 @@ use softgrip_core::sensitivity::{ParameterStep, SensitivityOptions};
 use crate::error::LabError;
 use crate::params;
 use crate::recording::Recording;
-use crate::replay::{MarkerSensitivities, Replay, ReplayOptions, replay_observing};
+use crate::replay::{MarkerSensitivities, Replay, ReplayOptions, SampleState, replay_observing};
 use softgrip_core::error::SimError;
 
 /// The force's difference quotient steps `delta = RELATIVE_STEP |p|` (the force is smooth in
@@ -127,11 +127,12 @@ pub fn fit_sensitivity_options() -> SensitivityOptions {
 
 /// A replay with the markers' sensitivities to `names` at each load's equilibrium, solved as
 /// [`fit_sensitivity_options`] says (the stick/slip state held). `None` where they cannot be had
-/// (see [`replay_observing`]).
+/// (see [`replay_observing`], and for `warm`).
 pub fn replay_with_sensitivities(
     recording: &Recording,
     scene: &Scene,
     options: ReplayOptions,
+    warm: Option<&[SampleState]>,
     names: &[&str],
     progress: impl FnMut(usize),
 ) -> Result<(Replay, Option<MarkerSensitivities>), SimError> {
@@ -139,5 +140,5 @@ pub fn replay_with_sensitivities(
         let solved = sensitivities(scene, mesh, sim, names, fit_sensitivity_options()).ok()?;
         Some(solved.into_iter().map(|s| s.dx_dp).collect())
     };
-    replay_observing(recording, scene, options, Some(&mut at), progress)
+    replay_observing(recording, scene, options, warm, Some(&mut at), progress)
 }

@@ -215,6 +215,23 @@ pub fn spring_damping(damping_ratio: f64, stiffness: f64, m_i: f64, m_j: f64) ->
 }
 
 impl Model {
+    /// Whether an equilibrium depends only on the loads, not on the path to them: no friction
+    /// (fingers, guides, table), whose stick anchors remember the path, no spring limits, whose
+    /// projection does too, and no viscoelastic branch. Only then may a static solve start from
+    /// another solve's answer: on the 4 mm thesis cuboid to 15 N, a start from E's answers at
+    /// E + 5 % ended 99 um from the usual path's answer with friction, 57 um with the limits
+    /// alone, 0.015 um with neither (`docs/design/equilibrium.md`).
+    pub fn path_independent(&self) -> bool {
+        self.tau_s.is_none()
+            && self.tau_c.is_none()
+            && !self.spring_law.is_viscoelastic()
+            && self
+                .fingers
+                .iter()
+                .all(|f| f.friction == 0.0 && f.guide_friction == 0.0)
+            && self.table.as_ref().is_none_or(|t| t.friction == 0.0)
+    }
+
     /// Builds the model of a scene (meshes the object first).
     pub fn from_scene(scene: &Scene) -> Result<Model, SimError> {
         Model::from_mesh(scene, Model::mesh_of(scene)?)

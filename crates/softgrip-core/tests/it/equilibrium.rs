@@ -284,3 +284,60 @@ fn the_seven_thesis_loads_are_carried_to_15_n_statically() {
         deepest = depth;
     }
 }
+
+/// A fit's probe started from a nearby parameter point's answer (`equilibrium_near`) ends where
+/// the usual path from the undeformed state does, where the equilibrium depends on no path; on a
+/// model whose friction or spring limits remember the path it is not tried.
+#[test]
+fn a_probe_started_from_a_nearby_answer_ends_at_the_same_equilibrium() {
+    // The light-guide thesis cuboid, frictionless and without spring limits, at 4.17 N.
+    let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
+    scene.fingers[0].friction = 0.0;
+    scene.model.tau_s = None;
+    scene.model.tau_c = None;
+    let solved = |scene: &Scene| {
+        let mut sim = Simulation::new(scene).expect("sim");
+        let k = sim.load_finger().expect("a loaded finger");
+        sim.set_load(k, 4.17);
+        let report = sim
+            .equilibrium(StaticOptions::default())
+            .expect("equilibrium");
+        (sim, report)
+    };
+    let (at_e, _) = solved(&scene);
+    let mut probe = scene.clone();
+    probe.object.young_modulus *= 1.05;
+    let (cold, cold_report) = solved(&probe);
+    let mut warm = Simulation::new(&probe).expect("sim");
+    let k = warm.load_finger().expect("a loaded finger");
+    warm.set_load(k, 4.17);
+    let fingers: Vec<DVec3> = at_e.state.fingers.iter().map(|f| f.position).collect();
+    let report = warm
+        .equilibrium_near(&at_e.state.positions, &fingers, StaticOptions::default())
+        .expect("not cancelled")
+        .expect("a path-independent model takes the guess");
+    let d = largest_distance(&cold, &warm);
+    eprintln!(
+        "from E's answer: {report:?}; from rest: {cold_report:?}; {:.4} um apart",
+        d * 1e6
+    );
+    assert!(d < 1e-6, "the two starts end {d:e} m apart");
+    assert!(
+        report.iterations < cold_report.iterations,
+        "a start near the answer takes fewer Newton iterations ({} against {})",
+        report.iterations,
+        cold_report.iterations
+    );
+    // Moved: E's answer is no equilibrium at E + 5 %.
+    assert!(largest_distance(&at_e, &warm) > 1e-6);
+
+    // With the thesis's friction and spring limits the answer remembers its path: no guess.
+    let thesis = shipped_scene("thesis_cuboid_light_guide.toml");
+    let mut sim = Simulation::new(&thesis).expect("sim");
+    let before = sim.state.positions.clone();
+    let taken = sim
+        .equilibrium_near(&at_e.state.positions, &fingers, StaticOptions::default())
+        .expect("not cancelled");
+    assert!(taken.is_none());
+    assert_eq!(sim.state.positions, before, "the state is as it was");
+}

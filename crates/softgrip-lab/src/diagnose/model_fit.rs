@@ -3,6 +3,7 @@
 //! from a small space-filling design and Levenberg-Marquardt from its best points, reusing
 //! every replay it has run. One algorithm, kept whole.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 
 use super::noise::{Noise, weighted_residuals, weighted_rss};
@@ -14,7 +15,7 @@ use crate::fit::{FitOptions, FitParam};
 use crate::optimize::levenberg_marquardt_with;
 use crate::params;
 use crate::recording::Recording;
-use crate::replay::{Replay, ReplayOptions, replay};
+use crate::replay::{Replay, ReplayOptions, SampleState, replay_observing};
 use crate::sensitivity::replay_with_sensitivities;
 use crate::sweep::parallel_map;
 use softgrip_core::quasi_static::RestTolerance;
@@ -24,6 +25,15 @@ use softgrip_core::scene::Scene;
 /// parameter (2 % of E over its log range): large enough to stand above
 /// the rest tolerance of a quasi-static replay.
 pub const JACOBIAN_STEP: f64 = 0.01;
+
+/// Every point a fit ran (its unit-box coordinates' bits), with its weighted residuals and
+/// replay, or `None` where the replay failed.
+type Evaluated = HashMap<Vec<u64>, Option<(Vec<f64>, Replay)>>;
+
+/// A point's replay starts Newton from an evaluated point's states only within this distance
+/// in the unit box (Levenberg-Marquardt's steps, the Jacobian's own point): from farther (the
+/// design's points) it took longer than the usual path from rest.
+pub const WARM_DISTANCE: f64 = 0.05;
 
 /// Local searches at most per fit: from its best point and, where its
 /// `Search` says, from the next best (see `fit_model`).
@@ -115,21 +125,21 @@ fn fit_task(
     } = task;
     // On the default thread count: one simulation per core while a batch
     // has several, both cores for the last one left (`Simulation::set_threads`).
-    let run = |values: &[f64]| -> Result<Replay, LabError> {
+    // Each replay keeps its samples' states: the next points start Newton from the nearest
+    // one's (`replay_observing`).
+    let replay_options = ReplayOptions {
+        rest: RestTolerance::for_fits(),
+        keep_states: true,
+        ..ReplayOptions::default()
+    };
+    let run = |values: &[f64], warm: Option<&[SampleState]>| -> Result<Replay, LabError> {
         let mut s = scene.clone();
         for (p, v) in params.iter().zip(values) {
             s = params::set(&s, p.param.name, *v)?;
         }
-        replay(
-            recording,
-            &s,
-            ReplayOptions {
-                rest: RestTolerance::for_fits(),
-                ..ReplayOptions::default()
-            },
-            |_| {},
-        )
-        .map_err(LabError::from)
+        replay_observing(recording, &s, replay_options, warm, None, |_| {})
+            .map(|(r, _)| r)
+            .map_err(LabError::from)
     };
     let own: Vec<Option<f64>> = params
         .iter()
@@ -168,8 +178,26 @@ fn fit_task(
     };
     // Every point run, with its replay: the fit's best point is one of
     // them, so its replay is not run again.
-    let mut cache: HashMap<Vec<u64>, Option<(Vec<f64>, Replay)>> = HashMap::new();
+    let cache: RefCell<Evaluated> = RefCell::default();
     let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    // The states of the evaluated point nearest `u` in the unit box (ties to the smaller key,
+    // so the choice does not depend on the map's order), if within `WARM_DISTANCE`.
+    let nearest = |cache: &Evaluated, u: &[f64]| {
+        cache
+            .iter()
+            .filter_map(|(k, f)| {
+                let r = &f.as_ref()?.1;
+                let d: f64 = k
+                    .iter()
+                    .zip(u)
+                    .map(|(a, b)| (f64::from_bits(*a) - b).powi(2))
+                    .sum();
+                (r.states.len() == recording.samples.len() && d <= WARM_DISTANCE.powi(2))
+                    .then_some((d, k, r))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0).then_with(|| a.1.cmp(b.1)))
+            .map(|(_, _, r)| r.states.clone())
+    };
     // A point that is the model a fit already ran (a candidate whose
     // effect starts switched off, or the floor, on the current fit) has
     // that fit's replay.
@@ -184,7 +212,9 @@ fn fit_task(
         for u in std::iter::once(&start).chain(others.iter().map(|(u, _)| u)) {
             if at(u).is_some_and(|s| same_model(&k.scene, &s)) {
                 let r = weighted_residuals(&k.replay.residuals, noise);
-                cache.insert(key(u), Some((r, k.replay.clone())));
+                cache
+                    .borrow_mut()
+                    .insert(key(u), Some((r, k.replay.clone())));
             }
         }
     }
@@ -206,11 +236,17 @@ fn fit_task(
         for (p, v) in params.iter().zip(&values) {
             s = params::set(&s, p.param.name, *v).ok()?;
         }
-        let options = ReplayOptions {
-            rest: RestTolerance::for_fits(),
-            ..ReplayOptions::default()
-        };
-        let (replay, d) = replay_with_sensitivities(recording, &s, options, &names, |_| {}).ok()?;
+        // Usually a point just evaluated: Newton starts at its answer.
+        let warm = nearest(&cache.borrow(), u);
+        let (replay, d) = replay_with_sensitivities(
+            recording,
+            &s,
+            replay_options,
+            warm.as_deref(),
+            &names,
+            |_| {},
+        )
+        .ok()?;
         let d = d?;
         // dp/du of each parameter's scale, by a central difference of the map itself.
         let dp_du: Vec<f64> = params
@@ -243,20 +279,25 @@ fn fit_task(
         let mut evaluate = |points: &[Vec<f64>]| -> Vec<Option<Vec<f64>>> {
             let mut todo: Vec<Vec<f64>> = Vec::new();
             for u in points {
-                if !cache.contains_key(&key(u)) && !todo.contains(u) {
+                if !cache.borrow().contains_key(&key(u)) && !todo.contains(u) {
                     todo.push(u.clone());
                 }
             }
+            // Chosen among the points evaluated before this batch: the same whatever order
+            // the batch's runs end in.
+            let warm: Vec<Option<Vec<SampleState>>> =
+                todo.iter().map(|u| nearest(&cache.borrow(), u)).collect();
             let results = parallel_map(
-                &todo,
+                &todo.iter().zip(&warm).collect::<Vec<_>>(),
                 options.workers,
-                |u| {
-                    run(&value_at(u))
+                |(u, warm)| {
+                    run(&value_at(u), warm.as_deref())
                         .ok()
                         .map(|r| (weighted_residuals(&r.residuals, noise), r))
                 },
                 &|_| {},
             );
+            let mut cache = cache.borrow_mut();
             for (u, f) in todo.iter().zip(results) {
                 cache.insert(key(u), f);
             }
@@ -278,7 +319,7 @@ fn fit_task(
         let r0 = evaluate(std::slice::from_ref(&start)).remove(0);
         let f0 = cost(&r0);
         if !f0.is_finite() {
-            return Err(run(&value_at(&start))
+            return Err(run(&value_at(&start), None)
                 .err()
                 .unwrap_or(LabError::StartFailed));
         }
@@ -364,11 +405,11 @@ fn fit_task(
     };
     evaluations += jacobian_runs.get();
     let values = value_at(&best_u);
-    let replay = match cache.remove(&key(&best_u)).flatten() {
+    let replay = match cache.borrow_mut().remove(&key(&best_u)).flatten() {
         Some((_, r)) => r,
         None => {
             evaluations += 1;
-            run(&values)?
+            run(&values, None)?
         }
     };
     let (rss, n) = weighted_rss(&replay.residuals, noise);
