@@ -96,3 +96,36 @@ impl SettleMode {
         }
     }
 }
+
+/// A number that is one: NaN and infinities are refused where they are typed.
+pub fn finite(s: &str) -> Result<f64, String> {
+    let x: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number"))?;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!("{s} is not a finite number"))
+    }
+}
+
+/// A finite number above zero (a duration, a rate, a length, a tolerance).
+pub fn positive(s: &str) -> Result<f64, String> {
+    let x = finite(s)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{s}: must be greater than 0"))
+    }
+}
+
+/// A finite number, zero or above (a time to start at, a noise level).
+pub fn non_negative(s: &str) -> Result<f64, String> {
+    let x = finite(s)?;
+    if x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{s}: must be 0 or more"))
+    }
+}

@@ -10,14 +10,14 @@ use super::progress::{progress_bar, show_stages};
 #[derive(clap::Args)]
 pub struct Args {
     /// Edge lengths in mm.
-    #[arg(long, value_delimiter = ',', default_values_t = vec![4.0, 2.5, 1.6])]
+    #[arg(long, value_delimiter = ',', default_values_t = vec![4.0, 2.5, 1.6], value_parser = super::args::positive)]
     edges: Vec<f64>,
     /// Threads per simulation: 1, or 2 (a helper thread takes half the
     /// work; same results bit for bit). Default: 2 where there are two cores.
     #[arg(long, default_value_t = 0)]
     threads: usize,
     /// Simulated seconds per measurement.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::args::positive)]
     seconds: f64,
     /// Instead: the thesis scene at the first edge length with each
     /// physics option (table, stiffening, viscoelastic, regions, guide

@@ -41,6 +41,10 @@ mod view;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Tetrahedra a scene's mesh may have: an edge length that would make more is refused
+    /// before anything is built, with the count and the memory (about 530 bytes each).
+    #[arg(long, global = true, value_name = "N", default_value_t = softgrip_core::mesh::budget::DEFAULT_MAX_TETRAHEDRA)]
+    max_tetrahedra: u64,
 }
 
 // In the order `softgrip --help` lists them. A doc comment here would
@@ -69,6 +73,7 @@ enum Command {
 
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    softgrip_core::mesh::budget::set_max_tetrahedra(cli.max_tetrahedra);
     let result = match cli.command {
         #[cfg(feature = "gui")]
         None => view::open_thesis_scene(),

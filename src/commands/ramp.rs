@@ -16,13 +16,13 @@ use softgrip_core::scene::Settle;
 pub struct Args {
     scene: Option<PathBuf>,
     /// Loads in N, applied in this order (e.g. 1,2,4,9.73).
-    #[arg(long, value_delimiter = ',', required = true)]
+    #[arg(long, value_delimiter = ',', required = true, value_parser = super::args::finite)]
     loads: Vec<f64>,
     /// Simulated seconds allowed per load to come to rest.
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(long, default_value_t = 20.0, value_parser = super::args::positive)]
     max_seconds: f64,
     /// Rest: every particle and finger slower than this (m/s).
-    #[arg(long, default_value_t = 1e-5)]
+    #[arg(long, default_value_t = 1e-5, value_parser = super::args::positive)]
     rest_speed: f64,
     #[command(flatten)]
     settle: super::args::SettleArgs,

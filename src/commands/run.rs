@@ -20,10 +20,10 @@ pub struct Args {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Simulated seconds (default: the scene's [simulation] duration).
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::positive)]
     duration: Option<f64>,
     /// Frames per simulated second written with --out.
-    #[arg(long, default_value_t = DEFAULT_FPS)]
+    #[arg(long, default_value_t = DEFAULT_FPS, value_parser = super::args::positive)]
     fps: f64,
     /// With --out: also write each frame's deformed surface
     /// (surface_NNNNN.stl or .obj).
@@ -47,6 +47,11 @@ pub fn without_viewer() -> Result<()> {
     })
 }
 
+/// Time steps a `run` may take (hours of wall time on the built-in scene).
+const MAX_STEPS: f64 = 1e7;
+/// Frames a `run --out` may write.
+const MAX_FRAMES: f64 = 1e5;
+
 pub fn run(args: Args) -> Result<()> {
     let (scene_path, out) = (args.scene.as_deref(), args.out.as_deref());
     let (duration, fps, surface) = (args.duration, args.fps, args.surface);
@@ -65,7 +70,21 @@ pub fn run(args: Args) -> Result<()> {
         sim.model.dt,
         duration
     );
-    let steps = (duration / sim.model.dt).round() as u64;
+    // A run of years or of a million frames is a typo, not a job: say so before it fills the disk.
+    let steps = duration / sim.model.dt;
+    anyhow::ensure!(
+        steps <= MAX_STEPS,
+        "{duration} s to simulate is {steps:.1e} steps of dt = {} s, more than {MAX_STEPS:.0e}: give a shorter --duration (or the scene's [simulation] duration)",
+        sim.model.dt
+    );
+    if out.is_some() {
+        let frames = duration * fps.min(1.0 / sim.model.dt);
+        anyhow::ensure!(
+            frames <= MAX_FRAMES,
+            "--out would write {frames:.0} frames ({duration} s at {fps} frames/s), more than {MAX_FRAMES:.0}: give a lower --fps or a shorter --duration"
+        );
+    }
+    let steps = steps.round() as u64;
     let frame_every = ((1.0 / fps.max(1e-9)) / sim.model.dt).round().max(1.0) as u64;
     let mut writer = match out {
         Some(dir) => {

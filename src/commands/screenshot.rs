@@ -15,7 +15,7 @@ pub struct Args {
     /// Scene file (.toml); omit for the built-in thesis scene.
     scene: Option<PathBuf>,
     /// Simulated time of the picture (s).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::args::non_negative)]
     at: f64,
     /// The PNG to write.
     #[arg(long)]

@@ -15,7 +15,7 @@ pub struct Args {
     scene: Option<PathBuf>,
     /// Loads in N, one quasi-static sample each (along the first
     /// force-controlled finger's `force` direction).
-    #[arg(long, value_delimiter = ',', required = true)]
+    #[arg(long, value_delimiter = ',', required = true, value_parser = super::args::finite)]
     loads: Vec<f64>,
     /// Object markers NAME=X,Y,Z on the undeformed surface (m);
     /// default for a cuboid: 9 on the top face and 5 along the front.
@@ -25,7 +25,7 @@ pub struct Args {
     #[arg(long, default_value = "xyz")]
     axes: String,
     /// Standard deviation of the noise on each coordinate (m).
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(long, default_value_t = 1e-4, value_parser = super::args::non_negative)]
     noise: f64,
     #[arg(long, default_value_t = 1)]
     seed: u64,

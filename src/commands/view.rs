@@ -14,12 +14,12 @@ use super::load::load_scene;
 pub struct Args {
     scene: Option<PathBuf>,
     /// Override the scene's tetrahedron edge length (m).
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::positive)]
     edge_length: Option<f64>,
     /// Benchmark: run this many seconds with the solver playing as fast
     /// as it goes and the view redrawn continuously, print the UI frame
     /// times and close (docs/results/benchmarks.md).
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::positive)]
     measure: Option<f64>,
     /// With --measure: keep the solver paused, for comparison.
     #[arg(long)]

@@ -1,6 +1,7 @@
 //! The integration tests, one binary: one module per subject.
 
 mod cli;
+mod hostile;
 mod output_files;
 mod screenshot_command;
 mod support;

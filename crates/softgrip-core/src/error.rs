@@ -35,6 +35,22 @@ pub enum SimError {
         limit_mm: f64,
     },
 
+    #[error(
+        "{file}: edge_length = {edge_length:e} m makes {count} tetrahedra of this {shape} (about {gib} GiB), over the limit of {limit}: set edge_length = {suggest_edge:e} or larger in [object], or raise the limit with `softgrip --max-tetrahedra N`"
+    )]
+    TooManyTetrahedra {
+        file: String,
+        shape: String,
+        edge_length: f64,
+        /// The count in words ("37,324,800", "at least 2.1e9"): a tiny edge gives counts past u64.
+        count: String,
+        /// The memory they would take, in words.
+        gib: String,
+        /// The limit, in words.
+        limit: String,
+        suggest_edge: f64,
+    },
+
     #[error("not supported yet: {what}")]
     NotSupported { what: String },
 

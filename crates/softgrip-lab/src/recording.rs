@@ -142,6 +142,12 @@ impl Recording {
             file: file.clone(),
             message,
         };
+        let table = text.parse::<toml::Table>().ok();
+        if table.is_some_and(|t| t.contains_key("object") && !t.contains_key("samples")) {
+            return Err(header(
+                "this is a scene (it has [object]), not a recording: give the recording.toml that names it (scene = \"...\", samples = \"...\", mode = ...; docs/recordings.md), or run the scene with `softgrip run`".into(),
+            ));
+        }
         let raw: RawRecording = toml::from_str(&text)
             .map_err(|e| header(softgrip_core::scene::describe_toml_error(&text, &e)))?;
         let dir = path.parent().unwrap_or(Path::new("."));
@@ -222,6 +228,18 @@ impl Recording {
             &markers,
             scene.fingers.len(),
         )?;
+        // Hours of simulated time are a unit slip (ms for s), not a lab's recording.
+        let last = samples.iter().filter_map(|s| s.time).fold(0.0, f64::max);
+        let steps = last / scene.simulation.dt;
+        if steps > MAX_STEPS {
+            return Err(RecordingError::Header {
+                file: samples_path.display().to_string(),
+                message: format!(
+                    "the last sample is at t = {last} s: {steps:.1e} steps of the scene's dt = {} s, more than {MAX_STEPS:.0e}; times are in seconds (a time in ms must be divided by 1000)",
+                    scene.simulation.dt
+                ),
+            });
+        }
         Ok(Recording {
             source: path.to_path_buf(),
             scene,
@@ -246,6 +264,9 @@ impl Recording {
 }
 
 /// Parses the samples CSV (see the module docs).
+/// Time steps a time series may need at its scene's `dt` to reach its last sample.
+pub const MAX_STEPS: f64 = 1e7;
+
 pub fn parse_samples(
     text: &str,
     file: &str,
@@ -308,6 +329,18 @@ pub fn parse_samples(
             continue;
         }
         let cells: Vec<&str> = row.split(',').map(str::trim).collect();
+        // A short row would read as axes "not observed": say so instead.
+        if cells.len() != columns.len() {
+            return Err(err(
+                line,
+                format!(
+                    "{} cells, but the header has {} ({}): an axis not observed is an empty cell between commas, e.g. `,1.39,t0_0,0.01,,0.02`",
+                    cells.len(),
+                    columns.len(),
+                    columns.join(",")
+                ),
+            ));
+        }
         let cell = |i: usize| cells.get(i).copied().unwrap_or("");
         let number = |i: usize, what: &str| -> Result<Option<f64>, RecordingError> {
             let c = cell(i);
@@ -328,6 +361,12 @@ pub fn parse_samples(
                 return Err(err(
                     line,
                     "time is empty: required in time-series mode (s)".into(),
+                ));
+            }
+            (Mode::TimeSeries, Some(t)) if t < 0.0 => {
+                return Err(err(
+                    line,
+                    format!("time {t} s is before the start: times count from 0 s"),
                 ));
             }
             (Mode::QuasiStatic, Some(_)) => {

@@ -21,12 +21,7 @@ const KUHN: [[usize; 4]; 6] = [
 /// Cells along an axis of length `len` for a target edge `h`; `even` keeps the
 /// count even so the mirrored subdivision is symmetric about the centre.
 fn cell_count(len: f64, h: f64, even: bool) -> usize {
-    let r = len / h;
-    if even {
-        (2.0 * (r / 2.0).round()).max(2.0) as usize
-    } else {
-        r.round().max(1.0) as usize
-    }
+    super::budget::cells(len, h, even) as usize
 }
 
 /// Pushes `tet` wound positively.

@@ -4,6 +4,7 @@
 //! `(b - a) · ((c - a) × (d - a)) > 0`. Every mesh handed to the model is
 //! checked for it ([`TetMesh::validate`]).
 
+pub mod budget;
 mod builtin;
 pub mod checks;
 pub mod io;

@@ -237,6 +237,64 @@ impl Model {
         Model::from_mesh(scene, Model::mesh_of(scene)?)
     }
 
+    /// Refuses a scene whose edge length would make more tetrahedra than the limit
+    /// ([`crate::mesh::budget`]), counted before anything is built. A volume mesh file is as
+    /// large as it is; a surface is counted by the fewest tetrahedra TetGen could fill it with.
+    pub fn check_budget(scene: &Scene) -> Result<(), SimError> {
+        use crate::mesh::budget;
+        let h = scene.object.edge_length;
+        let (shape, count, refusal) = match &scene.object.shape {
+            Shape::Cuboid { size } => {
+                let at = |h: f64| budget::cuboid_tetrahedra(*size, h);
+                let what = format!(
+                    "{} x {} x {} mm cuboid",
+                    1e3 * size.x,
+                    1e3 * size.y,
+                    1e3 * size.z
+                );
+                (what, at(h), budget::refusal(at(h), h, at))
+            }
+            Shape::Cylinder { radius, height } => {
+                let at = |h: f64| budget::cylinder_tetrahedra(*radius, *height, h);
+                let what = format!(
+                    "cylinder of radius {} mm, {} mm tall",
+                    1e3 * radius,
+                    1e3 * height
+                );
+                (what, at(h), budget::refusal(at(h), h, at))
+            }
+            Shape::Mesh { path, scale, .. } if crate::mesh::io::is_surface(path) => {
+                let volume = crate::mesh::io::read_surface(path)?.volume() * scale.powi(3);
+                let at = |h: f64| budget::tetgen_tetrahedra_at_least(volume, h);
+                let what = format!("surface ({})", path.display());
+                (what, at(h), budget::refusal(at(h), h, at))
+            }
+            Shape::Mesh { .. } => return Ok(()),
+        };
+        let Some(r) = refusal else { return Ok(()) };
+        let count = match &scene.object.shape {
+            Shape::Mesh { .. } => format!("at least {count:.2e}"),
+            _ if count < 1e15 => thousands(count as u64),
+            _ => format!("{count:.2e}"),
+        };
+        Err(SimError::TooManyTetrahedra {
+            file: scene
+                .source
+                .as_ref()
+                .map_or("the scene".into(), |p| p.display().to_string()),
+            shape,
+            edge_length: h,
+            count,
+            gib: match r.gib {
+                g if g < 100.0 => format!("{g:.1}"),
+                g if g < 1e15 => thousands(g.round() as u64),
+                g => format!("{g:.1e}"),
+            },
+            limit: thousands(r.limit),
+            suggest_edge: r.edge,
+        })
+    }
+
     /// The mesh a scene's object is made of.
     pub fn mesh_of(scene: &Scene) -> Result<TetMesh, SimError> {
         Model::load_mesh(scene).map(|(mesh, _)| mesh)
@@ -245,6 +303,7 @@ impl Model {
     /// The mesh of `scene` and what loading it changed or noticed (a mesh
     /// file's skipped cells, reordered tetrahedra, merged nodes...).
     pub fn load_mesh(scene: &Scene) -> Result<(TetMesh, Vec<String>), SimError> {
+        Model::check_budget(scene)?;
         Ok(match &scene.object.shape {
             Shape::Cuboid { size } => (TetMesh::cuboid(*size, scene.object.edge_length), vec![]),
             Shape::Cylinder { radius, height } => (
@@ -646,4 +705,17 @@ impl Model {
     pub fn total_mass(&self) -> f64 {
         self.mass.iter().sum()
     }
+}
+
+/// `n` with thousands separated by commas.
+fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
 }

@@ -1,0 +1,170 @@
+//! The hostile corpus (`tests/hostile/`): inputs a careless or unlucky user gives, each run
+//! through the binary under a memory limit and a time limit. Every one must end with the exit
+//! code its case says, a message naming the file (or argument) and the problem, no panic, no
+//! abort, and no NaN printed. `tests/hostile/README.md` says how to add a case.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Address space each input may use: an input that needs more is a defect (issue: runaway
+/// memory). `ulimit -v` counts reserved, not touched, memory, which threads' stacks inflate.
+const MEMORY_KIB: u64 = 2 * 1024 * 1024;
+
+/// How long one input may take (an optimised test build).
+const TIME_LIMIT: Duration = Duration::from_secs(60);
+
+fn corpus() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hostile")
+}
+
+struct Case {
+    name: String,
+    args: Vec<String>,
+    exit: i32,
+    says: Vec<String>,
+}
+
+fn cases() -> Vec<Case> {
+    let path = corpus().join("cases.toml");
+    let text = std::fs::read_to_string(&path).expect("tests/hostile/cases.toml");
+    let table: toml::Table = text.parse().expect("cases.toml is TOML");
+    let dir = corpus().join("files");
+    let strings = |v: &toml::Value| -> Vec<String> {
+        v.as_array()
+            .expect("a list of strings")
+            .iter()
+            .map(|s| {
+                s.as_str()
+                    .expect("a string")
+                    .replace("{files}", dir.to_str().expect("UTF-8 path"))
+                    .replace("{repo}", env!("CARGO_MANIFEST_DIR"))
+            })
+            .collect()
+    };
+    table["case"]
+        .as_array()
+        .expect("[[case]] entries")
+        .iter()
+        .map(|c| Case {
+            name: c["name"].as_str().expect("name").to_string(),
+            args: strings(&c["args"]),
+            exit: c["exit"].as_integer().expect("exit") as i32,
+            says: c.get("says").map(&strings).unwrap_or_default(),
+        })
+        .collect()
+}
+
+/// What one input did.
+struct Ran {
+    /// `None`: killed, by a signal or at the time limit.
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+    took: Duration,
+}
+
+/// Runs the binary with `args` in `cwd` under the memory limit.
+fn run(args: &[String], cwd: &Path) -> Ran {
+    let mut command = Command::new("sh");
+    command
+        .arg("-c")
+        .arg(format!("ulimit -v {MEMORY_KIB}; exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_softgrip"))
+        .args(args)
+        .current_dir(cwd)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let started = Instant::now();
+    let mut child = command.spawn().expect("sh runs");
+    // Read both streams beside the wait, so that a talkative input cannot block on a full pipe.
+    let out = child.stdout.take().expect("stdout");
+    let err = child.stderr.take().expect("stderr");
+    let read = |mut from: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut text = Vec::new();
+            let _ = from.read_to_end(&mut text);
+            String::from_utf8_lossy(&text).into_owned()
+        })
+    };
+    let (out, err) = (read(Box::new(out)), read(Box::new(err)));
+    let code = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status.code();
+        }
+        if started.elapsed() > TIME_LIMIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Ran {
+        code,
+        stdout: out.join().expect("stdout"),
+        stderr: err.join().expect("stderr"),
+        took: started.elapsed(),
+    }
+}
+
+/// "NaN" or "nan" as a word: a number that is not one.
+fn has_nan(text: &str) -> bool {
+    text.split(|c: char| !c.is_ascii_alphanumeric())
+        .any(|w| w.eq_ignore_ascii_case("nan"))
+}
+
+#[test]
+fn no_hostile_input_crashes_hangs_or_answers_silently() {
+    let cases = cases();
+    assert!(cases.len() >= 60, "the corpus has {} cases", cases.len());
+    let cwd = crate::support::scratch_dir("softgrip-hostile");
+    let mut failures = Vec::new();
+    for case in &cases {
+        let ran = run(&case.args, &cwd);
+        let (code, text) = (ran.code, format!("{}{}", ran.stdout, ran.stderr));
+        eprintln!(
+            "{}: exit {code:?} in {:.1} s",
+            case.name,
+            ran.took.as_secs_f64()
+        );
+        let mut wrong = Vec::new();
+        match code {
+            None => wrong.push(format!("killed (time limit {TIME_LIMIT:?} or a signal)")),
+            Some(101) => wrong.push("panicked".to_string()),
+            Some(c) if c != case.exit => wrong.push(format!("exit {c}, not {}", case.exit)),
+            Some(_) => {}
+        }
+        for s in &case.says {
+            if !text.contains(s.as_str()) {
+                wrong.push(format!("does not say {s:?}"));
+            }
+        }
+        // A message may quote the NaN a user typed; a result may not be one.
+        if has_nan(&ran.stdout) {
+            wrong.push("prints NaN".to_string());
+        }
+        if text.contains("panicked") || text.contains("memory allocation of") {
+            wrong.push("panics or aborts".to_string());
+        }
+        if !wrong.is_empty() {
+            failures.push(format!(
+                "{} ({}): {}\n--- output ---\n{}",
+                case.name,
+                case.args.join(" "),
+                wrong.join("; "),
+                text.chars().take(2000).collect::<String>()
+            ));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&cwd);
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn nan_is_spotted_as_a_word_only() {
+    assert!(has_nan("E = NaN Pa"));
+    assert!(has_nan("t,x\n0.1,nan\n"));
+    assert!(!has_nan("nano-indentation, Nancy"));
+}
