@@ -10,7 +10,7 @@
 //! without changing its slope); E is its slope.
 
 use crate::recording::{MarkerRef, Mode, Recording};
-use softgrip_core::scene::Shape;
+use softgrip_core::scene::{FingerShape, Shape};
 
 /// How far (relative) a segment's slope may leave the fitted line before
 /// the curve is no longer taken as linear.
@@ -51,6 +51,62 @@ pub enum ModulusError {
     UnknownGeometry(String),
     #[error("{0}: fewer than 2 load levels with positive strain; nothing to fit")]
     TooFew(String),
+    #[error("{0}: not a flat-plate compression: {1}")]
+    NotCompression(String, String),
+}
+
+/// Why `r` is not what modulus measures (a plate pressed down onto the object's top with
+/// rising positive loads), or `None`. Stress `F / A` and strain `dl / l0` mean nothing for an
+/// indentation or a pull: E = 9.3 kPa came out of a sphere indentation of 57.6 kPa silicone.
+fn not_a_compression(r: &Recording, area: f64) -> Option<String> {
+    let Some(finger) = r.scene.fingers.first() else {
+        return Some("the scene has no finger (the plate)".into());
+    };
+    let other = "fit E to it with `softgrip fit RECORDING --params young_modulus`, which simulates the finger as it is";
+    match finger.shape {
+        FingerShape::Plate { half_size } => {
+            let plate = 4.0 * half_size[0] * half_size[1];
+            if plate < 0.99 * area {
+                return Some(format!(
+                    "the plate ({:.1} x {:.1} mm) is smaller than the object's top ({:.0} mm^2), so the stress is not F / A; {other}",
+                    2e3 * half_size[0],
+                    2e3 * half_size[1],
+                    1e6 * area
+                ));
+            }
+        }
+        FingerShape::Sphere { radius } => {
+            return Some(format!(
+                "finger 1 is a sphere of radius {:.1} mm (an indentation); {other}",
+                1e3 * radius
+            ));
+        }
+        FingerShape::Box { .. } => {
+            return Some(format!("finger 1 is a box, not a plate; {other}"));
+        }
+    }
+    if !(finger.force.z < 0.0 && finger.force.x == 0.0 && finger.force.y == 0.0) {
+        return Some(format!(
+            "the plate's force = {:?} is not straight down (-z), the direction its travel is read in",
+            finger.force.to_array()
+        ));
+    }
+    if let Some((i, s)) = r.samples.iter().enumerate().find(|(_, s)| s.load < 0.0) {
+        return Some(format!(
+            "sample {} has load {} N: a compression's loads are positive (N along the plate's force)",
+            i + 1,
+            s.load
+        ));
+    }
+    if let Some(i) = (1..r.samples.len()).find(|&i| r.samples[i].load < r.samples[i - 1].load) {
+        return Some(format!(
+            "the load falls at sample {} ({} N after {} N): modulus reads a loading curve; give the loading part only",
+            i + 1,
+            r.samples[i].load,
+            r.samples[i - 1].load
+        ));
+    }
+    None
 }
 
 /// Least-squares line `y = a + b x`: (b, a, r^2).
@@ -133,6 +189,9 @@ pub fn from_recording(r: &Recording) -> Result<ModulusFit, ModulusError> {
         Shape::Cuboid { size } => (size.x * size.y, size.z),
         Shape::Mesh { .. } => return Err(ModulusError::UnknownGeometry(name)),
     };
+    if let Some(why) = not_a_compression(r, area) {
+        return Err(ModulusError::NotCompression(name, why));
+    }
     let z0 = r
         .scene
         .fingers
