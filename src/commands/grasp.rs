@@ -14,6 +14,8 @@ use super::progress::progress_bar;
 /// squeeze, lift after their start_time and hold; says whether friction
 /// held the object and how far it slid, and with --boundary bisects the
 /// least finger friction that holds it, against the force balance.
+/// Exit code: 0 held, 3 slipping (off the table, slid past --slip-bound), 4 dropped (on the
+/// table); with --boundary too, for the scene's own friction.
 #[derive(clap::Args)]
 pub struct Args {
     scene: PathBuf,
@@ -115,5 +117,15 @@ pub fn run(args: Args) -> Result<()> {
         });
         write_json_line(path, &value)?;
     }
-    Ok(())
+    // Scripts tell the three apart without parsing the text.
+    match (run.held, run.off_table) {
+        (true, _) => Ok(()),
+        (false, true) => Err(super::Outcome(SLIPPING).into()),
+        (false, false) => Err(super::Outcome(DROPPED).into()),
+    }
 }
+
+/// The exit code of a lift that is still off the table but slid past the bound ...
+pub const SLIPPING: u8 = 3;
+/// ... and of one that ended on the table.
+pub const DROPPED: u8 = 4;
