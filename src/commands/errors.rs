@@ -16,3 +16,16 @@ pub fn error_text(e: &anyhow::Error) -> String {
     }
     text
 }
+
+/// A command's answer told by its exit code as well as its output (codes 3 and up: 1 is an
+/// error, 2 a command line clap cannot parse). Printed already; nothing more is said.
+#[derive(Debug)]
+pub struct Outcome(pub u8);
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "exit code {}", self.0)
+    }
+}
+
+impl std::error::Error for Outcome {}

@@ -120,8 +120,8 @@ pub fn run(args: Args) -> Result<()> {
     // Scripts tell the three apart without parsing the text.
     match (run.held, run.off_table) {
         (true, _) => Ok(()),
-        (false, true) => Err(super::Outcome(SLIPPING).into()),
-        (false, false) => Err(super::Outcome(DROPPED).into()),
+        (false, true) => Err(super::errors::Outcome(SLIPPING).into()),
+        (false, false) => Err(super::errors::Outcome(DROPPED).into()),
     }
 }
 

@@ -71,19 +71,6 @@ enum Command {
     Bench(bench::Args),
 }
 
-/// A command's answer told by its exit code as well as its output (codes 3 and up: 1 is an
-/// error, 2 a command line clap cannot parse). Printed already; nothing more is said.
-#[derive(Debug)]
-pub struct Outcome(pub u8);
-
-impl std::fmt::Display for Outcome {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "exit code {}", self.0)
-    }
-}
-
-impl std::error::Error for Outcome {}
-
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     softgrip_core::mesh::budget::set_max_tetrahedra(cli.max_tetrahedra);
@@ -114,8 +101,8 @@ pub fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         // An answer already printed whose exit code carries it (`grasp`: slipping, dropped).
-        Err(e) if e.downcast_ref::<Outcome>().is_some() => {
-            ExitCode::from(e.downcast_ref::<Outcome>().map_or(1, |o| o.0))
+        Err(e) if e.downcast_ref::<errors::Outcome>().is_some() => {
+            ExitCode::from(e.downcast_ref::<errors::Outcome>().map_or(1, |o| o.0))
         }
         Err(e) => {
             eprintln!("error: {}", errors::error_text(&e));

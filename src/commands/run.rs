@@ -29,6 +29,11 @@ pub struct Args {
     /// (surface_NNNNN.stl or .obj).
     #[arg(long, value_enum)]
     surface: Option<softgrip_core::output::surface::SurfaceFormat>,
+    /// Fail (exit 1) when a physical check finds the result unphysical (a finger through the
+    /// object, a load not carried, spring limits not held, energy gained, elements inside
+    /// out); without it they are warnings.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// `softgrip` alone when built without the viewer: the built-in thesis
@@ -44,6 +49,7 @@ pub fn without_viewer() -> Result<()> {
         duration: None,
         fps: DEFAULT_FPS,
         surface: None,
+        strict: false,
     })
 }
 
@@ -97,8 +103,13 @@ pub fn run(args: Args) -> Result<()> {
     };
     let bar = progress_bar(steps, "steps");
     let mut cg_total = 0u64;
+    let mut watch = softgrip_core::watch::Watch::new();
     for i in 0..steps {
-        if let Err(e) = sim.step() {
+        let stepped = sim.step();
+        if stepped.is_ok() {
+            watch.step(&sim.model, &sim.state);
+        }
+        if let Err(e) = stepped {
             bar.finish_and_clear();
             // Keep what was computed: the frames so far and the state that failed.
             if let Some(mut w) = writer.take() {
@@ -154,6 +165,11 @@ pub fn run(args: Args) -> Result<()> {
         "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J; top particle speed {:.1e} m/s",
         st.volume_error, st.contacts, st.limit_violation, st.energy, st.max_speed
     );
+    let mut warnings: Vec<String> = watch
+        .finish(&sim.model, &sim.state)
+        .iter()
+        .map(|f| f.message.clone())
+        .collect();
     let inverted = sim.state.inverted_elements(&sim.model);
     if inverted > 0 {
         let remedy = if scene.model.bulk_modulus == 0.0 {
@@ -164,10 +180,13 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             "Lower the load, refine the mesh, or raise [model] bulk_modulus".to_string()
         };
-        println!(
-            "warning: {inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see docs/results/accuracy.md, \"Large loads\"). {remedy}",
+        warnings.push(format!(
+            "{inverted} of {} elements are inside out: the spring lattice has collapsed under this load and the result is not physical (see docs/results/accuracy.md, \"Large loads\"). {remedy}",
             sim.model.tets.len(),
-        );
+        ));
+    }
+    for w in &warnings {
+        println!("warning: {w}");
     }
     println!(
         "solver: {:.1} CG iterations per step on average, last residual {:.2e}",
@@ -178,5 +197,10 @@ pub fn run(args: Args) -> Result<()> {
         let pvd = w.finish()?;
         println!("wrote {} (open in ParaView) and fingers.csv", pvd.display());
     }
+    anyhow::ensure!(
+        !args.strict || warnings.is_empty(),
+        "--strict: {} physical check(s) failed (the warnings above)",
+        warnings.len()
+    );
     Ok(())
 }

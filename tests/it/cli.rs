@@ -524,9 +524,19 @@ fn grasp_says_whether_friction_held_the_object() {
     // Fingers' friction 0.05, a third of the force balance's 0.14: dropped, and the exit code
     // says so (4), not success.
     let text = std::fs::read_to_string(scene("grasp_lift.toml")).expect("the scene");
-    let slippery = text.replace("travel = 0.02                   # for 2 cm, then held\nfriction = 0.5", "travel = 0.02\nfriction = 0.05");
-    let slippery = slippery.replace("travel = 0.02\nfriction = 0.5", "travel = 0.02\nfriction = 0.05");
-    assert_eq!(slippery.matches("friction = 0.05").count(), 2, "both fingers changed");
+    let slippery = text.replace(
+        "travel = 0.02                   # for 2 cm, then held\nfriction = 0.5",
+        "travel = 0.02\nfriction = 0.05",
+    );
+    let slippery = slippery.replace(
+        "travel = 0.02\nfriction = 0.5",
+        "travel = 0.02\nfriction = 0.05",
+    );
+    assert_eq!(
+        slippery.matches("friction = 0.05").count(),
+        2,
+        "both fingers changed"
+    );
     let path = write_file(&dir, "slippery.toml", &slippery);
     let o = softgrip(&["grasp", arg(&path)]);
     let text = stdout(&o);

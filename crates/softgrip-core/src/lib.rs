@@ -32,6 +32,7 @@ pub mod sensitivity;
 pub mod solver;
 pub mod state;
 pub mod step;
+pub mod watch;
 
 pub use error::SimError;
 pub use model::Model;
