@@ -74,7 +74,20 @@ pub fn run(args: Args) -> Result<()> {
                     .collect::<Result<_, _>>()
                     .map_err(|_| bad())?;
                 anyhow::ensure!(v.len() == 3 && v.iter().all(|x| x.is_finite()), bad());
-                Ok((name.trim().to_string(), glam::DVec3::new(v[0], v[1], v[2])))
+                let name = name.trim();
+                // The name is a key of the recording's [markers] table and a CSV cell.
+                anyhow::ensure!(
+                    !name.is_empty()
+                        && name
+                            .chars()
+                            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-'),
+                    "--marker {m:?}: a marker name is letters, digits, _ and - (it is a key of the recording's [markers]), e.g. top_1=0,0,0.02"
+                );
+                anyhow::ensure!(
+                    softgrip_lab::recording::finger_marker(name).is_none(),
+                    "--marker {m:?}: {name} names a finger's centre, which the recording has already; choose another name"
+                );
+                Ok((name.to_string(), glam::DVec3::new(v[0], v[1], v[2])))
             })
             .collect::<Result<Vec<_>>>()?
     };

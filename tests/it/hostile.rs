@@ -12,6 +12,9 @@ use std::time::{Duration, Instant};
 /// memory). `ulimit -v` counts reserved, not touched, memory, which threads' stacks inflate.
 const MEMORY_KIB: u64 = 2 * 1024 * 1024;
 
+/// The most an error message may print.
+const MESSAGE_BYTES: usize = 4096;
+
 /// How long one input may take (an optimised test build).
 const TIME_LIMIT: Duration = Duration::from_secs(60);
 
@@ -54,6 +57,24 @@ fn cases() -> Vec<Case> {
             says: c.get("says").map(&strings).unwrap_or_default(),
         })
         .collect()
+}
+
+/// Writes the corpus's `[[generated]]` files (too large to keep in git) into `dir`: `start`,
+/// then `repeat` `count` times, then `end`.
+fn generate(dir: &Path) {
+    let text = std::fs::read_to_string(corpus().join("cases.toml")).expect("cases.toml");
+    let table: toml::Table = text.parse().expect("cases.toml is TOML");
+    for g in table
+        .get("generated")
+        .and_then(|g| g.as_array())
+        .into_iter()
+        .flatten()
+    {
+        let s = |k: &str| g[k].as_str().expect("a string").to_string();
+        let count = g["count"].as_integer().expect("count") as usize;
+        let body = format!("{}{}{}", s("start"), s("repeat").repeat(count), s("end"));
+        std::fs::write(dir.join(s("file")), body).expect("a generated file");
+    }
 }
 
 /// What one input did.
@@ -120,6 +141,7 @@ fn no_hostile_input_crashes_hangs_or_answers_silently() {
     let cases = cases();
     assert!(cases.len() >= 60, "the corpus has {} cases", cases.len());
     let cwd = crate::support::scratch_dir("softgrip-hostile");
+    generate(&cwd);
     let mut failures = Vec::new();
     for case in &cases {
         let ran = run(&case.args, &cwd);
@@ -144,6 +166,10 @@ fn no_hostile_input_crashes_hangs_or_answers_silently() {
         // A message may quote the NaN a user typed; a result may not be one.
         if has_nan(&ran.stdout) {
             wrong.push("prints NaN".to_string());
+        }
+        // A message, not a dump (a damaged zlib block once printed 6.5 KB of zeros).
+        if ran.stderr.len() > MESSAGE_BYTES {
+            wrong.push(format!("{} bytes on stderr", ran.stderr.len()));
         }
         if text.contains("panicked") || text.contains("memory allocation of") {
             wrong.push("panics or aborts".to_string());

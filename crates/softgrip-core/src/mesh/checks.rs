@@ -31,14 +31,7 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
     if mesh.tets.is_empty() {
         return Err(MeshError::Empty);
     }
-    for (i, p) in mesh.nodes.iter().enumerate() {
-        if !p.is_finite() {
-            return Err(MeshError::NonFinite {
-                node: i,
-                position: p.to_array(),
-            });
-        }
-    }
+    super::check_nodes(&mesh.nodes)?;
     for (t, tet) in mesh.tets.iter().enumerate() {
         for &n in tet {
             if n as usize >= mesh.nodes.len() {

@@ -44,6 +44,10 @@ pub enum MeshError {
     #[error("node {node} has a non-finite coordinate {position:?}")]
     NonFinite { node: usize, position: [f64; 3] },
     #[error(
+        "node {node} (counting from 0 in the file's order) is at ({:e}, {:e}, {:e}): beyond {MAX_COORDINATE:e} in the file's units, a typo or a damaged number; fix that node's coordinates", position[0], position[1], position[2]
+    )]
+    FarAway { node: usize, position: [f64; 3] },
+    #[error(
         "tetrahedron {tet} is inverted or degenerate (signed volume {volume:.3e} m^3 near ({x:.4}, {y:.4}, {z:.4})): reorder its nodes or fix the mesh"
     )]
     Inverted {
@@ -126,14 +130,7 @@ impl TetMesh {
         if self.tets.is_empty() {
             return Err(MeshError::Empty);
         }
-        for (i, p) in self.nodes.iter().enumerate() {
-            if !p.is_finite() {
-                return Err(MeshError::NonFinite {
-                    node: i,
-                    position: p.to_array(),
-                });
-            }
-        }
+        check_nodes(&self.nodes)?;
         for (t, tet) in self.tets.iter().enumerate() {
             for &n in tet {
                 if n as usize >= self.nodes.len() {
@@ -246,4 +243,27 @@ impl std::fmt::Display for MeshStats {
             self.worst_quality
         )
     }
+}
+
+/// Coordinates past this (in any unit: a kilometre in micrometres) are a damaged number: a
+/// node at 1e300 once read as "tetrahedron 0 degenerate near (0, 0, 0)".
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// Every node finite and within [`MAX_COORDINATE`], checked before any volume is computed.
+pub(crate) fn check_nodes(nodes: &[DVec3]) -> Result<(), MeshError> {
+    for (i, p) in nodes.iter().enumerate() {
+        if !p.is_finite() {
+            return Err(MeshError::NonFinite {
+                node: i,
+                position: p.to_array(),
+            });
+        }
+        if p.abs().max_element() > MAX_COORDINATE {
+            return Err(MeshError::FarAway {
+                node: i,
+                position: p.to_array(),
+            });
+        }
+    }
+    Ok(())
 }

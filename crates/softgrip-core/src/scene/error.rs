@@ -33,6 +33,11 @@ pub fn describe_toml_error(text: &str, e: &toml::de::Error) -> String {
         .map(|span| {
             let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
             let source = text.lines().nth(line - 1).unwrap_or("").trim();
+            // A line is quoted to show where, not echoed whole (a one-line 50 MB file).
+            let source: String = match source.char_indices().nth(120) {
+                Some((cut, _)) => format!("{}...", &source[..cut]),
+                None => source.to_string(),
+            };
             format!("line {line} `{source}`: ")
         })
         .unwrap_or_default();

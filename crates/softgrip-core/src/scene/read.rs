@@ -21,9 +21,33 @@ impl Scene {
 
     /// Reads and resolves a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        let file = path.display().to_string();
+        let read_err = |source| SceneError::Read {
             path: path.to_path_buf(),
             source,
+        };
+        // A scene is a few KB of TOML: a huge file is the wrong file, not one to read whole.
+        let size = std::fs::metadata(path).map_err(read_err)?.len();
+        if size > MAX_SCENE_BYTES {
+            return Err(SceneError::Invalid {
+                file,
+                message: format!(
+                    "{:.1} MB: a scene is a few KB of TOML (at most {} MB); is this the right file?",
+                    size as f64 / 1e6,
+                    MAX_SCENE_BYTES / 1_000_000
+                ),
+            });
+        }
+        let bytes = std::fs::read(path).map_err(read_err)?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let line = e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+            SceneError::Syntax {
+                file: file.clone(),
+                message: format!(
+                    "line {line}: not UTF-8 text (byte {at}): a scene is a TOML text file; save it as UTF-8"
+                ),
+            }
         })?;
         let mut scene = Scene::from_toml_str(&text, &path.display().to_string())?;
         scene.source = Some(path.to_path_buf());
@@ -45,3 +69,6 @@ impl Scene {
         resolve(raw, text, file)
     }
 }
+
+/// The largest scene file read (bytes).
+pub const MAX_SCENE_BYTES: u64 = 10_000_000;

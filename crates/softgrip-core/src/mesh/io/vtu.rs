@@ -150,7 +150,12 @@ fn unpack(raw: &[u8], layout: Layout) -> Result<(Vec<u8>, usize), String> {
             block_size
         };
         let data = miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(block, expected)
-            .map_err(|e| format!("a compressed block does not inflate: {e:?}"))?;
+            .map_err(|e| {
+                format!(
+                    "a compressed block does not inflate (zlib: {:?}): the file is damaged",
+                    e.status
+                )
+            })?;
         out.extend_from_slice(&data);
         at += size;
     }
