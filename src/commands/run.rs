@@ -121,6 +121,7 @@ pub fn run(args: Args) -> Result<()> {
                     pvd.display()
                 );
             }
+            let e = check_the_advice(&scene, e);
             return Err(e).with_context(|| format!("while running {name}"));
         }
         cg_total += sim.state.stats.cg_iterations as u64;
@@ -168,7 +169,10 @@ pub fn run(args: Args) -> Result<()> {
     let mut warnings: Vec<String> = watch
         .finish(&sim.model, &sim.state)
         .iter()
-        .map(|f| f.message.clone())
+        .map(|f| match f.try_dt {
+            Some(dt) => format!("{} {}", f.message, check_tunnelling(&scene, f, dt)),
+            None => f.message.clone(),
+        })
         .collect();
     let inverted = sim.state.inverted_elements(&sim.model);
     if inverted > 0 {
@@ -203,4 +207,120 @@ pub fn run(args: Args) -> Result<()> {
         warnings.len()
     );
     Ok(())
+}
+
+/// Steps a check of a smaller `dt` may take.
+const CHECK_STEPS: f64 = 2e5;
+
+/// A divergence whose advice is a smaller `dt`, checked: the scene is run again at that `dt`
+/// to a little past where it failed. Advice that does not work is replaced by what does.
+fn check_the_advice(
+    scene: &softgrip_core::Scene,
+    e: softgrip_core::error::SimError,
+) -> softgrip_core::error::SimError {
+    use softgrip_core::error::SimError;
+    let SimError::Diverged {
+        time,
+        suggest_dt: Some(dt),
+        mut advice,
+        what,
+        step,
+        dt: old_dt,
+        young_modulus,
+        alpha,
+    } = e
+    else {
+        return e;
+    };
+    let until = 1.5 * time + 10.0 * old_dt;
+    if until / dt > CHECK_STEPS {
+        advice.push_str(&format!(
+            " (not checked: {:.0e} steps at that dt)",
+            until / dt
+        ));
+    } else {
+        let mut smaller = scene.clone();
+        smaller.simulation.dt = dt;
+        let outcome = softgrip_core::Simulation::new(&smaller).and_then(|mut sim| {
+            while sim.state.time < until {
+                sim.step()?;
+            }
+            Ok(())
+        });
+        advice = match outcome {
+            Ok(()) => {
+                format!("{advice} (checked: at dt = {dt:e} s the run passes t = {until:.4} s)")
+            }
+            Err(SimError::Diverged { time: t, .. }) => {
+                let loads: Vec<String> = scene
+                    .fingers
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| f.force.length() > 0.0)
+                    .map(|(k, f)| format!("finger {}: {:.4e} N", k + 1, f.force.length()))
+                    .collect();
+                format!(
+                    "A smaller dt does not help (checked: at dt = {dt:e} s it diverges too, at t = {t:.4} s): the loads ({}) or the stiffness (E = {young_modulus:e} Pa, alpha = {alpha:e}) are more than this object and contact can take; lower them",
+                    if loads.is_empty() {
+                        "none on fingers".to_string()
+                    } else {
+                        loads.join(", ")
+                    }
+                )
+            }
+            Err(_) => format!("{advice} (not checked: the run at dt = {dt:e} s failed otherwise)"),
+        };
+    }
+    SimError::Diverged {
+        time,
+        suggest_dt: Some(dt),
+        advice,
+        what,
+        step,
+        dt: old_dt,
+        young_modulus,
+        alpha,
+    }
+}
+
+/// Whether a finger that went through still does at `dt`, run again to a little past where it
+/// did: advice only once checked.
+fn check_tunnelling(
+    scene: &softgrip_core::Scene,
+    f: &softgrip_core::watch::Finding,
+    dt: f64,
+) -> String {
+    let until = 1.5 * f.time + 10.0 * scene.simulation.dt;
+    if until / dt > CHECK_STEPS {
+        return format!(
+            "A smaller dt may help (not checked: {:.0e} steps at dt = {dt:e} s).",
+            until / dt
+        );
+    }
+    let mut smaller = scene.clone();
+    smaller.simulation.dt = dt;
+    let Ok(mut sim) = softgrip_core::Simulation::new(&smaller) else {
+        return String::new();
+    };
+    let mut watch = softgrip_core::watch::Watch::new();
+    while sim.state.time < until {
+        if sim.step().is_err() {
+            return format!(
+                "At dt = {dt:e} s the run diverges instead: lower the load or the finger's speed."
+            );
+        }
+        watch.step(&sim.model, &sim.state);
+        if watch
+            .findings()
+            .iter()
+            .any(|g| g.kind == f.kind && g.finger == f.finger)
+        {
+            return format!(
+                "A smaller dt does not help (checked: at dt = {dt:e} s it passes through too): lower the load or the finger's speed, or stiffen the contact (contact_stiffness_scale)."
+            );
+        }
+    }
+    format!(
+        "Use dt <= {dt:e} s (checked: at that dt it does not pass through by t = {until:.4} s)."
+    )
 }

@@ -86,7 +86,11 @@ fn a_failing_run_keeps_its_frames() {
     let status = softgrip(&["run", arg(&scene), "--out", arg(&out)]);
     assert!(!status.status.success());
     let stderr = stderr(&status);
-    assert!(stderr.contains("diverged at t ="), "{stderr}");
+    // A scene's own too-low limit on CG is said as such, not blamed on dt.
+    assert!(
+        stderr.contains("the linear solver stopped at t ="),
+        "{stderr}"
+    );
     assert!(stderr.contains("before the failure"), "{stderr}");
     let pvd = std::fs::read_to_string(out.join("trajectory.pvd")).expect("pvd kept");
     assert!(pvd.matches("<DataSet").count() >= 2, "{pvd}");

@@ -78,9 +78,7 @@ pub enum SimError {
         suggest_z: f64,
     },
 
-    #[error(
-        "diverged at t = {time:.4} s (step {step}): {what}. The time step dt = {dt:e} s is likely too large for this stiffness (E = {young_modulus:e} Pa, alpha = {alpha:e}); try dt <= {suggest_dt:e} s, a smaller alpha, or a softer contact"
-    )]
+    #[error("diverged at t = {time:.4} s (step {step}): {what}. {advice}")]
     Diverged {
         time: f64,
         step: u64,
@@ -88,7 +86,22 @@ pub enum SimError {
         dt: f64,
         young_modulus: f64,
         alpha: f64,
-        suggest_dt: f64,
+        /// A smaller step worth trying where the step may be the cause (`None` where it is
+        /// not: a load that accelerates a finger past the limit in any step). A caller that
+        /// can re-run checks it before it advises it (`softgrip run`).
+        suggest_dt: Option<f64>,
+        /// What to change, in words.
+        advice: String,
+    },
+
+    #[error(
+        "the linear solver stopped at t = {time:.4} s (step {step}) after its limit of {iterations} iterations ([simulation] cg_max_iterations = {iterations}; residual {residual:.2e}): raise cg_max_iterations (default 2000)"
+    )]
+    SolverLimit {
+        time: f64,
+        step: u64,
+        iterations: usize,
+        residual: f64,
     },
 
     #[error(

@@ -274,7 +274,7 @@ fn tunnelling_cause(
     let step = fs.velocity.length() * model.dt;
     (
         format!(
-            "It moved {:.2} mm in its last step (dt = {} s, {:.3e} m/s) against edges of {:.1} mm",
+            "It moved {:.2} mm in its last step (dt = {} s, {:.3e} m/s) against edges of {:.1} mm.",
             1e3 * step,
             model.dt,
             fs.velocity.length(),

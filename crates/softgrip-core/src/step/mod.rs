@@ -288,7 +288,19 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
         &mut s.dv,
         &mut s.cg,
     )
-    .map_err(|e| diverged(model, state, cg_message(e)))?;
+    .map_err(|e| match e {
+        // A limit the scene set too low is no divergence, and no fault of dt.
+        CgError::NoConvergence {
+            iterations,
+            residual,
+        } if iterations < 100 => SimError::SolverLimit {
+            time: state.time,
+            step: state.step,
+            iterations,
+            residual,
+        },
+        e => diverged(model, state, cg_message(e)),
+    })?;
     lap(&mut mark, &mut times.solve);
     let projection = project_spring_limits(model, state, &mut s.projection);
     forces::springs::relax(model, state);
@@ -467,10 +479,45 @@ pub fn speed_limit(model: &Model) -> f64 {
 }
 
 fn diverged(model: &Model, state: &State, what: String) -> SimError {
-    // A rough explicit-stability estimate for the smallest element as the
-    // suggestion: a quarter of the current step when nothing better is known.
-    let wave = (model.young_modulus / model.density).sqrt();
-    let suggest = (model.dt / 4.0).min(model.edge_length / wave).max(1e-7);
+    let limit = speed_limit(model);
+    // A finger whose load alone takes its mass past the speed limit within a few steps does
+    // so at any dt: the load is the cause (1e6 N once sent users halving dt again and again).
+    let overloaded = model
+        .fingers
+        .iter()
+        .zip(&state.fingers)
+        .enumerate()
+        .find_map(|(k, (f, fs))| {
+            let load = f.driving_force(fs.applied_force).length();
+            (f.mass > 0.0 && load > 0.0 && limit * f.mass / load < 10.0 * model.dt).then_some((
+                k,
+                load,
+                f.mass,
+                limit * f.mass / load,
+            ))
+        });
+    let (suggest_dt, advice) = match overloaded {
+        Some((k, load, mass, t)) => (
+            None,
+            format!(
+                "Finger {}'s load of {load:.4e} N takes its {mass} kg past {limit:.0} m/s in {t:.2e} s, whatever the time step: lower the load (a soft object carries a few to a few hundred N)",
+                k + 1
+            ),
+        ),
+        None => {
+            // A rough explicit-stability estimate for the smallest element: a quarter of the
+            // current step when nothing better is known.
+            let wave = (model.young_modulus / model.density).sqrt();
+            let suggest = (model.dt / 4.0).min(model.edge_length / wave).max(1e-7);
+            (
+                Some(suggest),
+                format!(
+                    "The time step dt = {:e} s may be too large for this stiffness (E = {:e} Pa, alpha = {:e}); try dt <= {suggest:e} s, a smaller alpha, or a softer contact",
+                    model.dt, model.young_modulus, model.alpha
+                ),
+            )
+        }
+    };
     SimError::Diverged {
         time: state.time,
         step: state.step,
@@ -478,7 +525,8 @@ fn diverged(model: &Model, state: &State, what: String) -> SimError {
         dt: model.dt,
         young_modulus: model.young_modulus,
         alpha: model.alpha,
-        suggest_dt: suggest,
+        suggest_dt,
+        advice,
     }
 }
 

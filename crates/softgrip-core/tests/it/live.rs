@@ -163,7 +163,7 @@ fn a_failing_step_pauses_with_the_error_and_reset_recovers() {
         failed
             .error
             .as_deref()
-            .is_some_and(|e| e.contains("did not converge")),
+            .is_some_and(|e| e.contains("the linear solver stopped")),
         "{:?}",
         failed.error
     );
