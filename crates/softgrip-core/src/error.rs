@@ -25,6 +25,17 @@ pub enum SimError {
     },
 
     #[error(
+        "{file}: sample {sample} has load {load} N, but a load acts along finger #{finger}'s `force` direction {direction:?} and a contact only pushes: a negative load pulls the finger off the object, where nothing holds it. Give loads as positive numbers (N pushing along `force`), or turn the scene's `force` round"
+    )]
+    NegativeLoad {
+        file: String,
+        sample: usize,
+        load: f64,
+        finger: usize,
+        direction: [f64; 3],
+    },
+
+    #[error(
         "{file}: marker {marker} at {reference:?} is {distance_mm:.1} mm from the object's surface (more than {limit_mm:.1} mm, a tenth of its largest extent). Reference positions are on the UNDEFORMED surface, in metres, in the scene's frame: check the units (millimetres written as metres?), the frame, and the scene's object size and position"
     )]
     MarkerOffSurface {

@@ -163,6 +163,22 @@ pub fn replay_observing(
             });
         }
     }
+    if let (Some(k), Some((i, s))) = (
+        loaded,
+        recording
+            .samples
+            .iter()
+            .enumerate()
+            .find(|(_, s)| s.load < 0.0),
+    ) {
+        return Err(SimError::NegativeLoad {
+            file: recording.samples_path.display().to_string(),
+            sample: i + 1,
+            load: s.load,
+            finger: k + 1,
+            direction: sim.model.fingers[k].load_direction.to_array(),
+        });
+    }
     let set_load = |sim: &mut Simulation, load: f64| {
         if let Some(k) = loaded {
             sim.set_load(k, load);
