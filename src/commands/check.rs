@@ -31,7 +31,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     println!("mesh: {}", mesh.stats());
     println!(
-        "model: {} springs (k {:.3e}..{:.3e} N/m), mass {:.4} kg, {} pinned particles, {} fingers",
+        "model: {} springs (k {:.3e}..{:.3e} N/m), mass {:.4} kg, {} pinned particles, {} finger(s)",
         m.springs.len(),
         m.springs
             .iter()
@@ -42,6 +42,66 @@ pub fn run(args: Args) -> Result<()> {
         m.fixed.iter().filter(|f| **f).count(),
         m.fingers.len()
     );
+    if let Some(w) = collapse_warning(&scene, &sim) {
+        println!("warning: {w}");
+    }
     println!("scene is valid");
     Ok(())
+}
+
+/// A spring lattice without the bulk term (the thesis model, the default) ignores the
+/// material's Poisson ratio and can fold under a load the material carries easily (the thesis
+/// cuboid between 7 and 8 N). Where the scene's finger loads are on, its equilibrium under them
+/// is solved (a static solve, a fraction of a second): if there is none, the warning names the
+/// bulk term its E and nu imply, checked to carry them.
+fn collapse_warning(
+    scene: &softgrip_core::Scene,
+    sim: &softgrip_core::Simulation,
+) -> Option<String> {
+    use softgrip_core::equilibrium::StaticOptions;
+    use softgrip_core::scene::DEFAULT_LIMIT_STIFFNESS;
+    use softgrip_core::scene::Elasticity;
+    let loaded = scene.fingers.iter().any(|f| f.force.length() > 0.0);
+    if scene.model.bulk_modulus != 0.0 || scene.model.elasticity != Elasticity::Springs || !loaded {
+        return None;
+    }
+    let mut at_load = sim.clone();
+    // Only a collapse (elements turned inside out) is this warning's: a stall of the
+    // spring-limit projection is not.
+    let err = match at_load.equilibrium(StaticOptions::default()) {
+        Err(e @ softgrip_core::error::SimError::NoEquilibrium { .. }) => e,
+        _ => return None,
+    };
+    if !matches!(&err, softgrip_core::error::SimError::NoEquilibrium { inverted, .. } if !inverted.is_empty())
+    {
+        return None;
+    }
+    let (e, nu) = (scene.object.young_modulus, scene.object.poisson_ratio);
+    let k = e / (3.0 * (1.0 - 2.0 * nu));
+    let mut with_bulk = scene.clone();
+    with_bulk.model.bulk_modulus = k;
+    // The projection alone (limit_stiffness = 0) leaves a static solve no force to balance
+    // at the limits: the fix names the limit springs' default too.
+    let limits = scene.model.limit_stiffness == 0.0
+        && (scene.model.tau_s.is_some() || scene.model.tau_c.is_some());
+    if limits {
+        with_bulk.model.limit_stiffness = DEFAULT_LIMIT_STIFFNESS;
+    }
+    let carried = softgrip_core::Simulation::new(&with_bulk)
+        .is_ok_and(|mut s| s.equilibrium(StaticOptions::default()).is_ok());
+    let fix = if limits {
+        format!(
+            "[model] bulk_modulus = {k:.4e} (E / (3 (1 - 2 nu)), the material's own) and limit_stiffness = {DEFAULT_LIMIT_STIFFNESS} (the limits as forces)"
+        )
+    } else {
+        format!("[model] bulk_modulus = {k:.4e} (E / (3 (1 - 2 nu)), the material's own)")
+    };
+    Some(format!(
+        "bulk_modulus = 0 (the default, the thesis model): the spring lattice ignores poisson_ratio = {nu} and folds under this scene's finger loads ({err}). Add {fix}{}",
+        if carried {
+            " (checked: with it the loads are carried)"
+        } else {
+            "; with it the loads are not carried either: lower them"
+        }
+    ))
 }

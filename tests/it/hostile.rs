@@ -27,6 +27,8 @@ struct Case {
     args: Vec<String>,
     exit: i32,
     says: Vec<String>,
+    /// Strings that must not appear (a warning gone once its advice is followed).
+    never: Vec<String>,
 }
 
 fn cases() -> Vec<Case> {
@@ -55,6 +57,7 @@ fn cases() -> Vec<Case> {
             args: strings(&c["args"]),
             exit: c["exit"].as_integer().expect("exit") as i32,
             says: c.get("says").map(&strings).unwrap_or_default(),
+            never: c.get("never").map(&strings).unwrap_or_default(),
         })
         .collect()
 }
@@ -161,6 +164,11 @@ fn no_hostile_input_crashes_hangs_or_answers_silently() {
         for s in &case.says {
             if !text.contains(s.as_str()) {
                 wrong.push(format!("does not say {s:?}"));
+            }
+        }
+        for s in &case.never {
+            if text.contains(s.as_str()) {
+                wrong.push(format!("says {s:?}"));
             }
         }
         // A message may quote the NaN a user typed; a result may not be one.
