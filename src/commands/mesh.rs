@@ -20,7 +20,7 @@ enum Action {
     /// smallest dihedral angle, worst aspect ratio, parts; and what the
     /// checks would change.
     Info { file: PathBuf },
-    /// Convert between formats (.msh, .node/.ele, .vtk); the output's
+    /// Convert between formats (.msh, .node/.ele, .vtk, .vtu); the output's
     /// extension picks the format unless --format says (msh22 for Gmsh 2.2).
     Convert {
         input: PathBuf,

@@ -16,7 +16,7 @@ const DEFAULT_FPS: f64 = 50.0;
 pub struct Args {
     /// Scene file (.toml); omit for the built-in thesis scene.
     scene: Option<PathBuf>,
-    /// Write ParaView files (frame_*.vtu, trajectory.pvd) and fingers.csv here.
+    /// Write ParaView files (frame_*.vtu, trajectory.pvd), fingers.csv and steps.csv here.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Simulated seconds (default: the scene's [simulation] duration).

@@ -552,3 +552,108 @@ fn grasp_says_whether_friction_held_the_object() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The subcommands `softgrip --help` lists, without `help`.
+fn subcommands() -> Vec<String> {
+    let help = stdout(&softgrip(&["--help"]));
+    help.lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .filter(|c| c != "help")
+        .collect()
+}
+
+/// The help texts and the docs say the same: docs/cli.md's table lists every command there is
+/// and no other; each `--help` runs; and the facts the help states hold (what `run --out`
+/// writes, the formats `mesh convert` takes, the number of `prove`'s controls).
+#[test]
+fn help_texts_agree_with_the_docs_and_the_program() {
+    let commands = subcommands();
+    assert!(commands.len() >= 15, "{commands:?}");
+    let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/cli.md"))
+        .expect("docs/cli.md");
+    // The table's first column: `name ...`, or several names `a`, `b`.
+    let documented: Vec<String> = docs
+        .lines()
+        .skip_while(|l| !l.starts_with("| command |"))
+        .take_while(|l| l.starts_with('|'))
+        .filter(|l| l.starts_with("| `"))
+        .flat_map(|l| {
+            let cell = l.split('|').nth(1).unwrap_or("");
+            cell.split('`')
+                .skip(1)
+                .step_by(2)
+                .filter_map(|c| c.split_whitespace().next().map(str::to_string))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for c in &commands {
+        assert!(
+            documented.contains(c),
+            "`softgrip {c}` is not in docs/cli.md's table: {documented:?}"
+        );
+        let o = softgrip(&[c, "--help"]);
+        assert!(o.status.success(), "{c} --help: {}", stderr(&o));
+    }
+    for d in &documented {
+        assert!(
+            commands.contains(d),
+            "docs/cli.md lists `{d}`, which `softgrip --help` does not have"
+        );
+    }
+
+    // Every kind of file `run --out` writes is named in `run --help`.
+    let dir = scratch_dir("softgrip-cli-help-out");
+    let o = softgrip(&["run", "--duration", "0.02", "--out", arg(&dir)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let help = stdout(&softgrip(&["run", "--help"]));
+    let mut kinds: Vec<String> = std::fs::read_dir(&dir)
+        .expect("the output")
+        .map(|e| {
+            let name = e.expect("entry").file_name().to_string_lossy().into_owned();
+            // frame_00012.vtu -> frame_*.vtu
+            let stem: String = name.trim_end_matches(|c: char| c != '.').to_string();
+            let ext = &name[stem.len()..];
+            let base = stem
+                .trim_end_matches('.')
+                .trim_end_matches(|c: char| c.is_ascii_digit());
+            if base.len() < stem.trim_end_matches('.').len() {
+                format!("{base}*.{ext}")
+            } else {
+                name.clone()
+            }
+        })
+        .collect();
+    kinds.sort();
+    kinds.dedup();
+    for k in &kinds {
+        assert!(
+            help.contains(k.as_str()),
+            "`run --help` does not name {k}: {help}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // `mesh convert --help` names every format `mesh convert` writes.
+    let help = stdout(&softgrip(&["mesh", "convert", "--help"]));
+    for ext in [".msh", ".node", ".ele", ".vtk", ".vtu"] {
+        assert!(
+            help.contains(ext),
+            "`mesh convert --help` does not name {ext}: {help}"
+        );
+    }
+
+    // `prove --help` counts the suite's controls right.
+    let controls = softgrip_lab::prove::seeded("")
+        .iter()
+        .filter(|(_, c)| c.name.starts_with("control"))
+        .count();
+    let words = ["none", "one", "two", "three", "four", "five", "six"];
+    let help = stdout(&softgrip(&["prove", "--help"]));
+    assert!(
+        help.contains(&format!("{} controls", words[controls])),
+        "{controls} controls in the suite: {help}"
+    );
+}

@@ -2,7 +2,7 @@
 //! suite of recordings made by softgrip with settings the diagnosis does
 //! not know (a finer mesh, other material values, 0.1 mm of noise, x and z
 //! seen by a side camera, 8 markers and the finger as in the thesis's
-//! experiment), each with one effect at two strengths, three controls with
+//! experiment), each with one effect at two strengths, four controls with
 //! none and one with two (`suite`); every recording is diagnosed blind
 //! ([`run`]) and the outcome written as a Markdown report ([`report()`]; the
 //! current one is `docs/results/diagnosis.md`).
