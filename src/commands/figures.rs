@@ -11,14 +11,14 @@ use softgrip_lab::report::Written;
 /// The recording's header line: description, mode, samples and markers.
 pub fn describe(path: &Path, recording: &Recording) {
     println!(
-        "{}: {} ({:?}), {} samples, {} object markers",
+        "{}: {} ({}), {} samples, {} object markers",
         path.display(),
         if recording.description.is_empty() {
             "no description"
         } else {
             &recording.description
         },
-        recording.mode,
+        recording.mode.name(),
         recording.samples.len(),
         recording.markers.len()
     );

@@ -87,9 +87,11 @@ fn render(
         .save(out)
         .with_context(|| format!("writing {}", out.display()))?;
     println!(
-        "{}: {width}x{height}, t = {:.3} s, view {view:?}",
+        "{}: {width}x{height}, t = {:.3} s, view {}",
         out.display(),
-        sim.state.time
+        sim.state.time,
+        clap::ValueEnum::to_possible_value(&view)
+            .map_or_else(String::new, |v| v.get_name().to_string())
     );
     if let Some(field) = style.color_by {
         let values = field.particle_values(&sim.model, &sim.state);

@@ -46,6 +46,16 @@ pub enum Mode {
     TimeSeries,
 }
 
+impl Mode {
+    /// As the recording file writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::QuasiStatic => "quasi-static",
+            Mode::TimeSeries => "time-series",
+        }
+    }
+}
+
 /// Where a time series starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Start {
