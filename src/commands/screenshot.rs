@@ -48,6 +48,8 @@ pub fn run(args: Args) -> Result<()> {
         wireframe: args.wireframe,
         surface: !args.no_surface,
         cut: args.cut,
+        // See-through, as in the viewer: the dent under the finger shows.
+        finger_opacity: 0.45,
         ..Default::default()
     };
     render(
