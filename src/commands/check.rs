@@ -11,6 +11,9 @@ use super::load::{load_scene, simulation};
 #[derive(clap::Args)]
 pub struct Args {
     scene: Option<PathBuf>,
+    /// Also write the defaults, the mesh and model figures and any warning as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -42,10 +45,34 @@ pub fn run(args: Args) -> Result<()> {
         m.fixed.iter().filter(|f| **f).count(),
         m.fingers.len()
     );
-    if let Some(w) = collapse_warning(&scene, &sim) {
+    let warning = collapse_warning(&scene, &sim);
+    if let Some(w) = &warning {
         println!("warning: {w}");
     }
     println!("scene is valid");
+    if let Some(path) = &args.json {
+        let stats = mesh.stats();
+        let value = serde_json::json!({
+            "defaults_applied": scene.defaults_applied,
+            "mesh": {
+                "nodes": stats.nodes,
+                "tetrahedra": stats.tets,
+                "boundary_facets": stats.boundary_facets,
+                "volume_m3": stats.volume,
+                "min_edge_m": stats.min_edge,
+                "max_edge_m": stats.max_edge,
+                "worst_quality": stats.worst_quality,
+            },
+            "model": {
+                "springs": m.springs.len(),
+                "mass_kg": m.total_mass(),
+                "pinned_particles": m.fixed.iter().filter(|f| **f).count(),
+                "fingers": m.fingers.len(),
+            },
+            "warnings": warning.into_iter().collect::<Vec<_>>(),
+        });
+        super::figures::write_json_line(path, &value)?;
+    }
     Ok(())
 }
 

@@ -19,7 +19,12 @@ enum Action {
     /// Nodes, tetrahedra, boundary facets, volume, bounds, edge lengths,
     /// smallest dihedral angle, worst aspect ratio, parts; and what the
     /// checks would change.
-    Info { file: PathBuf },
+    Info {
+        file: PathBuf,
+        /// Also write the figures as JSON here (a tetrahedral mesh's, after the checks).
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Convert between formats (.msh, .node/.ele, .vtk, .vtu); the output's
     /// extension picks the format unless --format says (msh22 for Gmsh 2.2).
     Convert {
@@ -40,8 +45,8 @@ enum Action {
 
 pub fn run(args: Args) -> Result<()> {
     match args.action {
-        Action::Info { file } if io::is_surface(&file) => info_surface(&file),
-        Action::Info { file } => info_tets(&file),
+        Action::Info { file, .. } if io::is_surface(&file) => info_surface(&file),
+        Action::Info { file, json } => info_tets(&file, json.as_deref()),
         Action::Convert {
             input,
             output,
@@ -77,7 +82,7 @@ fn info_surface(file: &Path) -> Result<()> {
 }
 
 /// A tetrahedral mesh: its figures as written and after the checks.
-fn info_tets(file: &Path) -> Result<()> {
+fn info_tets(file: &Path, json: Option<&Path>) -> Result<()> {
     let imported = io::read(file)?;
     let raw = &imported.mesh;
     println!("{}", file.display());
@@ -122,6 +127,23 @@ fn info_tets(file: &Path) -> Result<()> {
     println!("  smallest dihedral angle: {angle:.2} degrees");
     println!("  worst aspect ratio (longest edge / smallest height): {aspect:.2}");
     println!("  connected parts: {}", report.parts);
+    if let Some(path) = json {
+        let value = serde_json::json!({
+            "file": file.display().to_string(),
+            "nodes": stats.nodes,
+            "tetrahedra": stats.tets,
+            "boundary_facets": stats.boundary_facets,
+            "volume_m3": stats.volume,
+            "bounds_m": [lo.to_array(), hi.to_array()],
+            "min_edge_m": stats.min_edge,
+            "max_edge_m": stats.max_edge,
+            "smallest_dihedral_deg": angle,
+            "worst_aspect_ratio": aspect,
+            "connected_parts": report.parts,
+            "warnings": imported.warnings.iter().chain(&report.warnings).collect::<Vec<_>>(),
+        });
+        super::figures::write_json_line(path, &value)?;
+    }
     Ok(())
 }
 

@@ -26,7 +26,28 @@ pub struct Args {
     rest_speed: f64,
     #[command(flatten)]
     settle: super::args::SettleArgs,
+    /// Also write the table as CSV here (SI units).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Also write the table as JSON here (SI units).
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
+
+/// One load's row, in SI units.
+struct Row {
+    load: f64,
+    indentation: f64,
+    contact_force: f64,
+    penetration: f64,
+    volume_error: f64,
+    inverted: usize,
+    /// How it came to rest, in words (the table's last column).
+    rest: String,
+}
+
+const CSV_HEADER: &str =
+    "load_n,indentation_m,contact_force_n,penetration_m,volume_error,inverted_elements,to_rest";
 
 pub fn run(args: Args) -> Result<()> {
     let (loads, max_seconds, rest_speed) = (&args.loads, args.max_seconds, args.rest_speed);
@@ -61,6 +82,7 @@ pub fn run(args: Args) -> Result<()> {
         "| load (N) | indentation (mm) | contact force (N) | penetration (mm) | volume error | inverted elements | {to_rest} |"
     );
     println!("|---|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
     for &load in loads {
         let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
         sim.set_load(k, load);
@@ -94,14 +116,59 @@ pub fn run(args: Args) -> Result<()> {
             }
             Err(e) => return Err(e.into()),
         };
+        let row = Row {
+            load,
+            indentation: sim.indentation(k),
+            contact_force: -f.contact_force.dot(sim.model.fingers[k].load_direction),
+            penetration: f.max_penetration,
+            volume_error: sim.state.stats.volume_error,
+            inverted: sim.state.inverted_elements(&sim.model),
+            rest,
+        };
         println!(
-            "| {load} | {:.3} | {:.4} | {:.3} | {:.2e} | {} | {rest} |",
-            sim.indentation(k) * 1e3,
-            -f.contact_force.dot(sim.model.fingers[k].load_direction),
-            f.max_penetration * 1e3,
-            sim.state.stats.volume_error,
-            sim.state.inverted_elements(&sim.model),
+            "| {load} | {:.3} | {:.4} | {:.3} | {:.2e} | {} | {} |",
+            row.indentation * 1e3,
+            row.contact_force,
+            row.penetration * 1e3,
+            row.volume_error,
+            row.inverted,
+            row.rest
         );
+        rows.push(row);
+    }
+    if let Some(path) = &args.csv {
+        let mut text = format!("{CSV_HEADER}\n");
+        for r in &rows {
+            text.push_str(&format!(
+                "{},{:e},{:e},{:e},{:e},{},\"{}\"\n",
+                r.load,
+                r.indentation,
+                r.contact_force,
+                r.penetration,
+                r.volume_error,
+                r.inverted,
+                r.rest
+            ));
+        }
+        std::fs::write(path, text)
+            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    }
+    if let Some(path) = &args.json {
+        let rows: Vec<_> = rows
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "load_n": r.load,
+                    "indentation_m": r.indentation,
+                    "contact_force_n": r.contact_force,
+                    "penetration_m": r.penetration,
+                    "volume_error": r.volume_error,
+                    "inverted_elements": r.inverted,
+                    "to_rest": r.rest,
+                })
+            })
+            .collect();
+        super::figures::write_json_line(path, &serde_json::json!({ "loads": rows }))?;
     }
     Ok(())
 }

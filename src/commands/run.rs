@@ -34,6 +34,9 @@ pub struct Args {
     /// out); without it they are warnings.
     #[arg(long)]
     strict: bool,
+    /// Also write the end figures and the warnings as JSON here (SI units).
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
 /// `softgrip` alone when built without the viewer: the built-in thesis
@@ -50,6 +53,7 @@ pub fn without_viewer() -> Result<()> {
         fps: DEFAULT_FPS,
         surface: None,
         strict: false,
+        json: None,
     })
 }
 
@@ -200,6 +204,38 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(w) = writer {
         let pvd = w.finish()?;
         println!("wrote {} (open in ParaView) and fingers.csv", pvd.display());
+    }
+    if let Some(path) = &args.json {
+        let fingers: Vec<_> = sim
+            .state
+            .fingers
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                serde_json::json!({
+                    "finger": k + 1,
+                    "indentation_m": sim.indentation(k),
+                    "moved_m": (f.position - sim.model.fingers[k].initial_position).to_array(),
+                    "contact_force_n": f.contact_force.to_array(),
+                    "normal_force_n": f.normal_force,
+                    "penetration_m": f.max_penetration,
+                })
+            })
+            .collect();
+        let value = serde_json::json!({
+            "scene": name,
+            "time_s": sim.state.time,
+            "steps": sim.state.step,
+            "wall_s": sim.wall_seconds,
+            "fingers": fingers,
+            "volume_error": st.volume_error,
+            "contacts": st.contacts,
+            "limit_violation": st.limit_violation,
+            "energy_j": st.energy,
+            "inverted_elements": inverted,
+            "warnings": warnings,
+        });
+        super::figures::write_json_line(path, &value)?;
     }
     anyhow::ensure!(
         !args.strict || warnings.is_empty(),

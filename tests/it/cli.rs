@@ -657,3 +657,66 @@ fn help_texts_agree_with_the_docs_and_the_program() {
         "{controls} controls in the suite: {help}"
     );
 }
+
+/// `--json` on run, check and mesh info, and `ramp --csv` and `--json`: the figures a script
+/// reads, in SI units. Each load's contact force rises by the load's own rise (the finger's
+/// weight is the same under every load).
+#[test]
+fn run_ramp_check_and_mesh_info_write_json_and_csv() {
+    let dir = scratch_dir("softgrip-cli-json");
+    let run = dir.join("run.json");
+    let o = softgrip(&["run", "--duration", "0.05", "--json", arg(&run)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = read_json(&run);
+    assert!((v["time_s"].as_f64().expect("time") - 0.05).abs() < 1e-9);
+    assert_eq!(v["fingers"].as_array().expect("fingers").len(), 1);
+    assert!(v["warnings"].as_array().expect("warnings").is_empty());
+
+    let (csv, json) = (dir.join("ramp.csv"), dir.join("ramp.json"));
+    let guide = scene("thesis_cuboid_light_guide.toml");
+    let o = softgrip(&[
+        "ramp",
+        &guide,
+        "--loads",
+        "1,3",
+        "--csv",
+        arg(&csv),
+        "--json",
+        arg(&json),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = read_json(&json)["loads"].as_array().expect("rows").clone();
+    assert_eq!(rows.len(), 2);
+    let force = |i: usize| rows[i]["contact_force_n"].as_f64().expect("force");
+    assert!((force(1) - force(0) - 2.0).abs() < 1e-3, "{rows:?}");
+    let text = std::fs::read_to_string(&csv).expect("csv");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    let cell: f64 = lines[2]
+        .split(',')
+        .nth(2)
+        .expect("cell")
+        .parse()
+        .expect("number");
+    assert!((cell - force(1)).abs() <= 1e-9 * force(1).abs(), "{text}");
+
+    let check = dir.join("check.json");
+    let o = softgrip(&["check", "--json", arg(&check)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The built-in 50 x 50 x 20 mm cuboid at 4 mm: 12 x 12 x 5 cells of six tetrahedra.
+    assert_eq!(read_json(&check)["mesh"]["tetrahedra"], 4320);
+
+    let info = dir.join("info.json");
+    let o = softgrip(&[
+        "mesh",
+        "info",
+        &mesh_fixture("cube.msh"),
+        "--json",
+        arg(&info),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = read_json(&info);
+    assert!(v["tetrahedra"].as_u64().expect("count") > 0);
+    assert!(v["volume_m3"].as_f64().expect("volume") > 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
