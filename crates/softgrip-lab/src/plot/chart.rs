@@ -257,8 +257,13 @@ fn legend(area: &Area<'_>, c: &Chart, l: &Layout) -> Result<(), PlotError> {
     }
     const SAMPLE: i32 = 24;
     const ROW: i32 = 18;
+    // Over 7 entries, in columns of at most 7 rows: a tall legend covered the data.
+    const ROWS: usize = 7;
+    let columns = entries.len().div_ceil(ROWS);
+    let rows = entries.len().div_ceil(columns) as i32;
     let text_w = max_width(entries.iter().map(|s| s.label.as_str()), TICK_PX)?;
-    let (bw, bh) = (6 + SAMPLE + 6 + text_w + 8, 6 + ROW * entries.len() as i32);
+    let column_w = 6 + SAMPLE + 6 + text_w + 8;
+    let (bw, bh) = (column_w * columns as i32, 6 + ROW * rows);
     let inset = 8;
     let corners = [
         (l.right - inset - bw, l.top + inset),
@@ -296,9 +301,11 @@ fn legend(area: &Area<'_>, c: &Chart, l: &Layout) -> Result<(), PlotError> {
     ))
     .map_err(draw_err)?;
     for (k, s) in entries.iter().enumerate() {
-        let cy = y0 + 3 + ROW * k as i32 + ROW / 2;
+        let (column, row) = (k as i32 / rows, k as i32 % rows);
+        let cy = y0 + 3 + ROW * row + ROW / 2;
         let color = rgb(s.color);
-        let (sx0, sx1) = (x0 + 6, x0 + 6 + SAMPLE);
+        let left = x0 + column * column_w;
+        let (sx0, sx1) = (left + 6, left + 6 + SAMPLE);
         let sample = [
             (f64::from(sx0), f64::from(cy)),
             (f64::from(sx1), f64::from(cy)),

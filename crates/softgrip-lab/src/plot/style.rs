@@ -31,7 +31,8 @@ pub(super) const NO_VALUE: RGBColor = RGBColor(170, 170, 170);
 /// A distinguishable colour for series `k`: Tableau 10 (matplotlib's default
 /// cycle), readable on white; repeats after ten.
 pub fn palette(k: usize) -> [u8; 3] {
-    const TABLEAU_10: [[u8; 3]; 10] = [
+    // Tableau 10, then its lighter partners (Tableau 20's): twenty markers, twenty colours.
+    const TABLEAU_20: [[u8; 3]; 20] = [
         [31, 119, 180],
         [255, 127, 14],
         [44, 160, 44],
@@ -42,6 +43,16 @@ pub fn palette(k: usize) -> [u8; 3] {
         [127, 127, 127],
         [188, 189, 34],
         [23, 190, 207],
+        [174, 199, 232],
+        [255, 187, 120],
+        [152, 223, 138],
+        [255, 152, 150],
+        [197, 176, 213],
+        [196, 156, 148],
+        [247, 182, 210],
+        [199, 199, 199],
+        [219, 219, 141],
+        [158, 218, 229],
     ];
-    TABLEAU_10[k % TABLEAU_10.len()]
+    TABLEAU_20[k % TABLEAU_20.len()]
 }

@@ -8,8 +8,8 @@ use crate::replay::Replay;
 
 use super::out::{Out, ReportError};
 
-/// Marker paths drawn with at most this many markers (the palette's ten).
-const MAX_MARKERS: usize = 10;
+/// Marker paths drawn with at most this many markers (the palette's twenty).
+const MAX_MARKERS: usize = 20;
 /// Residual lines only when there are at most this many samples.
 const MAX_ARROW_SAMPLES: usize = 25;
 /// Axis names by index.
@@ -81,26 +81,40 @@ pub(super) fn replay_plots(
     if axes.len() >= 2 {
         let (a, b) = (axes[0].min(axes[1]), axes[0].max(axes[1]));
         let mut chart = Chart {
-            title: format!("{title}: marker paths, recorded (dots) and simulated (lines)"),
-            x_label: format!("{} (mm)", AXES[a]),
-            y_label: format!("{} (mm)", AXES[b]),
+            title: format!("{title}: marker displacements, recorded (dots) and simulated (lines)"),
+            x_label: format!("{} displacement (mm)", AXES[a]),
+            y_label: format!("{} displacement (mm)", AXES[b]),
             equal_aspect: true,
             ..Chart::default()
         };
+        // From each marker's undeformed position: sub-millimetre paths on a 50 mm object
+        // would be dots at their absolute positions.
+        let at = |r: &Residual| reference(recording, r.marker);
         chart.series = marker_series(
             recording,
             residuals,
             &markers,
-            |r| (1e3 * r.simulated[a], 1e3 * r.simulated[b]),
-            |r| Some((1e3 * r.recorded[a]?, 1e3 * r.recorded[b]?)),
+            |r| {
+                (
+                    1e3 * (r.simulated[a] - at(r)[a]),
+                    1e3 * (r.simulated[b] - at(r)[b]),
+                )
+            },
+            |r| {
+                Some((
+                    1e3 * (r.recorded[a]? - at(r)[a]),
+                    1e3 * (r.recorded[b]? - at(r)[b]),
+                ))
+            },
         );
         if few {
             for m in &markers {
                 for r in residuals.iter().filter(|r| r.marker == *m) {
                     if let (Some(x), Some(y)) = (r.recorded[a], r.recorded[b]) {
+                        let o = at(r);
                         chart.arrows.push((
-                            (1e3 * r.simulated[a], 1e3 * r.simulated[b]),
-                            (1e3 * x, 1e3 * y),
+                            (1e3 * (r.simulated[a] - o[a]), 1e3 * (r.simulated[b] - o[b])),
+                            (1e3 * (x - o[a]), 1e3 * (y - o[b])),
                             [120, 120, 120],
                         ));
                     }
@@ -134,6 +148,18 @@ pub(super) fn replay_plots(
         "residuals",
     )?;
     Ok(md)
+}
+
+/// Where a marker is on the undeformed scene: its reference, or a finger's starting centre.
+fn reference(recording: &Recording, m: MarkerRef) -> glam::DVec3 {
+    match m {
+        MarkerRef::Object(k) => recording.markers[k].reference,
+        MarkerRef::Finger(k) => recording
+            .scene
+            .fingers
+            .get(k)
+            .map_or(glam::DVec3::ZERO, |f| f.position),
+    }
 }
 
 /// Per marker, in its palette colour: where `simulated` puts its residuals
