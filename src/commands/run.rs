@@ -16,7 +16,8 @@ const DEFAULT_FPS: f64 = 50.0;
 pub struct Args {
     /// Scene file (.toml); omit for the built-in thesis scene.
     scene: Option<PathBuf>,
-    /// Write ParaView files (frame_*.vtu, trajectory.pvd), fingers.csv and steps.csv here.
+    /// Write ParaView files (frame_*.vtu, finger*_*.vtu, trajectory.pvd),
+    /// fingers.csv and steps.csv here.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Simulated seconds (default: the scene's [simulation] duration).
@@ -37,6 +38,10 @@ pub struct Args {
     /// Also write the end figures and the warnings as JSON here (SI units).
     #[arg(long)]
     json: Option<PathBuf>,
+    /// With --out: write the .vtu files as ASCII text, the object's arrays
+    /// all Float64 (about six times larger), instead of zlib-compressed binary.
+    #[arg(long)]
+    ascii: bool,
 }
 
 /// `softgrip` alone when built without the viewer: the built-in thesis
@@ -54,6 +59,7 @@ pub fn without_viewer() -> Result<()> {
         surface: None,
         strict: false,
         json: None,
+        ascii: false,
     })
 }
 
@@ -100,6 +106,9 @@ pub fn run(args: Args) -> Result<()> {
         Some(dir) => {
             let mut w = TrajectoryWriter::new(dir)?;
             w.surface = surface;
+            if args.ascii {
+                w.encoding = softgrip_core::output::vtu::Encoding::Ascii;
+            }
             w.frame(&sim.model, &sim.state)?;
             Some(w)
         }

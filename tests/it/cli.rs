@@ -613,17 +613,16 @@ fn help_texts_agree_with_the_docs_and_the_program() {
         .expect("the output")
         .map(|e| {
             let name = e.expect("entry").file_name().to_string_lossy().into_owned();
-            // frame_00012.vtu -> frame_*.vtu
-            let stem: String = name.trim_end_matches(|c: char| c != '.').to_string();
-            let ext = &name[stem.len()..];
-            let base = stem
-                .trim_end_matches('.')
-                .trim_end_matches(|c: char| c.is_ascii_digit());
-            if base.len() < stem.trim_end_matches('.').len() {
-                format!("{base}*.{ext}")
-            } else {
-                name.clone()
+            // frame_00012.vtu -> frame_*.vtu, finger1_00012.vtu -> finger*_*.vtu
+            let mut kind = String::new();
+            for c in name.chars() {
+                if !c.is_ascii_digit() {
+                    kind.push(c);
+                } else if !kind.ends_with('*') {
+                    kind.push('*');
+                }
             }
+            kind
         })
         .collect();
     kinds.sort();

@@ -1,7 +1,11 @@
 //! `run --out`: the ParaView files, fingers.csv and steps.csv are written and
-//! consistent; a run that fails keeps what it computed.
+//! consistent; the compressed `.vtu` files read back as written; a run that
+//! fails keeps what it computed.
+
+use std::path::Path;
 
 use softgrip_core::Simulation;
+use softgrip_core::mesh::io::{Format, read_bytes_as, read_vtu_array};
 use softgrip_core::output::TrajectoryWriter;
 
 use crate::support::{arg, scratch_dir, scratch_path, softgrip, stderr, write_file};
@@ -23,8 +27,18 @@ fn trajectory_files_are_complete() {
     }
     let pvd = w.finish().expect("finish");
     let text = std::fs::read_to_string(&pvd).expect("pvd");
-    assert_eq!(text.matches("<DataSet").count(), 4);
+    // Each frame: the object as part 0, the finger as part 1, at one time.
+    assert_eq!(sim.state.fingers.len(), 1);
+    assert_eq!(text.matches("<DataSet").count(), 8);
+    assert_eq!(text.matches("part=\"0\" file=\"frame_").count(), 4);
+    assert_eq!(text.matches("part=\"1\" file=\"finger1_").count(), 4);
+    // 30 steps of 1 ms: written 0.03, not the sum's 0.030000000000000013.
+    let last_time = "timestep=\"0.03\"";
+    assert!((sim.state.time - 0.03).abs() < 1e-12);
+    assert_eq!(text.matches(last_time).count(), 2, "{text}");
     let vtu = std::fs::read_to_string(dir.join("frame_00003.vtu")).expect("vtu");
+    assert!(vtu.contains("compressor=\"vtkZLibDataCompressor\""));
+    assert!(!vtu.contains("format=\"ascii\""));
     let header = format!(
         "NumberOfPoints=\"{}\" NumberOfCells=\"{}\"",
         sim.model.particle_count(),
@@ -45,6 +59,72 @@ fn trajectory_files_are_complete() {
             "missing {field}"
         );
     }
+    // The last frame reads back as the state, bit for bit.
+    let bytes = vtu.as_bytes();
+    let mesh = read_bytes_as(bytes, Format::Vtu, "frame_00003.vtu")
+        .expect("the mesh reader reads it")
+        .mesh;
+    assert_eq!(mesh.tets, sim.model.tets);
+    assert_eq!(bits(&mesh.nodes), bits(&sim.state.positions));
+    let field = |name: &str| -> Vec<u64> {
+        read_vtu_array(bytes, "frame_00003.vtu", name)
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+            .iter()
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    // Velocity and the cell diagnostics are Float32 in binary: rounded once.
+    let single =
+        |v: &[f64]| -> Vec<u64> { v.iter().map(|&x| f64::from(x as f32).to_bits()).collect() };
+    let velocity: Vec<f64> = sim
+        .state
+        .velocities
+        .iter()
+        .flat_map(|v| v.to_array())
+        .collect();
+    assert_eq!(field("velocity"), single(&velocity));
+    let contact = softgrip_core::output::vtu::contact_forces(&sim.model, &sim.state);
+    assert_eq!(field("contact_force"), bits(&contact));
+    let displacement: Vec<glam::DVec3> = sim
+        .state
+        .positions
+        .iter()
+        .zip(&sim.model.rest_positions)
+        .map(|(p, r)| *p - *r)
+        .collect();
+    assert_eq!(field("displacement"), bits(&displacement));
+    let strain = softgrip_core::fields::element_max_spring_strain(&sim.model, &sim.state);
+    assert_eq!(field("max_spring_strain"), single(&strain));
+    assert_eq!(field("volume_ratio").len(), sim.model.tets.len());
+    let fixed = read_vtu_array(bytes, "frame_00003.vtu", "fixed").expect("fixed");
+    let expected: Vec<f64> = sim
+        .model
+        .fixed
+        .iter()
+        .map(|&f| f64::from(u8::from(f)))
+        .collect();
+    assert_eq!(fixed, expected);
+
+    // The finger: its shape around its centre, its contact force at every point.
+    let finger = std::fs::read(dir.join("finger1_00003.vtu")).expect("finger vtu");
+    let f = &sim.state.fingers[0];
+    let points = read_vtu_array(&finger, "finger1", "Points").expect("points");
+    let softgrip_core::scene::FingerShape::Sphere { radius } = sim.model.fingers[0].shape else {
+        panic!("the thesis finger is a sphere");
+    };
+    assert!(points.len() > 3 * 100);
+    // Float32 points: on the sphere to single precision.
+    for p in points.chunks(3) {
+        let r = (glam::DVec3::from_slice(p) - f.position).length();
+        assert!((r - radius).abs() < 1e-7, "{r} vs {radius}");
+    }
+    let force = read_vtu_array(&finger, "finger1", "contact_force").expect("force");
+    assert_eq!(force.len(), points.len());
+    for c in force.chunks(3) {
+        assert_eq!(c, f.contact_force.to_array());
+    }
+    assert!(f.contact_force.length() > 0.0);
+
     let csv = std::fs::read_to_string(dir.join("fingers.csv")).expect("csv");
     let mut lines = csv.lines();
     assert_eq!(lines.next(), Some("time,finger,x,y,z,fx,fy,fz"));
@@ -55,6 +135,8 @@ fn trajectory_files_are_complete() {
         .map(|v| v.parse().expect("number"))
         .collect();
     assert_eq!(last.len(), 8);
+    // Fingers are numbered from 1, as on screen and in the fingerK files.
+    assert_eq!(last[1], 1.0);
     assert!((last[4] - sim.state.fingers[0].position.z).abs() < 1e-12);
 
     // steps.csv: a row per step, the last one the state's own record.
@@ -174,7 +256,11 @@ fn surface_exports_enclose_the_deformed_volume() {
         .sum();
     assert!(contacts.length() > 1.0);
     assert!((total - contacts).length() < 1e-12 * contacts.length());
-    let vtu = softgrip_core::output::vtu::to_vtu(model, state);
+    let vtu = softgrip_core::output::vtu::to_vtu(
+        model,
+        state,
+        softgrip_core::output::vtu::Encoding::Binary,
+    );
     for name in [
         "contact_force",
         "max_spring_strain",
@@ -185,4 +271,59 @@ fn surface_exports_enclose_the_deformed_volume() {
     ] {
         assert!(vtu.contains(&format!("Name=\"{name}\"")), "{name}");
     }
+}
+
+fn bits(v: &[glam::DVec3]) -> Vec<u64> {
+    v.iter()
+        .flat_map(|p| p.to_array().map(f64::to_bits))
+        .collect()
+}
+
+/// Bytes of the files in `dir` whose names start with `prefix`.
+fn bytes_of(dir: &Path, prefix: &str) -> u64 {
+    std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry"))
+        .filter(|e| e.file_name().to_string_lossy().starts_with(prefix))
+        .map(|e| e.metadata().expect("metadata").len())
+        .sum()
+}
+
+/// `run --out` writes compressed binary; `--ascii` the same arrays as
+/// text, the object's all Float64, several times larger.
+#[test]
+fn run_writes_compressed_binary_and_ascii_on_request() {
+    let dir = scratch_dir("softgrip-out-ascii");
+    let (binary, ascii) = (dir.join("binary"), dir.join("ascii"));
+    for (out, extra) in [(&binary, None), (&ascii, Some("--ascii"))] {
+        let mut args = vec!["run", "--duration", "0.04", "--out", arg(out)];
+        args.extend(extra);
+        let o = softgrip(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let frames = |out: &Path| std::fs::read_dir(out).expect("dir").count();
+    assert_eq!(frames(&binary), frames(&ascii));
+    for name in ["frame_00002.vtu", "finger1_00002.vtu"] {
+        let b = std::fs::read(binary.join(name)).expect("binary");
+        let a = std::fs::read(ascii.join(name)).expect("ascii");
+        assert!(String::from_utf8_lossy(&a).contains("format=\"ascii\""));
+        assert!(String::from_utf8_lossy(&b).contains("format=\"binary\""));
+        // Exact in both; velocity is Float32 in binary. A finger's points
+        // are Float32 in both, read back as the decimal of a Float32 from ASCII.
+        let finger = name.starts_with("finger");
+        for field in ["Points", "displacement", "contact_force"] {
+            let single = finger && field == "Points";
+            let read = |bytes: &[u8]| -> Vec<u64> {
+                read_vtu_array(bytes, name, field)
+                    .unwrap_or_else(|e| panic!("{name} {field}: {e}"))
+                    .iter()
+                    .map(|&v| if single { f64::from(v as f32) } else { v }.to_bits())
+                    .collect()
+            };
+            assert_eq!(read(&b), read(&a), "{name} {field}");
+        }
+    }
+    let (b, a) = (bytes_of(&binary, "frame_"), bytes_of(&ascii, "frame_"));
+    assert!(5 * b < a, "binary {b} bytes, ASCII {a}");
+    std::fs::remove_dir_all(&dir).ok();
 }

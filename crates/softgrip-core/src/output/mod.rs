@@ -1,7 +1,8 @@
-//! Writing results: ParaView files (`.vtu` per frame and a `.pvd` series),
-//! the deformed surface (`.stl` or `.obj`, optional), the fingers' track and
-//! the per-step solver record as CSV.
+//! Writing results: ParaView files (a `.vtu` per frame for the object and
+//! one per finger, and a `.pvd` series), the deformed surface (`.stl` or
+//! `.obj`, optional), the fingers' track and the per-step solver record as CSV.
 
+pub mod finger;
 pub mod surface;
 pub mod vtu;
 
@@ -29,9 +30,13 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
 /// Writes a trajectory as it is produced.
 pub struct TrajectoryWriter {
     dir: PathBuf,
-    frames: Vec<(f64, String)>,
+    /// Each frame's time and files: the object's, then each finger's.
+    frames: Vec<(f64, Vec<String>)>,
     /// Also write the deformed surface of every frame in this format.
     pub surface: Option<surface::SurfaceFormat>,
+    /// How the `.vtu` files' arrays are written (compressed binary unless
+    /// ASCII is asked for).
+    pub encoding: vtu::Encoding,
     fingers_csv: String,
     steps_csv: String,
 }
@@ -46,6 +51,7 @@ impl TrajectoryWriter {
             dir: dir.to_path_buf(),
             frames: Vec::new(),
             surface: None,
+            encoding: vtu::Encoding::default(),
             fingers_csv: String::from("time,finger,x,y,z,fx,fy,fz\n"),
             steps_csv: format!("{STEPS_HEADER}\n"),
         })
@@ -57,7 +63,7 @@ impl TrajectoryWriter {
         let _ = writeln!(
             self.steps_csv,
             "{},{},{},{:e},{:e},{:e},{:e},{:e},{},{},{:e}",
-            state.time,
+            time_text(state.time),
             state.step,
             s.cg_iterations,
             s.cg_residual,
@@ -71,11 +77,22 @@ impl TrajectoryWriter {
         );
     }
 
-    /// Writes `frame_NNNNN.vtu` and appends the fingers' rows.
+    /// Writes `frame_NNNNN.vtu`, each finger's `fingerK_NNNNN.vtu` (K from
+    /// 1) and appends the fingers' rows.
     pub fn frame(&mut self, model: &Model, state: &State) -> Result<(), OutputError> {
-        let name = format!("frame_{:05}.vtu", self.frames.len());
+        let index = self.frames.len();
+        let mut files = Vec::with_capacity(1 + state.fingers.len());
+        let name = format!("frame_{index:05}.vtu");
         let path = self.dir.join(&name);
-        std::fs::write(&path, vtu::to_vtu(model, state)).map_err(io_err(&path))?;
+        std::fs::write(&path, vtu::to_vtu(model, state, self.encoding)).map_err(io_err(&path))?;
+        files.push(name);
+        for k in 0..state.fingers.len() {
+            let name = format!("finger{}_{index:05}.vtu", k + 1);
+            let path = self.dir.join(&name);
+            std::fs::write(&path, vtu::finger_to_vtu(model, state, k, self.encoding))
+                .map_err(io_err(&path))?;
+            files.push(name);
+        }
         if let Some(format) = self.surface {
             let path = self.dir.join(format!(
                 "surface_{:05}.{}",
@@ -84,30 +101,41 @@ impl TrajectoryWriter {
             ));
             std::fs::write(&path, format.write(model, state)).map_err(io_err(&path))?;
         }
-        self.frames.push((state.time, name));
+        self.frames.push((state.time, files));
         for (k, f) in state.fingers.iter().enumerate() {
             let p = f.position;
             let c = f.contact_force;
             let _ = writeln!(
                 self.fingers_csv,
                 "{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
-                state.time, k, p.x, p.y, p.z, c.x, c.y, c.z
+                time_text(state.time),
+                k + 1,
+                p.x,
+                p.y,
+                p.z,
+                c.x,
+                c.y,
+                c.z
             );
         }
         Ok(())
     }
 
-    /// Writes `trajectory.pvd`, `fingers.csv` and `steps.csv`.
+    /// Writes `trajectory.pvd` (each frame's object as part 0, finger K as
+    /// part K: ParaView makes each part a block), `fingers.csv` and `steps.csv`.
     pub fn finish(self) -> Result<PathBuf, OutputError> {
         let pvd = self.dir.join("trajectory.pvd");
         let mut text = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );
-        for (t, name) in &self.frames {
-            let _ = writeln!(
-                text,
-                "    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{name}\"/>"
-            );
+        for (t, files) in &self.frames {
+            for (part, name) in files.iter().enumerate() {
+                let _ = writeln!(
+                    text,
+                    "    <DataSet timestep=\"{}\" group=\"\" part=\"{part}\" file=\"{name}\"/>",
+                    time_text(*t)
+                );
+            }
         }
         text.push_str("  </Collection>\n</VTKFile>\n");
         std::fs::write(&pvd, text).map_err(io_err(&pvd))?;
@@ -119,4 +147,11 @@ impl TrajectoryWriter {
         std::fs::write(&steps, &self.steps_csv).map_err(io_err(&steps))?;
         Ok(pvd)
     }
+}
+
+/// A simulated time as a person writes it: the sum of steps rounded to 12 significant digits
+/// (0.05, not 0.05000000000000004).
+pub fn time_text(t: f64) -> String {
+    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
+    format!("{rounded}")
 }

@@ -150,6 +150,13 @@ pub fn read_bytes_as(bytes: &[u8], format: Format, name: &str) -> Result<Importe
     }
 }
 
+/// The values of the `.vtu` data array named `array` (the first such in
+/// its first piece; `"Points"` for the coordinates softgrip writes), as
+/// numbers: for checking what `run --out` wrote, field by field.
+pub fn read_vtu_array(bytes: &[u8], name: &str, array: &str) -> Result<Vec<f64>, ImportError> {
+    vtu::read_array(bytes, name, array)
+}
+
 /// Writes `mesh` in `format` (TetGen: `path` with `.node`, `.ele` and
 /// `.face`). Returns the files written.
 pub fn write(mesh: &TetMesh, path: &Path, format: Format) -> std::io::Result<Vec<PathBuf>> {

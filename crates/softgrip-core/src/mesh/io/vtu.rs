@@ -331,7 +331,9 @@ impl File<'_> {
     }
 }
 
-pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
+/// The file's XML, data and layout, checked to be a little-endian
+/// UnstructuredGrid; and the byte after its `<VTKFile>` tag.
+fn open<'a>(bytes: &'a [u8], name: &'a str) -> Result<(File<'a>, usize), ImportError> {
     let err = |m: String| ImportError::at(name, None, m);
     // Appended raw data is binary: the XML is what comes before it.
     let appended_at = bytes.windows(13).position(|w| w == b"<AppendedData");
@@ -386,7 +388,28 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
         layout,
         name,
     };
-    let piece = find_tag(xml, root.end, "Piece").ok_or_else(|| err("no <Piece>".into()))?;
+    Ok((file, root.end))
+}
+
+/// The values of the first `<DataArray>` named `array` in the first
+/// `<Piece>`, whichever section holds it (exact for Float64).
+pub fn read_array(bytes: &[u8], name: &str, array: &str) -> Result<Vec<f64>, ImportError> {
+    let (file, after_root) = open(bytes, name)?;
+    let piece = find_tag(file.xml, after_root, "Piece").ok_or_else(|| file.err("no <Piece>"))?;
+    let piece_end = file.xml[piece.end..]
+        .find("</Piece>")
+        .map_or(file.xml.len(), |e| piece.end + e);
+    let tag = file
+        .named(piece.end, piece_end, Some(array))
+        .ok_or_else(|| file.err(format!("no DataArray named {array:?}")))?;
+    file.array(&tag)
+}
+
+pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
+    let err = |m: String| ImportError::at(name, None, m);
+    let (file, after_root) = open(bytes, name)?;
+    let xml = file.xml;
+    let piece = find_tag(xml, after_root, "Piece").ok_or_else(|| err("no <Piece>".into()))?;
     let count = |key: &str| -> Result<usize, ImportError> {
         piece
             .get(key)
