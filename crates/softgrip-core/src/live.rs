@@ -119,6 +119,9 @@ pub struct Frame {
     /// What loading the mesh in use changed or noticed (skipped cells,
     /// reordered tetrahedra...).
     pub mesh_warnings: Arc<Vec<String>>,
+    /// What the run's physical checks found since its start (`crate::watch`): a finger through
+    /// the object, energy gained... as `softgrip run` warns.
+    pub physics_warnings: Arc<Vec<String>>,
 }
 
 /// The viewer's side: send commands, read frames.
@@ -215,6 +218,7 @@ struct Solver {
     error: Option<String>,
     published: Arc<Mutex<Option<Arc<Frame>>>>,
     history: History,
+    watch: crate::watch::Watch,
     commands: u64,
     /// Pacing: wall time and simulated time when the run (re)started.
     anchor: (Instant, f64),
@@ -235,6 +239,7 @@ impl Solver {
             error: None,
             published,
             history: History::default(),
+            watch: crate::watch::Watch::default(),
             commands: 0,
             anchor: (Instant::now(), 0.0),
             last_publish: (Instant::now(), 0, 0.0),
@@ -365,6 +370,7 @@ impl Solver {
         match sim.step() {
             Ok(()) => {
                 self.history.record(sim);
+                self.watch.step(&sim.model, &sim.state);
                 true
             }
             Err(e) => {
@@ -415,6 +421,13 @@ impl Solver {
             history: Arc::new(self.history.samples.clone()),
             commands: self.commands,
             mesh_warnings: Arc::clone(&self.mesh_warnings),
+            physics_warnings: Arc::new(
+                self.watch
+                    .findings()
+                    .iter()
+                    .map(|f| f.message.clone())
+                    .collect(),
+            ),
         };
         *lock(&self.published) = Some(Arc::new(frame));
     }
@@ -424,6 +437,7 @@ impl Solver {
         self.mesh = Some(mesh);
         self.mesh_warnings = Arc::new(warnings);
         self.history = History::default();
+        self.watch = crate::watch::Watch::default();
         self.sim = Some(sim);
         self.error = None;
     }
@@ -451,6 +465,7 @@ impl Solver {
         match Model::from_mesh(&self.scene, mesh) {
             Ok(model) => {
                 self.history = History::default();
+                self.watch = crate::watch::Watch::default();
                 self.sim = Some(Simulation::from_model(model));
                 self.error = None;
             }

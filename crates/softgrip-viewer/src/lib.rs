@@ -200,6 +200,15 @@ impl Panels {
                     ui.colored_label(ERROR_RED, error);
                     ui.separator();
                 }
+                // What the run's physical checks found: the numbers below are not physical.
+                if let Some(f) = &self.frame
+                    && !f.physics_warnings.is_empty()
+                {
+                    for w in f.physics_warnings.iter() {
+                        ui.colored_label(egui::Color32::from_rgb(190, 120, 20), w);
+                    }
+                    ui.separator();
+                }
                 statistics::ui(ui, self.frame.as_deref(), self.frame_time);
                 ui.separator();
                 plots::ui(ui, self.frame.as_deref());

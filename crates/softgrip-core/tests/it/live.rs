@@ -318,3 +318,33 @@ fn rates_are_never_negative_across_a_reset() {
         reset.steps_per_second
     );
 }
+
+/// The live run makes `softgrip run`'s physical checks: a finger pushed through a stiff cube by
+/// a load its contact cannot carry is a warning in the frames, and a reset clears it.
+#[test]
+fn a_finger_through_the_object_is_a_warning_in_the_frames() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/hostile/files/tunnel_stiff_cube.toml"
+    );
+    let scene = Scene::load(std::path::Path::new(path)).expect("scene");
+    let live = started(scene);
+    assert!(live.latest().is_some_and(|f| f.physics_warnings.is_empty()));
+    send(&live, Command::SetSpeed(None));
+    send(&live, Command::Play);
+    let warned = live
+        .wait_for(PATIENCE, |f| !f.physics_warnings.is_empty())
+        .expect("the tunnelling is found");
+    assert!(
+        warned.physics_warnings[0].contains("passed through the object"),
+        "{:?}",
+        warned.physics_warnings
+    );
+    send(&live, Command::Pause);
+    let reset = send(&live, Command::Reset);
+    assert!(
+        reset.physics_warnings.is_empty(),
+        "{:?}",
+        reset.physics_warnings
+    );
+}
