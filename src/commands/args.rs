@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 // The lab commands' report: where it goes, or none.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ReportArgs {
-    /// Write the report (Markdown and PNG plots) in this directory
+    /// Write the report (Markdown, its plots as PNG and SVG) in this directory
     /// [default: report-COMMAND-RECORDING in the current directory].
     #[arg(long, value_parser = report_dir)]
     report: Option<PathBuf>,
@@ -25,7 +25,7 @@ fn report_dir(s: &str) -> Result<PathBuf, String> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some(e @ ("md" | "html" | "txt" | "png" | "svg" | "json" | "csv" | "pdf")) => Err(format!(
-            "--report takes a directory (the report is written there as Markdown with its PNG plots), not a .{e} file: try --report {}",
+            "--report takes a directory (the report is written there as Markdown with its plots as PNG and SVG), not a .{e} file: try --report {}",
             p.with_extension("").display()
         )),
         _ => Ok(p),

@@ -9,8 +9,9 @@ use super::layout::{Layout, round_px, x_tick_baseline};
 use super::style::{AXIS, CAP, DESCENT, GRID, INK, LABEL_PX, PAD, TICK_LEN, TICK_PX, TITLE_PX};
 use super::text::{Align, text, text_up};
 use super::ticks::Tick;
+use plotters::backend::DrawingBackend;
 
-pub(super) fn frame(area: &Area<'_>, l: &Layout) -> Result<(), PlotError> {
+pub(super) fn frame<DB: DrawingBackend>(area: &Area<DB>, l: &Layout) -> Result<(), PlotError> {
     area.draw(&Rectangle::new(
         [(l.left, l.top), (l.right, l.bottom)],
         AXIS.stroke_width(1),
@@ -18,7 +19,7 @@ pub(super) fn frame(area: &Area<'_>, l: &Layout) -> Result<(), PlotError> {
     .map_err(draw_err)
 }
 
-fn title(area: &Area<'_>, s: &str, width: u32) -> Result<(), PlotError> {
+fn title<DB: DrawingBackend>(area: &Area<DB>, s: &str, width: u32) -> Result<(), PlotError> {
     let baseline = PAD + round_px(TITLE_PX * 0.95);
     text(
         area,
@@ -32,13 +33,18 @@ fn title(area: &Area<'_>, s: &str, width: u32) -> Result<(), PlotError> {
 }
 
 /// Draws the rotated y label in the left margin, centred on the plot area.
-fn y_label(area: &Area<'_>, s: &str, l: &Layout) -> Result<(), PlotError> {
+fn y_label<DB: DrawingBackend>(area: &Area<DB>, s: &str, l: &Layout) -> Result<(), PlotError> {
     let baseline_x = PAD + round_px(LABEL_PX * CAP);
     text_up(area, s, LABEL_PX, INK, baseline_x, (l.top + l.bottom) / 2)
 }
 
 /// Draws the x label under the tick labels, centred on the plot area.
-fn x_label(area: &Area<'_>, s: &str, l: &Layout, height: u32) -> Result<(), PlotError> {
+fn x_label<DB: DrawingBackend>(
+    area: &Area<DB>,
+    s: &str,
+    l: &Layout,
+    height: u32,
+) -> Result<(), PlotError> {
     let baseline = height as i32 - PAD - round_px(LABEL_PX * DESCENT);
     text(
         area,
@@ -52,8 +58,8 @@ fn x_label(area: &Area<'_>, s: &str, l: &Layout, height: u32) -> Result<(), Plot
 }
 
 /// The title, x label and y label of a plot (an empty one draws nothing).
-pub(super) fn titles(
-    area: &Area<'_>,
+pub(super) fn titles<DB: DrawingBackend>(
+    area: &Area<DB>,
     l: &Layout,
     size: (u32, u32),
     [title_text, x_text, y_text]: [&str; 3],
@@ -64,7 +70,11 @@ pub(super) fn titles(
 }
 
 /// A tick mark under the plot area at column `px`.
-pub(super) fn x_tick_mark(area: &Area<'_>, l: &Layout, px: i32) -> Result<(), PlotError> {
+pub(super) fn x_tick_mark<DB: DrawingBackend>(
+    area: &Area<DB>,
+    l: &Layout,
+    px: i32,
+) -> Result<(), PlotError> {
     polyline(
         area,
         vec![(px, l.bottom), (px, l.bottom + TICK_LEN)],
@@ -74,13 +84,17 @@ pub(super) fn x_tick_mark(area: &Area<'_>, l: &Layout, px: i32) -> Result<(), Pl
 }
 
 /// A tick mark left of the plot area at row `py`.
-pub(super) fn y_tick_mark(area: &Area<'_>, l: &Layout, py: i32) -> Result<(), PlotError> {
+pub(super) fn y_tick_mark<DB: DrawingBackend>(
+    area: &Area<DB>,
+    l: &Layout,
+    py: i32,
+) -> Result<(), PlotError> {
     polyline(area, vec![(l.left - TICK_LEN, py), (l.left, py)], AXIS, 1)
 }
 
 /// A tick label centred on column `px`, under the plot area.
-pub(super) fn x_tick_label(
-    area: &Area<'_>,
+pub(super) fn x_tick_label<DB: DrawingBackend>(
+    area: &Area<DB>,
     l: &Layout,
     px: i32,
     label: &str,
@@ -97,8 +111,8 @@ pub(super) fn x_tick_label(
 }
 
 /// A tick label right-aligned left of the plot area, centred on row `py`.
-pub(super) fn y_tick_label(
-    area: &Area<'_>,
+pub(super) fn y_tick_label<DB: DrawingBackend>(
+    area: &Area<DB>,
     l: &Layout,
     py: i32,
     label: &str,
@@ -107,8 +121,8 @@ pub(super) fn y_tick_label(
 }
 
 /// Tick-sized text centred on row `row`, aligned on column `x`.
-pub(super) fn label_on_row(
-    area: &Area<'_>,
+pub(super) fn label_on_row<DB: DrawingBackend>(
+    area: &Area<DB>,
     label: &str,
     x: i32,
     row: i32,
@@ -119,8 +133,8 @@ pub(super) fn label_on_row(
 }
 
 /// Grid lines, tick marks and tick labels of an x-y plot area.
-pub(super) fn axes(
-    area: &Area<'_>,
+pub(super) fn axes<DB: DrawingBackend>(
+    area: &Area<DB>,
     l: &Layout,
     x_ticks: &[Tick],
     y_ticks: &[Tick],

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use plotters::backend::{BitMapBackend, RGBPixel};
+use plotters::backend::{BitMapBackend, DrawingBackend, RGBPixel, SVGBackend};
 use plotters::coord::Shift;
 use plotters::drawing::{DrawingArea, IntoDrawingArea};
 use plotters::element::{Circle, PathElement, Rectangle};
@@ -21,7 +21,8 @@ pub fn write_png(path: &Path, png: &[u8]) -> Result<(), PlotError> {
     })
 }
 
-pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a, RGBPixel>, Shift>;
+/// What every plot draws on: a bitmap for PNG, an SVG document for SVG.
+pub(super) type Area<DB> = DrawingArea<DB, Shift>;
 
 pub(super) fn draw_err(e: impl std::fmt::Display) -> PlotError {
     PlotError::Draw(e.to_string())
@@ -31,10 +32,25 @@ pub(super) fn rgb(c: [u8; 3]) -> RGBColor {
     RGBColor(c[0], c[1], c[2])
 }
 
+/// Draws on a white SVG canvas of `size`: the same plot as [`render`]'s PNG, as vectors.
+pub(super) fn render_svg(
+    size: (u32, u32),
+    draw: impl FnOnce(&Area<SVGBackend<'_>>) -> Result<(), PlotError>,
+) -> Result<String, PlotError> {
+    let mut svg = String::new();
+    {
+        let area = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        area.fill(&WHITE).map_err(draw_err)?;
+        draw(&area)?;
+        area.present().map_err(draw_err)?;
+    }
+    Ok(svg)
+}
+
 /// Draws on a white RGB canvas of `size` and encodes it as PNG.
 pub(super) fn render(
     size: (u32, u32),
-    draw: impl FnOnce(&Area<'_>) -> Result<(), PlotError>,
+    draw: impl FnOnce(&Area<BitMapBackend<'_, RGBPixel>>) -> Result<(), PlotError>,
 ) -> Result<Vec<u8>, PlotError> {
     let (w, h) = size;
     let mut buf = vec![255u8; w as usize * h as usize * 3];
@@ -62,8 +78,8 @@ fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, PlotError> {
     Ok(out)
 }
 
-pub(super) fn polyline(
-    area: &Area<'_>,
+pub(super) fn polyline<DB: DrawingBackend>(
+    area: &Area<DB>,
     pts: Vec<(i32, i32)>,
     color: RGBColor,
     width: u32,
@@ -75,8 +91,8 @@ pub(super) fn polyline(
         .map_err(draw_err)
 }
 
-pub(super) fn dot(
-    area: &Area<'_>,
+pub(super) fn dot<DB: DrawingBackend>(
+    area: &Area<DB>,
     p: (i32, i32),
     r: i32,
     color: RGBColor,
@@ -86,8 +102,8 @@ pub(super) fn dot(
 }
 
 /// Filled rectangle covering columns `x0..x1` and rows `y0..y1` (end exclusive).
-pub(super) fn fill_rect(
-    area: &Area<'_>,
+pub(super) fn fill_rect<DB: DrawingBackend>(
+    area: &Area<DB>,
     (x0, y0): (i32, i32),
     (x1, y1): (i32, i32),
     color: RGBColor,

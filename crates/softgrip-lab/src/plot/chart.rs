@@ -13,6 +13,7 @@ use super::style::{PAD, TICK_LEN, TICK_PX, WHITE};
 use super::text::{Align, ensure_font, max_width, text_width};
 use super::ticks::{Tick, axis_ticks, padded_range};
 use super::types::{Chart, Mark, Series};
+use plotters::backend::DrawingBackend;
 
 /// A chart's layout with its ticks.
 struct ChartFrame {
@@ -134,7 +135,11 @@ const DASH_ON: f64 = 8.0;
 const DASH_OFF: f64 = 5.0;
 
 /// A dashed polyline: 8 px dashes, 5 px gaps, the pattern running on across vertices.
-fn dashed(area: &Area<'_>, run: &[(f64, f64)], color: RGBColor) -> Result<(), PlotError> {
+fn dashed<DB: DrawingBackend>(
+    area: &Area<DB>,
+    run: &[(f64, f64)],
+    color: RGBColor,
+) -> Result<(), PlotError> {
     let mut on = true;
     let mut left = DASH_ON;
     let mut current: Vec<(i32, i32)> = Vec::new();
@@ -170,8 +175,8 @@ fn dashed(area: &Area<'_>, run: &[(f64, f64)], color: RGBColor) -> Result<(), Pl
 }
 
 /// Draws a run of pixel points with a series' mark.
-fn draw_run(
-    area: &Area<'_>,
+fn draw_run<DB: DrawingBackend>(
+    area: &Area<DB>,
     run: &[(f64, f64)],
     mark: Mark,
     color: RGBColor,
@@ -197,7 +202,12 @@ fn draw_run(
 }
 
 /// An arrow from `a` to `b` in pixels: a 1 px shaft and a filled head.
-fn arrow(area: &Area<'_>, a: (f64, f64), b: (f64, f64), color: RGBColor) -> Result<(), PlotError> {
+fn arrow<DB: DrawingBackend>(
+    area: &Area<DB>,
+    a: (f64, f64),
+    b: (f64, f64),
+    color: RGBColor,
+) -> Result<(), PlotError> {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len = (dx * dx + dy * dy).sqrt();
     if len < 0.5 {
@@ -250,7 +260,7 @@ fn coverage_samples(c: &Chart, l: &Layout) -> Vec<(f64, f64)> {
 
 /// The legend: one row per labelled series, in the corner of the plot area
 /// that covers the fewest drawn points.
-fn legend(area: &Area<'_>, c: &Chart, l: &Layout) -> Result<(), PlotError> {
+fn legend<DB: DrawingBackend>(area: &Area<DB>, c: &Chart, l: &Layout) -> Result<(), PlotError> {
     let entries: Vec<&Series> = c.series.iter().filter(|s| !s.label.is_empty()).collect();
     if entries.is_empty() {
         return Ok(());
@@ -326,21 +336,39 @@ fn legend(area: &Area<'_>, c: &Chart, l: &Layout) -> Result<(), PlotError> {
 /// Draws `c` as a PNG: series, arrows, grid, ticks, labels and a legend.
 pub fn chart_png(c: &Chart) -> Result<Vec<u8>, PlotError> {
     let f = chart_frame(c)?;
+    render(c.size, |area| draw_chart(area, c, &f))
+}
+
+/// [`chart_png`]'s plot as SVG (vectors: it scales for print and slides).
+pub fn chart_svg(c: &Chart) -> Result<String, PlotError> {
+    let f = chart_frame(c)?;
+    let svg = super::canvas::render_svg(c.size, |area| draw_chart(area, c, &f))?;
+    // The embedded font's registered name means nothing to an SVG viewer: name the font and
+    // its usual stand-ins.
+    Ok(svg.replace(
+        &format!("font-family=\"{}\"", super::text::FAMILY),
+        "font-family=\"DejaVu Sans, Verdana, sans-serif\"",
+    ))
+}
+
+fn draw_chart<DB: DrawingBackend>(
+    area: &Area<DB>,
+    c: &Chart,
+    f: &ChartFrame,
+) -> Result<(), PlotError> {
     let l = f.layout;
-    render(c.size, |area| {
-        axes(area, &l, &f.x_ticks, &f.y_ticks, true)?;
-        for s in &c.series {
-            for run in pixel_runs(&l, &s.points) {
-                draw_run(area, &run, s.mark, rgb(s.color))?;
-            }
+    axes(area, &l, &f.x_ticks, &f.y_ticks, true)?;
+    for s in &c.series {
+        for run in pixel_runs(&l, &s.points) {
+            draw_run(area, &run, s.mark, rgb(s.color))?;
         }
-        for &(p, q, color) in &c.arrows {
-            if let (Some(a), Some(b)) = (l.map(p.0, p.1), l.map(q.0, q.1)) {
-                arrow(area, a, b, rgb(color))?;
-            }
+    }
+    for &(p, q, color) in &c.arrows {
+        if let (Some(a), Some(b)) = (l.map(p.0, p.1), l.map(q.0, q.1)) {
+            arrow(area, a, b, rgb(color))?;
         }
-        frame(area, &l)?;
-        legend(area, c, &l)?;
-        titles(area, &l, c.size, [&c.title, &c.x_label, &c.y_label])
-    })
+    }
+    frame(area, &l)?;
+    legend(area, c, &l)?;
+    titles(area, &l, c.size, [&c.title, &c.x_label, &c.y_label])
 }

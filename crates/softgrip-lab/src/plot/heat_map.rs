@@ -18,6 +18,7 @@ use super::ticks::{
     Tick, degenerate, format_log_value, format_number, linear_ticks, log_wants_sci, wants_sci,
 };
 use super::types::HeatMap;
+use plotters::backend::DrawingBackend;
 
 /// Cell edges for ascending centres: midpoints between neighbours (geometric
 /// on a log axis), the outer edges half a spacing beyond the end centres.
@@ -263,7 +264,11 @@ pub fn heat_map_png(h: &HeatMap) -> Result<Vec<u8>, PlotError> {
 }
 
 /// The colour bar right of the cells: colour ramp, value ticks and label.
-fn color_bar(area: &Area<'_>, f: &HeatFrame, h: &HeatMap) -> Result<(), PlotError> {
+fn color_bar<DB: DrawingBackend>(
+    area: &Area<DB>,
+    f: &HeatFrame,
+    h: &HeatMap,
+) -> Result<(), PlotError> {
     let l = &f.layout;
     let (x0, x1) = (f.cbar_left, f.cbar_left + CBAR_W);
     let span = f64::from((l.bottom - l.top).max(1));

@@ -23,7 +23,7 @@ mod types;
 
 pub use bars::{bars_layout, bars_png};
 pub use canvas::write_png;
-pub use chart::{chart_layout, chart_png};
+pub use chart::{chart_layout, chart_png, chart_svg};
 pub use error::PlotError;
 pub use heat_map::{heat_map_layout, heat_map_png};
 pub use layout::Layout;

@@ -11,11 +11,12 @@ use plotters::style::{
 use super::canvas::{Area, draw_err};
 use super::error::PlotError;
 use super::layout::round_px;
+use plotters::backend::DrawingBackend;
 
 /// DejaVu Sans, embedded so plots look the same on every machine.
 const FONT_BYTES: &[u8] = include_bytes!("../../../../assets/fonts/DejaVuSans.ttf");
 /// The name the font is registered under in plotters' font table.
-const FAMILY: &str = "softgrip-dejavu-sans";
+pub(super) const FAMILY: &str = "softgrip-dejavu-sans";
 
 /// Registers the embedded font with plotters once per process.
 pub(super) fn ensure_font() -> Result<(), PlotError> {
@@ -97,8 +98,8 @@ fn text_style(size: f64, color: RGBColor) -> TextStyle<'static> {
 }
 
 /// Horizontal text with its baseline on row `baseline`, aligned on column `x`.
-pub(super) fn text(
-    area: &Area<'_>,
+pub(super) fn text<DB: DrawingBackend>(
+    area: &Area<DB>,
     s: &str,
     size: f64,
     color: RGBColor,
@@ -124,8 +125,8 @@ pub(super) fn text(
 
 /// Text reading upwards (rotated a quarter turn anticlockwise), its baseline
 /// on column `baseline_x` (letter tops point left), centred on row `center_y`.
-pub(super) fn text_up(
-    area: &Area<'_>,
+pub(super) fn text_up<DB: DrawingBackend>(
+    area: &Area<DB>,
     s: &str,
     size: f64,
     color: RGBColor,

@@ -198,7 +198,7 @@ pub fn diagnosis(
             color: [20, 20, 20],
         });
         md += "## Residuals before and after\n\n";
-        md += &out.image("arrows.png", &plot::chart_png(&chart)?, "residual arrows")?;
+        md += &out.chart("arrows.png", &chart, "residual arrows")?;
     }
     let chart = residual_chart(
         recording,
@@ -208,10 +208,6 @@ pub fn diagnosis(
         ],
         &[],
     );
-    md += &out.image(
-        "residuals.png",
-        &plot::chart_png(&chart)?,
-        "residuals per sample",
-    )?;
+    md += &out.chart("residuals.png", &chart, "residuals per sample")?;
     out.finish("diagnosis.md", &md)
 }

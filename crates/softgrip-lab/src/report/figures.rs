@@ -2,7 +2,7 @@
 //! residuals per sample.
 
 use crate::compare::Residual;
-use crate::plot::{self, Chart, Mark, Series, palette};
+use crate::plot::{Chart, Mark, Series, palette};
 use crate::recording::{MarkerRef, Mode, Recording};
 use crate::replay::Replay;
 
@@ -121,7 +121,7 @@ pub(super) fn replay_plots(
                 }
             }
         }
-        md += &out.image("paths.png", &plot::chart_png(&chart)?, "marker paths")?;
+        md += &out.chart("paths.png", &chart, "marker paths")?;
     }
     if let Some(&a) = axes.first() {
         let chart = Chart {
@@ -140,11 +140,11 @@ pub(super) fn replay_plots(
             ),
             ..Chart::default()
         };
-        md += &out.image("motion.png", &plot::chart_png(&chart)?, "motion")?;
+        md += &out.chart("motion.png", &chart, "motion")?;
     }
-    md += &out.image(
+    md += &out.chart(
         "residuals.png",
-        &plot::chart_png(&residual_chart(recording, &[(title, replay)], &markers))?,
+        &residual_chart(recording, &[(title, replay)], &markers),
         "residuals",
     )?;
     Ok(md)

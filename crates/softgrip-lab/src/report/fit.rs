@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::fit::Fit;
-use crate::plot::{self, Chart, Mark, Series, palette};
+use crate::plot::{Chart, Mark, Series, palette};
 use crate::recording::Recording;
 
 use super::figures::{plotted_markers, replay_plots, residual_chart};
@@ -154,7 +154,7 @@ pub fn fit(dir: &Path, recording: &Recording, fit: &Fit) -> Result<Written, Repo
         ],
         ..Chart::default()
     };
-    md += &out.image("convergence.png", &plot::chart_png(&chart)?, "convergence")?;
+    md += &out.chart("convergence.png", &chart, "convergence")?;
     let markers = plotted_markers(&fit.replay.residuals);
     let mut chart = residual_chart(
         recording,
@@ -162,9 +162,9 @@ pub fn fit(dir: &Path, recording: &Recording, fit: &Fit) -> Result<Written, Repo
         &markers,
     );
     chart.title = "RMS residual per sample, at the start and fitted".into();
-    md += &out.image(
+    md += &out.chart(
         "residuals_before_after.png",
-        &plot::chart_png(&chart)?,
+        &chart,
         "residuals before and after",
     )?;
     md += &replay_plots(&mut out, recording, &fit.replay, "fitted")?;

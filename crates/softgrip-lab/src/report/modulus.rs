@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::plot::{self, Chart, Mark, Series, palette};
+use crate::plot::{Chart, Mark, Series, palette};
 use crate::recording::Recording;
 
 use super::out::{Out, ReportError, Written};
@@ -72,10 +72,6 @@ pub fn modulus(
         ],
         ..Chart::default()
     };
-    md += &out.image(
-        "stress_strain.png",
-        &plot::chart_png(&chart)?,
-        "stress against strain",
-    )?;
+    md += &out.chart("stress_strain.png", &chart, "stress against strain")?;
     out.finish("modulus.md", &md)
 }

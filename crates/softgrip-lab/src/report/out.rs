@@ -53,6 +53,24 @@ impl Out {
         Ok(format!("![{alt}]({name})\n\n"))
     }
 
+    /// A chart as PNG (shown) and SVG beside it (`NAME.svg`, for print and slides).
+    pub(super) fn chart(
+        &mut self,
+        name: &str,
+        chart: &plot::Chart,
+        alt: &str,
+    ) -> Result<String, ReportError> {
+        let md = self.image(name, &plot::chart_png(chart)?, alt)?;
+        let svg_name = std::path::Path::new(name).with_extension("svg");
+        write_file(&self.dir.join(&svg_name), &plot::chart_svg(chart)?)?;
+        Ok(format!(
+            "{} (also as [{}]({}))\n\n",
+            md.trim_end(),
+            svg_name.display(),
+            svg_name.display()
+        ))
+    }
+
     pub(super) fn finish(self, name: &str, text: &str) -> Result<Written, ReportError> {
         let markdown = self.dir.join(name);
         write_file(&markdown, text)?;

@@ -88,7 +88,7 @@ pub fn sweep(
                 ],
                 ..Chart::default()
             };
-            md += &out.image("sweep.png", &plot::chart_png(&chart)?, "sweep curve")?;
+            md += &out.chart("sweep.png", &chart, "sweep curve")?;
         }
         [a, b] => {
             // Grid order: the last axis fastest; the heat map's rows are y.

@@ -6,7 +6,7 @@
 
 use softgrip_lab::plot::{
     Bars, Chart, HeatMap, Layout, Mark, PlotError, Series, bars_layout, bars_png, chart_layout,
-    chart_png, heat_map_layout, heat_map_png, palette, write_png,
+    chart_png, chart_svg, heat_map_layout, heat_map_png, palette, write_png,
 };
 
 /// A decoded 8-bit RGB image.
@@ -639,4 +639,57 @@ fn edge_case_plots() {
             write_png(&dir.join(name), png).unwrap();
         }
     }
+}
+
+/// The SVG beside a report's PNG is the same plot: the red line lies along the row the layout
+/// maps y = 0.5 to, from the first x to the last, and the text names a font viewers have.
+#[test]
+fn a_charts_svg_draws_its_series_where_the_layout_says() {
+    let chart = red_line_chart();
+    let layout = chart_layout(&chart).unwrap();
+    let svg = chart_svg(&chart).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    let (x0, y) = layout.map(0.0, 0.5).unwrap();
+    let (x1, _) = layout.map(1.0, 0.5).unwrap();
+    let red: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.starts_with("<polyline") && l.contains("stroke=\"#DC0000\""))
+        .collect();
+    assert!(!red.is_empty(), "no red polyline");
+    let points: Vec<(f64, f64)> = red
+        .iter()
+        .flat_map(|l| {
+            let list = l
+                .split("points=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap();
+            list.split_whitespace()
+                .map(|p| {
+                    let (a, b) = p.split_once(',').unwrap();
+                    (a.parse().unwrap(), b.parse().unwrap())
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    // The series, not the legend's short sample of it (in a top corner, far above the row).
+    let points: Vec<(f64, f64)> = points.into_iter().filter(|p| p.1 > y - 20.0).collect();
+    assert!(!points.is_empty());
+    for &(_, py) in &points {
+        assert!(
+            (py - y).abs() <= 2.0,
+            "a red point at y = {py}, the line at {y}"
+        );
+    }
+    let xs = points.iter().map(|p| p.0);
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    assert!(
+        (lo - x0).abs() <= 2.0 && (hi - x1).abs() <= 2.0,
+        "{lo}..{hi} against {x0}..{x1}"
+    );
+    assert!(svg.contains("font-family=\"DejaVu Sans"));
 }
