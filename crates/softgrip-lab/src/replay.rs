@@ -225,7 +225,30 @@ pub fn replay_observing(
                     _ => false,
                 };
                 if !near {
-                    settle(&mut sim, &from, options)?;
+                    // Where the load is the recording's: which sample asked for it.
+                    settle(&mut sim, &from, options).map_err(|e| match e {
+                        SimError::NoEquilibrium {
+                            load,
+                            why,
+                            inverted,
+                            near,
+                            advice,
+                            stalled,
+                        } => SimError::NoEquilibrium {
+                            load,
+                            why: format!(
+                                "sample {} of {} asks for {} N; {why}",
+                                i + 1,
+                                recording.samples_path.display(),
+                                sample.load
+                            ),
+                            inverted,
+                            near,
+                            advice,
+                            stalled,
+                        },
+                        e => e,
+                    })?;
                 }
                 record(&sim, i, &mut residuals);
                 if let (Some(columns), Some(f)) = (sensitivities.as_mut(), at_equilibrium.as_mut())
