@@ -693,3 +693,19 @@ fn a_charts_svg_draws_its_series_where_the_layout_says() {
     );
     assert!(svg.contains("font-family=\"DejaVu Sans"));
 }
+
+/// Twenty markers get twenty colours (a report once repeated ten colours over fourteen).
+#[test]
+fn the_palette_has_twenty_distinct_colours() {
+    let colours: Vec<[u8; 3]> = (0..20).map(palette).collect();
+    for (i, a) in colours.iter().enumerate() {
+        for b in &colours[i + 1..] {
+            let d: i32 = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (i32::from(*x) - i32::from(*y)).abs())
+                .sum();
+            assert!(d > 30, "{a:?} and {b:?} are nearly the same");
+        }
+    }
+}
