@@ -21,7 +21,7 @@ enum Action {
     /// checks would change.
     Info {
         file: PathBuf,
-        /// Also write the figures as JSON here (a tetrahedral mesh's, after the checks).
+        /// Also write the figures as JSON here (a tetrahedral mesh's after the checks).
         #[arg(long)]
         json: Option<PathBuf>,
     },
@@ -45,7 +45,9 @@ enum Action {
 
 pub fn run(args: Args) -> Result<()> {
     match args.action {
-        Action::Info { file, .. } if io::is_surface(&file) => info_surface(&file),
+        Action::Info { file, json } if io::is_surface(&file) => {
+            info_surface(&file, json.as_deref())
+        }
         Action::Info { file, json } => info_tets(&file, json.as_deref()),
         Action::Convert {
             input,
@@ -61,7 +63,7 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// A closed surface (.stl, .obj): its figures and checks.
-fn info_surface(file: &Path) -> Result<()> {
+fn info_surface(file: &Path, json: Option<&Path>) -> Result<()> {
     let surface = softgrip_core::mesh::surface::read(
         &std::fs::read(file).with_context(|| format!("reading {}", file.display()))?,
         &file.display().to_string(),
@@ -78,6 +80,17 @@ fn info_surface(file: &Path) -> Result<()> {
     println!("  mean edge: {:.3} mm", 1e3 * surface.mean_edge());
     softgrip_core::mesh::surface::check(&surface, &file.display().to_string())?;
     println!("  closed, consistently oriented, outward, not self-intersecting");
+    if let Some(path) = json {
+        let value = serde_json::json!({
+            "file": file.display().to_string(),
+            "surface": true,
+            "triangles": surface.triangles.len(),
+            "vertices": surface.vertices.len(),
+            "volume_m3": surface.volume(),
+            "mean_edge_m": surface.mean_edge(),
+        });
+        super::figures::write_json_line(path, &value)?;
+    }
     Ok(())
 }
 

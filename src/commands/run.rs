@@ -257,6 +257,51 @@ pub fn run(args: Args) -> Result<()> {
 /// Steps a check of a smaller `dt` may take.
 const CHECK_STEPS: f64 = 2e5;
 
+/// How the scene ran again at a smaller `dt` to `until`.
+enum Rerun {
+    /// Not run: this many steps would be too many.
+    TooLong(f64),
+    Passed,
+    Failed(softgrip_core::error::SimError),
+    /// The physical check found the same as before.
+    Found,
+}
+
+/// Runs `scene` again at `dt` to `until` (the advice's check); with `same`, stops where the
+/// physical checks find it again.
+fn rerun(
+    scene: &softgrip_core::Scene,
+    dt: f64,
+    until: f64,
+    same: Option<&softgrip_core::watch::Finding>,
+) -> Rerun {
+    if until / dt > CHECK_STEPS {
+        return Rerun::TooLong(until / dt);
+    }
+    let mut smaller = scene.clone();
+    smaller.simulation.dt = dt;
+    let mut sim = match softgrip_core::Simulation::new(&smaller) {
+        Ok(sim) => sim,
+        Err(e) => return Rerun::Failed(e),
+    };
+    let mut watch = softgrip_core::watch::Watch::new();
+    while sim.state.time < until {
+        if let Err(e) = sim.step() {
+            return Rerun::Failed(e);
+        }
+        watch.step(&sim.model, &sim.state);
+        if same.is_some_and(|f| {
+            watch
+                .findings()
+                .iter()
+                .any(|g| g.kind == f.kind && g.finger == f.finger)
+        }) {
+            return Rerun::Found;
+        }
+    }
+    Rerun::Passed
+}
+
 /// A divergence whose advice is a smaller `dt`, checked: the scene is run again at that `dt`
 /// to a little past where it failed. Advice that does not work is replaced by what does.
 fn check_the_advice(
@@ -278,44 +323,32 @@ fn check_the_advice(
         return e;
     };
     let until = 1.5 * time + 10.0 * old_dt;
-    if until / dt > CHECK_STEPS {
-        advice.push_str(&format!(
-            " (not checked: {:.0e} steps at that dt)",
-            until / dt
-        ));
-    } else {
-        let mut smaller = scene.clone();
-        smaller.simulation.dt = dt;
-        let outcome = softgrip_core::Simulation::new(&smaller).and_then(|mut sim| {
-            while sim.state.time < until {
-                sim.step()?;
-            }
-            Ok(())
-        });
-        advice = match outcome {
-            Ok(()) => {
-                format!("{advice} (checked: at dt = {dt:e} s the run passes t = {until:.4} s)")
-            }
-            Err(SimError::Diverged { time: t, .. }) => {
-                let loads: Vec<String> = scene
-                    .fingers
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, f)| f.force.length() > 0.0)
-                    .map(|(k, f)| format!("finger {}: {:.4e} N", k + 1, f.force.length()))
-                    .collect();
-                format!(
-                    "A smaller dt does not help (checked: at dt = {dt:e} s it diverges too, at t = {t:.4} s): the loads ({}) or the stiffness (E = {young_modulus:e} Pa, alpha = {alpha:e}) are more than this object and contact can take; lower them",
-                    if loads.is_empty() {
-                        "none on fingers".to_string()
-                    } else {
-                        loads.join(", ")
-                    }
-                )
-            }
-            Err(_) => format!("{advice} (not checked: the run at dt = {dt:e} s failed otherwise)"),
-        };
-    }
+    advice = match rerun(scene, dt, until, None) {
+        Rerun::TooLong(steps) => format!("{advice} (not checked: {steps:.0e} steps at that dt)"),
+        Rerun::Passed | Rerun::Found => {
+            format!("{advice} (checked: at dt = {dt:e} s the run passes t = {until:.4} s)")
+        }
+        Rerun::Failed(SimError::Diverged { time: t, .. }) => {
+            let loads: Vec<String> = scene
+                .fingers
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| f.force.length() > 0.0)
+                .map(|(k, f)| format!("finger {}: {:.4e} N", k + 1, f.force.length()))
+                .collect();
+            format!(
+                "A smaller dt does not help (checked: at dt = {dt:e} s it diverges too, at t = {t:.4} s): the loads ({}) or the stiffness (E = {young_modulus:e} Pa, alpha = {alpha:e}) are more than this object and contact can take; lower them",
+                if loads.is_empty() {
+                    "none on fingers".to_string()
+                } else {
+                    loads.join(", ")
+                }
+            )
+        }
+        Rerun::Failed(_) => {
+            format!("{advice} (not checked: the run at dt = {dt:e} s failed otherwise)")
+        }
+    };
     SimError::Diverged {
         time,
         suggest_dt: Some(dt),
@@ -336,36 +369,18 @@ fn check_tunnelling(
     dt: f64,
 ) -> String {
     let until = 1.5 * f.time + 10.0 * scene.simulation.dt;
-    if until / dt > CHECK_STEPS {
-        return format!(
-            "A smaller dt may help (not checked: {:.0e} steps at dt = {dt:e} s).",
-            until / dt
-        );
-    }
-    let mut smaller = scene.clone();
-    smaller.simulation.dt = dt;
-    let Ok(mut sim) = softgrip_core::Simulation::new(&smaller) else {
-        return String::new();
-    };
-    let mut watch = softgrip_core::watch::Watch::new();
-    while sim.state.time < until {
-        if sim.step().is_err() {
-            return format!(
-                "At dt = {dt:e} s the run diverges instead: lower the load or the finger's speed."
-            );
+    match rerun(scene, dt, until, Some(f)) {
+        Rerun::TooLong(steps) => {
+            format!("A smaller dt may help (not checked: {steps:.0e} steps at dt = {dt:e} s).")
         }
-        watch.step(&sim.model, &sim.state);
-        if watch
-            .findings()
-            .iter()
-            .any(|g| g.kind == f.kind && g.finger == f.finger)
-        {
-            return format!(
-                "A smaller dt does not help (checked: at dt = {dt:e} s it passes through too): lower the load or the finger's speed, or stiffen the contact (contact_stiffness_scale)."
-            );
+        Rerun::Failed(_) => {
+            format!("At dt = {dt:e} s the run fails instead: lower the load or the finger's speed.")
         }
+        Rerun::Found => format!(
+            "A smaller dt does not help (checked: at dt = {dt:e} s it passes through too): lower the load or the finger's speed, or stiffen the contact (contact_stiffness_scale)."
+        ),
+        Rerun::Passed => format!(
+            "Use dt <= {dt:e} s (checked: at that dt it does not pass through by t = {until:.4} s)."
+        ),
     }
-    format!(
-        "Use dt <= {dt:e} s (checked: at that dt it does not pass through by t = {until:.4} s)."
-    )
 }

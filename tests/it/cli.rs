@@ -717,5 +717,16 @@ fn run_ramp_check_and_mesh_info_write_json_and_csv() {
     let v = read_json(&info);
     assert!(v["tetrahedra"].as_u64().expect("count") > 0);
     assert!(v["volume_m3"].as_f64().expect("volume") > 0.0);
+    // A surface's figures too (its enclosed volume, as the tetrahedra's for a tet mesh).
+    let surface = dir.join("surface.json");
+    let o = softgrip(&[
+        "mesh",
+        "info",
+        &mesh_fixture("sphere_surface.stl"),
+        "--json",
+        arg(&surface),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(read_json(&surface)["volume_m3"].as_f64().expect("volume") > 0.0);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -73,6 +73,10 @@ pub struct ReplayOptions {
     pub threads: usize,
     /// Keep each sample's positions in [`Replay::states`].
     pub keep_states: bool,
+    /// Keep them only where a later replay of a nearby point may start from them (a
+    /// path-independent model: [`replay_observing`]'s `warm`); elsewhere they would be dead
+    /// weight (a fit of the 23k-tetrahedron cylinder keeps ~80 replays).
+    pub warm_seeds: bool,
 }
 
 /// Simulates `recording` on `scene` (its own scene, or one with other
@@ -188,12 +192,13 @@ pub fn replay_observing(
     let mut volume_errors = Vec::with_capacity(recording.samples.len());
     let mut largest_strain = [0.0f64; 2];
     let mut states = Vec::new();
+    let keep_states = options.keep_states || (options.warm_seeds && sim.model.path_independent());
     let mut strains = |sim: &Simulation| {
         for e in softgrip_core::fields::spring_strain(&sim.model, &sim.state) {
             largest_strain[0] = largest_strain[0].max(e);
             largest_strain[1] = largest_strain[1].max(-e);
         }
-        if options.keep_states {
+        if keep_states {
             states.push(SampleState {
                 positions: sim.state.positions.clone(),
                 fingers: sim.state.fingers.iter().map(|f| f.position).collect(),

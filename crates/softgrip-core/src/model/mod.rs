@@ -218,9 +218,9 @@ impl Model {
     /// Whether an equilibrium depends only on the loads, not on the path to them: no friction
     /// (fingers, guides, table), whose stick anchors remember the path, no spring limits, whose
     /// projection does too, and no viscoelastic branch. Only then may a static solve start from
-    /// another solve's answer: on the 4 mm thesis cuboid to 15 N, a start from E's answers at
-    /// E + 5 % ended 99 um from the usual path's answer with friction, 57 um with the limits
-    /// alone, 0.015 um with neither (`docs/design/equilibrium.md`).
+    /// another solve's answer: on the light-guide thesis cuboid at 4.17 N, a start from E's
+    /// answers at E + 5 % ends 25 um from the usual path's answer with friction and limits,
+    /// 0.016 um without (`docs/design/equilibrium.md`).
     pub fn path_independent(&self) -> bool {
         self.tau_s.is_none()
             && self.tau_c.is_none()

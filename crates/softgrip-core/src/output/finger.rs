@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::mesh::surface::Surface;
 use crate::model::Model;
 use crate::scene::FingerShape;
 
@@ -11,30 +12,23 @@ use crate::scene::FingerShape;
 const SPHERE_SEGMENTS: u32 = 20;
 const SPHERE_RINGS: u32 = 10;
 
-/// A triangle surface: points and triangles by point index, each wound
-/// counter-clockwise seen from outside.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct TriSurface {
-    pub points: Vec<DVec3>,
-    pub triangles: Vec<[u32; 3]>,
-}
-
-impl TriSurface {
-    /// Appends `other`, its indices shifted past this surface's points.
-    fn append(&mut self, other: TriSurface) {
-        let base = self.points.len() as u32;
-        self.points.extend(other.points);
-        self.triangles
-            .extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
+/// Appends `other` to `to`, its indices shifted past `to`'s vertices.
+fn append(to: &mut Surface, other: Surface) {
+    let base = to.vertices.len() as u32;
+    to.vertices.extend(other.vertices);
+    to.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
 }
 
 /// Finger `k`'s surface with its centre at `centre`: every part, at its offset.
-pub fn finger_surface(model: &Model, k: usize, centre: DVec3) -> TriSurface {
-    let mut out = TriSurface::default();
+pub fn finger_surface(model: &Model, k: usize, centre: DVec3) -> Surface {
+    let mut out = Surface {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
     if let Some(finger) = model.fingers.get(k) {
         for part in &finger.parts {
-            out.append(shape_surface(part.shape, centre + part.offset));
+            append(&mut out, shape_surface(part.shape, centre + part.offset));
         }
     }
     out
@@ -42,15 +36,15 @@ pub fn finger_surface(model: &Model, k: usize, centre: DVec3) -> TriSurface {
 
 /// One shape centred at `centre`: the sphere, the box, or the plate's face
 /// (the contact model's plate is its face, normal -z, at the centre).
-pub fn shape_surface(shape: FingerShape, centre: DVec3) -> TriSurface {
+pub fn shape_surface(shape: FingerShape, centre: DVec3) -> Surface {
     match shape {
         FingerShape::Sphere { radius } => sphere(centre, radius),
         FingerShape::Box { half_size } => cuboid(centre, DVec3::from_array(half_size)),
         FingerShape::Plate {
             half_size: [hx, hy],
-        } => TriSurface {
+        } => Surface {
             // Clockwise seen from +z: the face looks down, as it presses.
-            points: [(-hx, -hy), (-hx, hy), (hx, hy), (hx, -hy)]
+            vertices: [(-hx, -hy), (-hx, hy), (hx, hy), (hx, -hy)]
                 .map(|(x, y)| centre + DVec3::new(x, y, 0.0))
                 .to_vec(),
             triangles: vec![[0, 1, 2], [0, 2, 3]],
@@ -59,7 +53,7 @@ pub fn shape_surface(shape: FingerShape, centre: DVec3) -> TriSurface {
 }
 
 /// A UV sphere: a point at each pole, `SPHERE_RINGS - 1` rings between.
-fn sphere(centre: DVec3, radius: f64) -> TriSurface {
+fn sphere(centre: DVec3, radius: f64) -> Surface {
     use std::f64::consts::PI;
     let (n, rings) = (SPHERE_SEGMENTS, SPHERE_RINGS);
     let mut points = vec![centre + DVec3::new(0.0, 0.0, radius)];
@@ -91,12 +85,15 @@ fn sphere(centre: DVec3, radius: f64) -> TriSurface {
         }
         triangles.push([south, at(rings - 1, j + 1), at(rings - 1, j)]);
     }
-    TriSurface { points, triangles }
+    Surface {
+        vertices: points,
+        triangles,
+    }
 }
 
 /// An axis-aligned box of half extents `h`: corner `c` has bit 0 for +x,
 /// bit 1 for +y, bit 2 for +z; two triangles a face.
-fn cuboid(centre: DVec3, h: DVec3) -> TriSurface {
+fn cuboid(centre: DVec3, h: DVec3) -> Surface {
     let points = (0..8)
         .map(|c| {
             let sign = |bit: u32| if c & (1 << bit) != 0 { 1.0 } else { -1.0 };
@@ -116,24 +113,15 @@ fn cuboid(centre: DVec3, h: DVec3) -> TriSurface {
         .iter()
         .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
         .collect();
-    TriSurface { points, triangles }
+    Surface {
+        vertices: points,
+        triangles,
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The volume a closed surface encloses (divergence theorem): positive
-    /// when every triangle faces outward.
-    fn enclosed(s: &TriSurface) -> f64 {
-        s.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| s.points[i as usize]);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum()
-    }
 
     #[test]
     fn shapes_are_closed_and_face_outward() {
@@ -141,15 +129,15 @@ mod tests {
         let r = 0.01;
         let s = shape_surface(FingerShape::Sphere { radius: r }, centre);
         assert_eq!(
-            s.points.len() as u32,
+            s.vertices.len() as u32,
             2 + SPHERE_SEGMENTS * (SPHERE_RINGS - 1)
         );
-        for p in &s.points {
+        for p in &s.vertices {
             assert!(((*p - centre).length() - r).abs() < 1e-15);
         }
         // Inscribed polyhedron: a little under the sphere's volume.
         let ball = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
-        let v = enclosed(&s);
+        let v = s.volume();
         assert!(v < ball && v > 0.95 * ball, "{v:e} vs {ball:e}");
         // Closed: every edge is used once each way.
         let mut edges = std::collections::HashMap::new();
@@ -166,7 +154,7 @@ mod tests {
         let h = [0.01, 0.02, 0.005];
         let b = shape_surface(FingerShape::Box { half_size: h }, centre);
         let exact = 8.0 * h[0] * h[1] * h[2];
-        assert!((enclosed(&b) - exact).abs() < 1e-12 * exact);
+        assert!((b.volume() - exact).abs() < 1e-12 * exact);
 
         let p = shape_surface(
             FingerShape::Plate {
@@ -175,7 +163,7 @@ mod tests {
             centre,
         );
         for t in &p.triangles {
-            let [a, b, c] = t.map(|i| p.points[i as usize]);
+            let [a, b, c] = t.map(|i| p.vertices[i as usize]);
             let n = (b - a).cross(c - a);
             assert!(n.z < 0.0 && n.x == 0.0 && n.y == 0.0);
         }

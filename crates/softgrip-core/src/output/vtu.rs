@@ -112,9 +112,9 @@ pub fn finger_to_vtu(model: &Model, state: &State, k: usize, encoding: Encoding)
         .get(k)
         .map_or(position, |f| f.initial_position);
     let surface = finger_surface(model, k, position);
-    let n = surface.points.len();
+    let n = surface.vertices.len();
     let mut doc = Document::new(encoding, n, surface.triangles.len());
-    doc.points(&surface.points, true);
+    doc.points(&surface.vertices, true);
     doc.cells(&surface.triangles, 5);
     doc.open("PointData Vectors=\"contact_force\"");
     doc.vectors("displacement", &vec![position - start; n], false);
@@ -132,45 +132,25 @@ trait Scalar: Copy {
     fn push_text(self, out: &mut String);
 }
 
-impl Scalar for f64 {
-    const VTK: &'static str = "Float64";
-    fn push_le(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
-    }
-    fn push_text(self, out: &mut String) {
-        let _ = write!(out, "{self:e}");
-    }
+/// The little-endian bytes and the text of each value type.
+macro_rules! scalar {
+    ($t:ty, $vtk:literal, $text:literal) => {
+        impl Scalar for $t {
+            const VTK: &'static str = $vtk;
+            fn push_le(self, out: &mut Vec<u8>) {
+                out.extend_from_slice(&self.to_le_bytes());
+            }
+            fn push_text(self, out: &mut String) {
+                let _ = write!(out, $text, self);
+            }
+        }
+    };
 }
 
-impl Scalar for f32 {
-    const VTK: &'static str = "Float32";
-    fn push_le(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
-    }
-    fn push_text(self, out: &mut String) {
-        let _ = write!(out, "{self:e}");
-    }
-}
-
-impl Scalar for i64 {
-    const VTK: &'static str = "Int64";
-    fn push_le(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
-    }
-    fn push_text(self, out: &mut String) {
-        let _ = write!(out, "{self}");
-    }
-}
-
-impl Scalar for u8 {
-    const VTK: &'static str = "UInt8";
-    fn push_le(self, out: &mut Vec<u8>) {
-        out.push(self);
-    }
-    fn push_text(self, out: &mut String) {
-        let _ = write!(out, "{self}");
-    }
-}
+scalar!(f64, "Float64", "{:e}");
+scalar!(f32, "Float32", "{:e}");
+scalar!(i64, "Int64", "{}");
+scalar!(u8, "UInt8", "{}");
 
 /// One `.vtu` being written: the XML up to the open `<Piece>` and the
 /// arrays added since.

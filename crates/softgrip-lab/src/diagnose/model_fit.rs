@@ -125,11 +125,11 @@ fn fit_task(
     } = task;
     // On the default thread count: one simulation per core while a batch
     // has several, both cores for the last one left (`Simulation::set_threads`).
-    // Each replay keeps its samples' states: the next points start Newton from the nearest
-    // one's (`replay_observing`).
+    // Each replay keeps its samples' states where they can serve: the next points start Newton
+    // from the nearest one's (`replay_observing`).
     let replay_options = ReplayOptions {
         rest: RestTolerance::for_fits(),
-        keep_states: true,
+        warm_seeds: true,
         ..ReplayOptions::default()
     };
     let run = |values: &[f64], warm: Option<&[SampleState]>| -> Result<Replay, LabError> {
