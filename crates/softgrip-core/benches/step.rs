@@ -76,7 +76,7 @@ fn kernels(c: &mut Criterion) {
     let mut y = vec![DVec3::ZERO; total];
     let mut second = Vec::new();
     group.bench_function("system_multiply", |b| {
-        b.iter(|| system.multiply(black_box(&x), &mut y, &mut second))
+        b.iter(|| system.multiply(&model.tets, black_box(&x), &mut y, &mut second))
     });
     let mut diagnosed = state.clone();
     group.bench_function("diagnostics", |b| {

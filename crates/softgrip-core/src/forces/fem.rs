@@ -14,7 +14,7 @@ use glam::{DMat3, DVec3};
 
 use crate::mesh::{TET_EDGES, volume_gradients};
 use crate::model::Model;
-use crate::model::fem::{FemModel, Yeoh};
+use crate::model::fem::{FemModel, STABILISATION, Yeoh};
 use crate::solver::System;
 use crate::solver::system::outer;
 use crate::state::State;
@@ -31,21 +31,43 @@ fn first_invariant(f: DMat3) -> f64 {
     f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared()
 }
 
-/// `max(I1 - 3, 0)`: what the stiffening terms act on.
+/// `cof F = J F^-T`, written with cross products so it exists at J = 0.
 #[inline]
-fn stretch_invariant(f: DMat3) -> f64 {
-    (first_invariant(f) - 3.0).max(0.0)
+fn cofactor(f: DMat3) -> DMat3 {
+    let (c0, c1, c2) = (f.x_axis, f.y_axis, f.z_axis);
+    DMat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1))
+}
+
+/// What the stiffening terms act on: `s = max(J^(-2/3) I1 - 3, 0)`, the
+/// isochoric invariant, so that a change of volume alone never softens or
+/// stiffens; with `J^(-2/3)` and `J^(-2/3) I1`. `(0, 1, 3)` for `J <= 0`.
+#[inline]
+fn stretch_invariant(f: DMat3) -> (f64, f64, f64) {
+    let j = f.determinant();
+    if j <= 0.0 {
+        return (0.0, 1.0, 3.0);
+    }
+    let scale = j.powf(-2.0 / 3.0);
+    let i1 = scale * first_invariant(f);
+    ((i1 - 3.0).max(0.0), scale, i1)
 }
 
 /// First Piola-Kirchhoff stress of the energy at `F` (Pa), with the
-/// stiffening terms `yeoh` (`Yeoh::default()`: the plain energy).
+/// stiffening terms `yeoh` (`Yeoh::default()`: the plain energy):
+/// `mu F + lambda (J - a) cof F + Psi_s'(s) dI1bar/dF`,
+/// `dI1bar/dF = 2 J^(-2/3) F - 2 I1bar / (3 J) cof F`.
 pub fn stress(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> DMat3 {
     let j = f.determinant();
     let alpha = 1.0 + mu / lambda;
-    // cof F = J F^-T, written with cross products so it exists at J = 0.
-    let (c0, c1, c2) = (f.x_axis, f.y_axis, f.z_axis);
-    let cof = DMat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
-    f * (mu * yeoh.factor(stretch_invariant(f))) + cof * (lambda * (j - alpha))
+    let cof = cofactor(f);
+    let plain = f * mu + cof * (lambda * (j - alpha));
+    let (s, scale, i1) = stretch_invariant(f);
+    if s <= 0.0 {
+        return plain;
+    }
+    // Psi_s' = mu / 2 (phi - 1).
+    let extra = mu * (yeoh.factor(s) - 1.0);
+    plain + f * (extra * scale) - cof * (extra * i1 / (3.0 * j))
 }
 
 /// The energy per unit rest volume at `F` (Pa), zero at rest.
@@ -53,7 +75,7 @@ pub fn energy_density(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> f64 {
     let alpha = 1.0 + mu / lambda;
     let j = f.determinant();
     let i1 = first_invariant(f);
-    let s = (i1 - 3.0).max(0.0);
+    let (s, _, _) = stretch_invariant(f);
     0.5 * mu * (i1 - 3.0)
         + yeoh.energy(mu, s)
         + 0.5 * lambda * ((j - alpha).powi(2) - (1.0 - alpha).powi(2))
@@ -72,6 +94,10 @@ pub fn accumulate_elements(
     let dt2 = system.dt() * system.dt();
     let (x, v) = (&state.positions, &state.velocities);
     let yeoh = fem.yeoh;
+    // With nodal pressures most of the stiff `lambda / 2 (J - 1)^2` is a
+    // node's (`forces::volume::nodal`); the element keeps `-mu (J - 1)`, the
+    // rest of `lambda / 2 (J - a)^2`, and a share `STABILISATION mu` of lambda.
+    let nodal = model.nodal_bulk.is_some();
     for e in elements {
         let tet = model.tets[e];
         let idx = tet.map(|i| i as usize);
@@ -83,46 +109,56 @@ pub fn accumulate_elements(
         let g = volume_gradients(p);
         let j = g[3].dot(p[3] - p[0]) / v0; // V / V0 = det F
         let alpha = 1.0 + mu / lambda;
-        let volumetric = lambda * (j - alpha);
-        let s = if yeoh.is_plain() {
-            0.0
-        } else {
-            stretch_invariant(f)
-        };
-        // The stiffened shear modulus, and the weight of the stiffening's
-        // Jacobian term (0 where it is off).
-        let (mu_s, stiff) = if s > 0.0 {
-            (mu * yeoh.factor(s), yeoh.slope_weight(v0, mu, s))
-        } else {
-            (mu, 0.0)
-        };
+        // With nodal pressures an element keeps `STABILISATION mu` of lambda.
+        let own = if nodal { STABILISATION * mu } else { lambda };
+        let mut volumetric = own * (j - 1.0) + lambda * (1.0 - alpha);
+        // The stiffening (see `stress`): a shear factor, a pressure, and the
+        // Jacobian's weight along `e_a = dI1bar/dx_a / 2` (0 where it is off).
+        let (mut mu_s, mut stiff) = (mu, 0.0);
+        let mut e_grad = [DVec3::ZERO; 4];
+        if !yeoh.is_plain() {
+            let (s, scale, i1) = stretch_invariant(f);
+            if s > 0.0 {
+                let extra = mu * (yeoh.factor(s) - 1.0);
+                mu_s = mu + extra * scale;
+                volumetric -= extra * i1 / (3.0 * j);
+                stiff = yeoh.slope_weight(v0, mu, s);
+                let volume = j * v0;
+                for a in 0..4 {
+                    e_grad[a] = f * b[a] * scale - g[a] * (i1 / (3.0 * volume));
+                }
+            }
+        }
+        // A softened element's shear factor is positive for any J > 0
+        // (phi >= 1 - q^2 > 0); the Jacobian clamps it where J is tiny.
+        let mu_k = mu_s.max(0.0);
         let fb = b.map(|ba| f * ba);
         for a in 0..4 {
             force[idx[a]] -= fb[a] * (v0 * mu_s) + g[a] * volumetric;
         }
         // Blocks weighted by dt^2 as they enter A.
-        let c = lambda / v0;
+        let c = own / v0;
         let rate =
             g[0].dot(v[idx[0]]) + g[1].dot(v[idx[1]]) + g[2].dot(v[idx[2]]) + g[3].dot(v[idx[3]]);
-        // The stiffening's rate, sum_b (F b_b) . v_b.
+        // The stiffening's rate, sum_b e_b . v_b.
         let stretch_rate = if stiff > 0.0 {
-            (0..4).map(|bb| fb[bb].dot(v[idx[bb]])).sum::<f64>()
+            (0..4).map(|bb| e_grad[bb].dot(v[idx[bb]])).sum::<f64>()
         } else {
             0.0
         };
         for a in 0..4 {
-            let shear = v0 * mu_s * b[a].dot(b[a]);
+            let shear = v0 * mu_k * b[a].dot(b[a]);
             let mut block =
                 DMat3::from_diagonal(DVec3::splat(shear * dt2)) + outer(g[a], g[a] * (c * dt2));
             // Kp v: the shear part sum_b V0 mu (b_a . b_b) v_b, the volumetric c G_a (G . v),
-            // the stiffening's F b_a (sum_b F b_b . v_b).
+            // the stiffening's e_a (sum_b e_b . v_b).
             let mut kv = g[a] * (c * rate);
             for (bb, &ib) in b.iter().zip(&idx) {
-                kv += v[ib] * (v0 * mu_s * b[a].dot(*bb));
+                kv += v[ib] * (v0 * mu_k * b[a].dot(*bb));
             }
             if stiff > 0.0 {
-                block += outer(fb[a], fb[a] * (stiff * dt2));
-                kv += fb[a] * (stiff * stretch_rate);
+                block += outer(e_grad[a], e_grad[a] * (stiff * dt2));
+                kv += e_grad[a] * (stiff * stretch_rate);
             }
             system.diag[idx[a]] += block;
             system.kv[idx[a]] += kv;
@@ -131,25 +167,32 @@ pub fn accumulate_elements(
         for (m, [a, bb]) in TET_EDGES.into_iter().enumerate() {
             // Block (spring.i, spring.j), spring.i < spring.j.
             let (i, k) = if idx[a] < idx[bb] { (a, bb) } else { (bb, a) };
-            let shear = v0 * mu_s * b[i].dot(b[k]) * dt2;
+            let shear = v0 * mu_k * b[i].dot(b[k]) * dt2;
             let mut block =
                 DMat3::from_diagonal(DVec3::splat(shear)) + outer(g[i], g[k] * (c * dt2));
             if stiff > 0.0 {
-                block += outer(fb[i], fb[k] * (stiff * dt2));
+                block += outer(e_grad[i], e_grad[k] * (stiff * dt2));
             }
             system.off[slots[m] as usize] += block;
         }
     }
 }
 
-/// The elastic energy of the elements (J), zero at rest.
+/// The elastic energy of the elements (J), zero at rest; with nodal
+/// pressures without their `lambda / 2 (J - 1)^2`, which
+/// `forces::volume::volume_and_bulk_energy` counts per node.
 pub fn energy(model: &Model, fem: &FemModel, state: &State) -> f64 {
     let x = &state.positions;
     let mut total = 0.0;
     for (e, tet) in model.tets.iter().enumerate() {
         let p = tet.map(|i| x[i as usize]);
         let f = deformation_gradient(&fem.gradients[e], p);
-        total += model.rest_volume[e] * energy_density(fem.mu[e], fem.lambda[e], fem.yeoh, f);
+        let (mu, lambda) = (fem.mu[e], fem.lambda[e]);
+        let mut density = energy_density(mu, lambda, fem.yeoh, f);
+        if model.nodal_bulk.is_some() {
+            density -= 0.5 * (lambda - STABILISATION * mu) * (f.determinant() - 1.0).powi(2);
+        }
+        total += model.rest_volume[e] * density;
     }
     total
 }
@@ -178,8 +221,7 @@ mod tests {
         let i1 = |f: DMat3| {
             f.x_axis.length_squared() + f.y_axis.length_squared() + f.z_axis.length_squared()
         };
-        // One element squeezed (I1 < 3: the stiffening is off), one
-        // stretched (I1 > 3: on).
+        // One element squeezed, one stretched.
         let squeezed = vec![
             DVec3::new(0.0001, -0.0002, 0.0),
             DVec3::new(0.0093, 0.0004, 0.0002),
@@ -192,7 +234,10 @@ mod tests {
             DVec3::new(0.0003, 0.0117, -0.0005),
             DVec3::new(0.0025, 0.0006, 0.0093),
         ];
-        assert!(i1(f_at(&squeezed)) < 3.0 && i1(f_at(&stretched)) > 3.0);
+        // The stiffening acts on both (`J^(-2/3) I1 > 3` but for a change of
+        // volume alone).
+        let isochoric = |f: DMat3| f.determinant().powf(-2.0 / 3.0) * i1(f);
+        assert!(isochoric(f_at(&squeezed)) > 3.001 && isochoric(f_at(&stretched)) > 3.001);
         for deformed in [squeezed, stretched] {
             assert!(f_at(&deformed).determinant() > 0.0);
             // Plain, stiffening alone, and soften-then-stiffen (beta -
@@ -207,7 +252,7 @@ mod tests {
                 let energy_at = |pos: &[DVec3]| {
                     let f = f_at(pos);
                     let alpha = 1.0 + mu / lambda;
-                    let s = (i1(f) - 3.0).max(0.0);
+                    let s = (f.determinant().powf(-2.0 / 3.0) * i1(f) - 3.0).max(0.0);
                     v0 * (0.5 * mu * (i1(f) - 3.0)
                         + mu * b / 12.0 * s * s
                         + mu * gamma / 54.0 * s * s * s
@@ -238,7 +283,7 @@ mod tests {
     /// Under a small isochoric uniaxial strain e the stiffening adds the
     /// share `beta e^2 / 2` to the energy, as it does to a spring's
     /// (`k l0^2 (e^2 / 2 + beta e^4 / 4)`); under a volume change alone
-    /// (`I1 < 3`) it adds nothing.
+    /// (`J^(-2/3) I1 = 3`) it adds nothing.
     #[test]
     fn stiffening_adds_the_springs_share_and_nothing_under_compression_alone() {
         let (mu, lambda) = (20e3, 200e3);

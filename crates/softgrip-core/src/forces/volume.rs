@@ -9,25 +9,28 @@
 //! The departures from the printed text (ARCHITECTURE.md) and the Jacobians:
 //! `docs/design/volume-forces.md`.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::mesh::{TET_EDGES, signed_volume, volume_gradients};
-use crate::model::{Model, NodalBulk};
+use crate::model::Model;
 use crate::solver::System;
 use crate::solver::system::outer;
 use crate::state::State;
 
-/// Adds eq. 11's correction forces and the `bulk_modulus` forces of every
-/// element, with their Jacobians, in one pass over the elements.
+/// Adds eq. 11's correction forces and the volume terms (the `bulk_modulus`
+/// forces, or a neo-Hookean model's elements), with their Jacobians: the
+/// nodal term once ([`nodal`]), then every element.
 ///
-/// Both Jacobians are `c G_a G_b^T` (`c = alpha / g` for eq. 11, `K / V0`
+/// Both element Jacobians are `c G_a G_b^T` (`c = alpha / g` for eq. 11, `K / V0`
 /// for the bulk term), so they share one set of blocks, and their product
 /// with the velocities is `c G_a (sum_b G_b . v_b)`.
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    nodal(model, state, force, system);
     accumulate_elements(model, state, force, system, 0..model.tets.len());
 }
 
-/// [`accumulate`] for the elements in `elements` only.
+/// [`accumulate`]'s element pass for the elements in `elements` only (the
+/// two threads each take a share; [`nodal`] runs once, before).
 pub fn accumulate_elements(
     model: &Model,
     state: &State,
@@ -39,46 +42,118 @@ pub fn accumulate_elements(
         return crate::forces::fem::accumulate_elements(model, fem, state, force, system, elements);
     }
     let (alpha, bulk) = (model.alpha, model.bulk_modulus);
-    if alpha == 0.0 && bulk == 0.0 {
+    let element_bulk = if model.nodal_bulk.is_some() {
+        0.0
+    } else {
+        bulk
+    };
+    if alpha == 0.0 && element_bulk == 0.0 {
         return;
     }
     let dt2 = system.dt() * system.dt();
     let (x, v) = (&state.positions, &state.velocities);
-    NODAL_PRESSURE.with_borrow_mut(|nodal_pressure| {
-        if let Some(nodal) = &model.nodal_bulk {
-            nodal_pressures(model, nodal, x, nodal_pressure);
-        }
-        let nodal_pressure = model.nodal_bulk.as_ref().map(|_| &nodal_pressure[..]);
-        accumulate_range(model, x, v, nodal_pressure, dt2, force, system, elements);
-    });
+    accumulate_range(model, x, v, element_bulk, dt2, force, system, elements);
 }
 
 thread_local! {
-    /// Each node's pressure for [`accumulate_elements`]: one buffer per
-    /// thread (the main and the helper each assemble a share of the
-    /// elements, and each needs every node's pressure).
-    static NODAL_PRESSURE: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// [`nodal`]'s per-node and per-edge sums: one set per thread.
+    static NODAL_SCRATCH: std::cell::RefCell<NodalScratch> = std::cell::RefCell::new(NodalScratch::default());
 }
 
-/// Each node's volume change over its rest volume, times its modulus: `p_i =
-/// K_i (V_i / V0_i - 1)`, `V_i` a quarter of each element's volume around i.
-/// Returns the object's volume (m^3), summed on the way.
-fn nodal_pressures(model: &Model, nodal: &NodalBulk, x: &[DVec3], out: &mut Vec<f64>) -> f64 {
-    out.clear();
-    out.resize(nodal.rest_volume.len(), 0.0);
-    let mut volume = 0.0;
-    for tet in &model.tets {
-        let [a, b, c, d] = tet.map(|i| i as usize);
-        let v = signed_volume(x[a], x[b], x[c], x[d]);
-        volume += v;
-        for i in [a, b, c, d] {
-            out[i] += 0.25 * v;
+#[derive(Default)]
+struct NodalScratch {
+    /// Per node: `V_i`, then `p_i`; `g_i . v`, then `K_i / V0_i (g_i . v)`.
+    volume: Vec<f64>,
+    rate: Vec<f64>,
+    /// Per node `(g_a)_a`; per spring `(g_i)_j` and `(g_j)_i` (i < j).
+    own: Vec<DVec3>,
+    i_at_j: Vec<DVec3>,
+    j_at_i: Vec<DVec3>,
+}
+
+/// The volume term averaged per node (average nodal pressure, Bonet and
+/// Burton 1998; `[model] bulk_pressure = "nodal"`): the energy
+/// `sum_i V0_i K_i / 2 (V_i / V0_i - 1)^2`, `V_i` a quarter of the volume of each
+/// element around node i, `K_i` the bulk term's modulus (springs) or
+/// lambda (neo-Hookean elements), averaged over the node's elements. Its forces
+/// and `Kp v` go into `force` and `system.kv`; its Gauss-Newton Jacobian
+/// `sum_i K_i / V0_i g_i g_i^T` couples nodes two edges apart, so it goes into
+/// `system.nodal`, applied matrix-free, with its exact diagonal blocks for
+/// the preconditioner. Computed once per assembly, on one thread.
+pub fn nodal(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    let Some(nodal) = &model.nodal_bulk else {
+        return;
+    };
+    let dt2 = system.dt() * system.dt();
+    let (x, v) = (&state.positions, &state.velocities);
+    let n = nodal.rest_volume.len();
+    NODAL_SCRATCH.with_borrow_mut(|s| {
+        for buffer in [&mut s.volume, &mut s.rate] {
+            buffer.clear();
+            buffer.resize(n, 0.0);
         }
-    }
-    for ((p, v0), k) in out.iter_mut().zip(&nodal.rest_volume).zip(&nodal.modulus) {
-        *p = if *v0 > 0.0 { k * (*p / v0 - 1.0) } else { 0.0 };
-    }
-    volume
+        s.own.clear();
+        s.own.resize(n, DVec3::ZERO);
+        for buffer in [&mut s.i_at_j, &mut s.j_at_i] {
+            buffer.clear();
+            buffer.resize(model.springs.len(), DVec3::ZERO);
+        }
+        let op = &mut system.nodal;
+        op.quarter_gradients.reserve(model.tets.len());
+        for (e, tet) in model.tets.iter().enumerate() {
+            let idx = tet.map(|i| i as usize);
+            let p = idx.map(|i| x[i]);
+            let g = volume_gradients(p);
+            let volume = g[3].dot(p[3] - p[0]);
+            let q = g.map(|g| g * 0.25);
+            let rate = (0..4).map(|a| q[a].dot(v[idx[a]])).sum::<f64>();
+            for (a, &i) in idx.iter().enumerate() {
+                s.volume[i] += 0.25 * volume;
+                s.rate[i] += rate;
+                s.own[i] += q[a];
+            }
+            for (m, [a, b]) in TET_EDGES.into_iter().enumerate() {
+                let slot = model.tet_springs[e][m] as usize;
+                let (i, j) = if idx[a] < idx[b] { (a, b) } else { (b, a) };
+                s.i_at_j[slot] += q[j];
+                s.j_at_i[slot] += q[i];
+            }
+            op.quarter_gradients.push(q);
+        }
+        op.weight.reserve(n);
+        for i in 0..n {
+            let (v0, k) = (nodal.rest_volume[i], nodal.modulus[i]);
+            let w = if v0 > 0.0 { k / v0 } else { 0.0 };
+            s.volume[i] = if v0 > 0.0 {
+                k * (s.volume[i] / v0 - 1.0)
+            } else {
+                0.0
+            };
+            s.rate[i] *= w;
+            op.weight.push(w * dt2);
+        }
+        for (tet, q) in model.tets.iter().zip(&op.quarter_gradients) {
+            let idx = tet.map(|i| i as usize);
+            let pressure: f64 = idx.iter().map(|&i| s.volume[i]).sum();
+            let rate: f64 = idx.iter().map(|&i| s.rate[i]).sum();
+            for (a, &i) in idx.iter().enumerate() {
+                force[i] -= q[a] * pressure;
+                system.kv[i] += q[a] * rate;
+            }
+        }
+        let op = &mut system.nodal;
+        op.diag.clear();
+        op.diag.resize(system.diag.len(), DMat3::ZERO);
+        for i in 0..n {
+            op.diag[i] += outer(s.own[i], s.own[i] * op.weight[i]);
+        }
+        for (slot, spring) in model.springs.iter().enumerate() {
+            let (i, j) = (spring.i as usize, spring.j as usize);
+            let (gi, gj) = (s.i_at_j[slot], s.j_at_i[slot]);
+            op.diag[j] += outer(gi, gi * op.weight[i]);
+            op.diag[i] += outer(gj, gj * op.weight[j]);
+        }
+    });
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -86,13 +161,13 @@ fn accumulate_range(
     model: &Model,
     x: &[DVec3],
     v: &[DVec3],
-    nodal_pressure: Option<&[f64]>,
+    bulk: f64,
     dt2: f64,
     force: &mut [DVec3],
     system: &mut System,
     elements: std::ops::Range<usize>,
 ) {
-    let (alpha, bulk) = (model.alpha, model.bulk_modulus);
+    let alpha = model.alpha;
     for e in elements {
         let tet = model.tets[e];
         let v0 = model.rest_volume[e];
@@ -138,11 +213,7 @@ fn accumulate_range(
                 None => bulk,
             };
             let bulk_per_volume = bulk / v0;
-            let s = match nodal_pressure {
-                // The mean of the four nodes' pressures.
-                Some(p) => 0.25 * (p[idx[0]] + p[idx[1]] + p[idx[2]] + p[idx[3]]),
-                None => bulk_per_volume * (volume - v0), // K (V / V0 - 1)
-            };
+            let s = bulk_per_volume * (volume - v0); // K (V / V0 - 1)
             for k in 0..4 {
                 force[idx[k]] -= s * g[k];
             }
@@ -185,18 +256,25 @@ fn unit(r: DVec3, len: f64) -> DVec3 {
 pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
     let x = &state.positions;
     if let Some(nodal) = &model.nodal_bulk {
-        // The energy from the pressures: K V0 / 2 (V / V0 - 1)^2 = V0 p^2 / (2 K).
-        return NODAL_PRESSURE.with_borrow_mut(|p| {
-            let volume = nodal_pressures(model, nodal, x, p);
-            let energy = p
-                .iter()
-                .zip(&nodal.rest_volume)
-                .zip(&nodal.modulus)
-                .filter(|(_, k)| **k > 0.0)
-                .map(|((p, v0), k)| 0.5 * v0 * p * p / k)
-                .sum();
-            (volume, energy)
-        });
+        // K V0 / 2 (V / V0 - 1)^2 per node.
+        let mut share = vec![0.0; nodal.rest_volume.len()];
+        let mut volume = 0.0;
+        for tet in &model.tets {
+            let [a, b, c, d] = tet.map(|i| i as usize);
+            let v = signed_volume(x[a], x[b], x[c], x[d]);
+            volume += v;
+            for i in [a, b, c, d] {
+                share[i] += 0.25 * v;
+            }
+        }
+        let energy = share
+            .iter()
+            .zip(&nodal.rest_volume)
+            .zip(&nodal.modulus)
+            .filter(|((_, v0), _)| **v0 > 0.0)
+            .map(|((v, v0), k)| 0.5 * k * v0 * (v / v0 - 1.0).powi(2))
+            .sum();
+        return (volume, energy);
     }
     // A plain loop: the iterator form compiled to code seven times slower.
     let (mut volume, mut squares) = (0.0, 0.0);

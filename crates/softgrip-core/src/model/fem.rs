@@ -4,6 +4,10 @@
 
 use glam::{DMat3, DVec3};
 
+/// With nodal pressures, the share of lambda each element keeps as its
+/// own, in units of mu (`docs/design/neo-hookean.md`).
+pub const STABILISATION: f64 = 1.0;
+
 /// The constant data of the neo-Hookean elements.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FemModel {

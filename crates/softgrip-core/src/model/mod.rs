@@ -111,14 +111,15 @@ pub struct Model {
     /// scales its bulk term as it scales its springs. Empty without
     /// regions (every element 1).
     pub element_stiffness_scale: Vec<f64>,
-    /// The bulk term per node (`[model] bulk_pressure = "nodal"`); `None`
-    /// for the element's own (`forces::volume`).
+    /// The volume term per node (`[model] bulk_pressure = "nodal"`): the bulk
+    /// term's, or the neo-Hookean elements' `lambda`; `None` for each
+    /// element's own (`forces::volume`, `forces::fem`).
     pub nodal_bulk: Option<NodalBulk>,
 }
 
-/// The rest volume and bulk modulus of each node's share of its elements:
-/// a quarter of each element's volume, and the modulus averaged by those
-/// volumes (`[[region]]`s scale it per element).
+/// The rest volume and modulus of each node's share of its elements (the
+/// nodal volume term, `forces::volume::nodal`): a quarter of each element's
+/// volume, and the elements' moduli averaged by those volumes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodalBulk {
     pub rest_volume: Vec<f64>,
@@ -126,36 +127,32 @@ pub struct NodalBulk {
 }
 
 impl NodalBulk {
-    /// `None` when the bulk term is off or per element.
+    /// From each element's modulus (Pa): the bulk term's `K` for the
+    /// springs, `lambda` for neo-Hookean elements.
     pub fn new(
-        pressure: crate::scene::BulkPressure,
-        bulk_modulus: f64,
         nodes: usize,
         tets: &[[u32; 4]],
         rest_volume: &[f64],
-        scale: &[f64],
-    ) -> Option<NodalBulk> {
-        if pressure != crate::scene::BulkPressure::Nodal || bulk_modulus == 0.0 {
-            return None;
-        }
+        element_modulus: impl Fn(usize) -> f64,
+    ) -> NodalBulk {
         let mut volume = vec![0.0; nodes];
         let mut weighted = vec![0.0; nodes];
         for (e, (tet, &v0)) in tets.iter().zip(rest_volume).enumerate() {
-            let s = scale.get(e).copied().unwrap_or(1.0);
+            let k = element_modulus(e);
             for &i in tet {
                 volume[i as usize] += 0.25 * v0;
-                weighted[i as usize] += 0.25 * v0 * s;
+                weighted[i as usize] += 0.25 * v0 * k;
             }
         }
         let modulus = volume
             .iter()
             .zip(&weighted)
-            .map(|(v, w)| if *v > 0.0 { bulk_modulus * w / v } else { 0.0 })
+            .map(|(v, w)| if *v > 0.0 { w / v } else { 0.0 })
             .collect();
-        Some(NodalBulk {
+        NodalBulk {
             rest_volume: volume,
             modulus,
-        })
+        }
     }
 }
 
@@ -565,18 +562,23 @@ impl Model {
                 .map(|e| e / obj.young_modulus)
                 .collect()
         };
-        let nodal_bulk = NodalBulk::new(
-            scene.model.bulk_pressure,
-            if fem_mode {
-                0.0
-            } else {
-                scene.model.bulk_modulus
-            },
-            mesh.nodes.len(),
-            &mesh.tets,
-            &rest_volume,
-            &element_stiffness_scale,
-        );
+        let nodal = scene.model.bulk_pressure == crate::scene::BulkPressure::Nodal;
+        let bulk = scene.model.bulk_modulus;
+        let nodal_bulk = match &fem {
+            Some(fem) if nodal => Some(NodalBulk::new(
+                mesh.nodes.len(),
+                &mesh.tets,
+                &rest_volume,
+                |e| fem.lambda[e] - fem::STABILISATION * fem.mu[e],
+            )),
+            None if nodal && bulk > 0.0 => Some(NodalBulk::new(
+                mesh.nodes.len(),
+                &mesh.tets,
+                &rest_volume,
+                |e| bulk * element_stiffness_scale.get(e).copied().unwrap_or(1.0),
+            )),
+            _ => None,
+        };
         Ok(Model {
             rest_total_volume: rest_volume.iter().sum(),
             rest_positions: mesh.nodes,

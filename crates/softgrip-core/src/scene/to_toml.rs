@@ -1,6 +1,6 @@
 //! A resolved scene back to its file: the raw structs built from it, written by `toml_text`.
 //! Every value is explicit, except keys whose absence means the default (`bulk_pressure`
-//! "element", no `tau_s`, zero `softening`, no `travel` ...).
+//! where it is the elasticity's, no `tau_s`, zero `softening`, no `travel` ...).
 
 use super::raw::{
     RawBox, RawFinger, RawLoad, RawModel, RawObject, RawPart, RawRegion, RawScene, RawSimulation,
@@ -178,7 +178,12 @@ fn raw_model(m: &ModelParams) -> RawModel {
         damping_ratio: Some(m.damping_ratio),
         alpha: Some(m.alpha),
         bulk_modulus: Some(m.bulk_modulus),
-        bulk_pressure: (m.bulk_pressure == BulkPressure::Nodal).then(|| "nodal".to_string()),
+        // Written only where it is not the elasticity's default.
+        bulk_pressure: match (m.elasticity, m.bulk_pressure) {
+            (Elasticity::Springs, BulkPressure::Nodal) => Some("nodal".to_string()),
+            (Elasticity::NeoHookean, BulkPressure::Element) => Some("element".to_string()),
+            _ => None,
+        },
         limit_stiffness: Some(m.limit_stiffness),
         tau_s: m.tau_s,
         tau_c: m.tau_c,

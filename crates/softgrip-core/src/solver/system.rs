@@ -42,6 +42,60 @@ pub struct System {
     free_pairs: Vec<[u32; 2]>,
     /// The spring count `free_springs` was built for.
     built_for: usize,
+    /// The volume term averaged per node (`forces::volume::nodal`): it couples
+    /// nodes two edges apart, so it is applied matrix-free.
+    pub nodal: NodalOperator,
+}
+
+/// `sum_i c_i g_i g_i^T` with `g_i = dV_i/dx`, `V_i` a quarter of the volume of
+/// each element around node i: the Gauss-Newton Jacobian of an energy
+/// `sum_i V0_i K_i / 2 (V_i / V0_i - 1)^2`, weighted by dt^2 as it enters A.
+#[derive(Debug, Default, Clone)]
+pub struct NodalOperator {
+    /// Each element's volume gradients `G_a = dV/dx_a` at this step's
+    /// positions, a quarter of each (empty: no nodal term).
+    pub quarter_gradients: Vec<[DVec3; 4]>,
+    /// `c_i = dt^2 K_i / V0_i` per node.
+    pub weight: Vec<f64>,
+    /// Its diagonal blocks, for the preconditioner only.
+    pub diag: Vec<DMat3>,
+}
+
+thread_local! {
+    /// Each node's `c_i (g_i . x)` during a product: one buffer per thread.
+    static NODAL_RATE: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+impl NodalOperator {
+    pub fn is_active(&self) -> bool {
+        !self.quarter_gradients.is_empty()
+    }
+
+    /// `y += sum_i c_i g_i (g_i . x)`: two passes over the elements.
+    fn add_product(&self, tets: &[[u32; 4]], x: &[DVec3], y: &mut [DVec3]) {
+        NODAL_RATE.with_borrow_mut(|rate| {
+            rate.clear();
+            rate.resize(self.weight.len(), 0.0);
+            for (tet, g) in tets.iter().zip(&self.quarter_gradients) {
+                let [a, b, c, d] = tet.map(|i| i as usize);
+                let t = g[0].dot(x[a]) + g[1].dot(x[b]) + g[2].dot(x[c]) + g[3].dot(x[d]);
+                for i in [a, b, c, d] {
+                    rate[i] += t;
+                }
+            }
+            for (r, w) in rate.iter_mut().zip(&self.weight) {
+                *r *= *w;
+            }
+            for (tet, g) in tets.iter().zip(&self.quarter_gradients) {
+                let [a, b, c, d] = tet.map(|i| i as usize);
+                let q = rate[a] + rate[b] + rate[c] + rate[d];
+                y[a] += g[0] * q;
+                y[b] += g[1] * q;
+                y[c] += g[2] * q;
+                y[d] += g[3] * q;
+            }
+        });
+    }
 }
 
 impl System {
@@ -79,6 +133,9 @@ impl System {
         self.off.clear();
         self.off.resize(model.springs.len(), DMat3::ZERO);
         self.coupling.clear();
+        self.nodal.quarter_gradients.clear();
+        self.nodal.weight.clear();
+        self.nodal.diag.clear();
         self.kv.clear();
         self.kv.resize(n + nf, DVec3::ZERO);
         self.mask.clear();
@@ -175,11 +232,15 @@ impl System {
     /// Prepares the preconditioner after assembly.
     pub fn finish(&mut self) {
         self.inv_diag.clear();
-        for (d, m) in self.diag.iter().zip(&self.mask) {
+        for (i, (d, m)) in self.diag.iter().zip(&self.mask).enumerate() {
             // Replace fixed rows and columns by the identity, then invert.
             let keep = DMat3::from_diagonal(*m);
             let fixed = DMat3::from_diagonal(DVec3::ONE - *m);
-            let block = keep * *d * keep + fixed;
+            let d = match self.nodal.diag.get(i) {
+                Some(nodal) => *d + *nodal,
+                None => *d,
+            };
+            let block = keep * d * keep + fixed;
             let det = block.determinant();
             let inv = if det.is_finite() && det.abs() > 0.0 {
                 block.inverse()
@@ -196,9 +257,15 @@ impl System {
     /// scratch: the product is always summed as [`System::multiply_first`]
     /// plus [`System::multiply_second`], whether one thread computes both
     /// halves or two do (`crate::step::parallel`), so results do not depend on it.
-    pub fn multiply(&self, x: &[DVec3], y: &mut [DVec3], second: &mut Vec<DVec3>) {
+    pub fn multiply(
+        &self,
+        tets: &[[u32; 4]],
+        x: &[DVec3],
+        y: &mut [DVec3],
+        second: &mut Vec<DVec3>,
+    ) {
         self.multiply_first(x, y);
-        self.multiply_second(x, second);
+        self.multiply_second(tets, x, second);
         self.multiply_finish(x, y, second);
     }
 
@@ -217,11 +284,15 @@ impl System {
         self.add_spring_blocks(0..self.split(), x, y);
     }
 
-    /// `y` = the second half of the spring blocks times `x`.
-    pub fn multiply_second(&self, x: &[DVec3], y: &mut Vec<DVec3>) {
+    /// `y` = the second half of the spring blocks times `x`, plus the nodal
+    /// volume term (`tets`: the model's elements).
+    pub fn multiply_second(&self, tets: &[[u32; 4]], x: &[DVec3], y: &mut Vec<DVec3>) {
         y.clear();
         y.resize(x.len(), DVec3::ZERO);
         self.add_spring_blocks(self.split()..self.free_springs.len(), x, y);
+        if self.nodal.is_active() {
+            self.nodal.add_product(tets, x, y);
+        }
     }
 
     /// Adds the second half, the contact blocks, and masks.

@@ -340,6 +340,8 @@ fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
     let mut system = parallel.system_mut();
     system.begin(model, model.dt);
     integrate::set_mask(model, state, &mut system);
+    // The nodal volume term needs every element's volume: once, here.
+    forces::volume::nodal(model, state, &mut s.force, &mut system);
 
     forces::external::accumulate(model, state, &mut s.force, &mut system);
     forces::pull::accumulate(model, state, &mut s.force, &mut system);

@@ -16,36 +16,41 @@ fn constants() -> (f64, f64, f64) {
     (mu, lambda, 1.0 + mu / lambda)
 }
 
-/// Uniaxial stress with free sides, `F = diag(l1, l2, l2)`: `P_22 = 0`
-/// gives `J = a - mu_s / (lambda l1)`, and then `P_11 = mu_s (l1 - J /
-/// l1^2)`, the lateral stretch `l2 = sqrt(J / l1)`. With the stiffening
-/// terms the shear modulus is `mu_s = mu phi(max(I1 - 3, 0))`, `phi = 1 +
-/// beta s / 3 + gamma s^2 / 9` (beta with the softening's share), `I1 =
-/// l1^2 + 2 J / l1`, which depends on J: `J - a + mu_s(J) / (lambda l1)`
-/// grows with J (here `2 mu |phi'| / (lambda l1^2)` stays below 1), so
-/// its root is found by bisection. `phi` is written out here, not taken
-/// from `forces::fem`.
+/// Uniaxial stress with free sides, `F = diag(l1, l2, l2)`, `J = l1 l2^2`.
+/// With the stiffening on the isochoric invariant `I = J^(-2/3) (l1^2 + 2 J
+/// / l1)`, `s = max(I - 3, 0)`, `phi = 1 + beta s / 3 + gamma s^2 / 9` (beta
+/// with the softening's share) and `m = mu (1 + (phi - 1) J^(-2/3))`, the
+/// stress is `P = m F + (lambda (J - a) - mu (phi - 1) I / (3 J)) cof F`.
+/// `P_22 = 0` reads `m J / l1 - mu (phi - 1) I / 3 + lambda (J - a) J = 0`,
+/// solved for J by bisection; then `P_11 = m (l1 - J / l1^2)` and `l2 =
+/// sqrt(J / l1)`. `phi` is written out here, not taken from `forces::fem`.
 fn analytic(stretch: f64, (beta, gamma, q): (f64, f64, f64)) -> (f64, f64) {
     let (mu, lambda, a) = constants();
     let b = beta - 2.0 * q * gamma.sqrt();
-    let mu_s = |j: f64| {
-        let s = (stretch * stretch + 2.0 * j / stretch - 3.0).max(0.0);
-        mu * (1.0 + b * s / 3.0 + gamma * s * s / 9.0)
+    let l1 = stretch;
+    let terms = |j: f64| {
+        let scale = j.powf(-2.0 / 3.0);
+        let i = scale * (l1 * l1 + 2.0 * j / l1);
+        let s = (i - 3.0).max(0.0);
+        let phi = 1.0 + b * s / 3.0 + gamma * s * s / 9.0;
+        (mu * (1.0 + (phi - 1.0) * scale), mu * (phi - 1.0) * i / 3.0)
     };
-    let (mut lo, mut hi) = (1e-3, a);
+    let lateral = |j: f64| {
+        let (m, shift) = terms(j);
+        m * j / l1 - shift + lambda * (j - a) * j
+    };
+    let (mut lo, mut hi) = (0.5, 1.5);
+    assert!(lateral(lo) < 0.0 && lateral(hi) > 0.0, "no root bracketed");
     for _ in 0..200 {
         let j = 0.5 * (lo + hi);
-        if j - a + mu_s(j) / (lambda * stretch) > 0.0 {
+        if lateral(j) > 0.0 {
             hi = j;
         } else {
             lo = j;
         }
     }
     let j = 0.5 * (lo + hi);
-    (
-        mu_s(j) * (stretch - j / (stretch * stretch)),
-        (j / stretch).sqrt(),
-    )
+    (terms(j).0 * (l1 - j / (l1 * l1)), (j / l1).sqrt())
 }
 
 const PLAIN: (f64, f64, f64) = (0.0, 0.0, 0.0);

@@ -35,12 +35,33 @@ impl Resolver<'_> {
             |x| x >= 0.0,
             "must be >= 0 Pa (0 = off; E / (3 (1 - 2 nu)) is the material's own bulk modulus)",
         )?;
+        let elasticity_at = at("elasticity");
+        let elasticity = match self
+            .default(elasticity_at, m.elasticity.clone(), "springs".to_string())
+            .as_str()
+        {
+            "springs" => Elasticity::Springs,
+            "neo-hookean" => Elasticity::NeoHookean,
+            other => {
+                return Err(self.err(
+                    elasticity_at,
+                    format!("{other:?}"),
+                    "must be \"springs\" (the thesis's lattice) or \"neo-hookean\" (finite elements; with bulk_pressure = \"element\" the plain linear tetrahedron)",
+                ));
+            }
+        };
         let bulk_pressure_at = at("bulk_pressure");
         let bulk_pressure = match self
             .default(
                 bulk_pressure_at,
                 m.bulk_pressure.clone(),
-                "element".to_string(),
+                // Linear tetrahedra lock as nu nears 1/2; the lattice's bulk
+                // term keeps the thesis scenes' figures.
+                match elasticity {
+                    Elasticity::NeoHookean => "nodal",
+                    Elasticity::Springs => "element",
+                }
+                .to_string(),
             )
             .as_str()
         {
@@ -125,21 +146,6 @@ impl Resolver<'_> {
             |x| x > 0.0,
             "must be > 0 s (the relaxation time constant)",
         )?;
-        let elasticity_at = at("elasticity");
-        let elasticity = match self
-            .default(elasticity_at, m.elasticity.clone(), "springs".to_string())
-            .as_str()
-        {
-            "springs" => Elasticity::Springs,
-            "neo-hookean" => Elasticity::NeoHookean,
-            other => {
-                return Err(self.err(
-                    elasticity_at,
-                    format!("{other:?}"),
-                    "must be \"springs\" (the thesis's lattice) or \"neo-hookean\" (finite elements)",
-                ));
-            }
-        };
         if elasticity == Elasticity::Springs {
             for (key, value) in [
                 ("stiffening_cubic", stiffening_cubic),
