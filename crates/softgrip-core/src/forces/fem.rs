@@ -75,7 +75,11 @@ pub fn energy_density(mu: f64, lambda: f64, yeoh: Yeoh, f: DMat3) -> f64 {
     let alpha = 1.0 + mu / lambda;
     let j = f.determinant();
     let i1 = first_invariant(f);
-    let (s, _, _) = stretch_invariant(f);
+    let s = if yeoh.is_plain() {
+        0.0
+    } else {
+        stretch_invariant(f).0
+    };
     0.5 * mu * (i1 - 3.0)
         + yeoh.energy(mu, s)
         + 0.5 * lambda * ((j - alpha).powi(2) - (1.0 - alpha).powi(2))

@@ -264,35 +264,40 @@ impl System {
         y: &mut [DVec3],
         second: &mut Vec<DVec3>,
     ) {
-        self.multiply_first(x, y);
-        self.multiply_second(tets, x, second);
+        self.multiply_first(tets, x, y);
+        self.multiply_second(x, second);
         self.multiply_finish(x, y, second);
     }
 
     /// Where the spring blocks split between the halves: the first half
-    /// is smaller, since its thread also does the diagonal and the rest.
+    /// is smaller, since its thread also does the diagonal and the rest;
+    /// with the nodal volume term, which the first half does, it has none.
     fn split(&self) -> usize {
-        self.free_springs.len() / 2
+        if self.nodal.is_active() {
+            0
+        } else {
+            self.free_springs.len() / 2
+        }
     }
 
-    /// `y = D x` plus the first half of the spring blocks.
-    pub fn multiply_first(&self, x: &[DVec3], y: &mut [DVec3]) {
+    /// `y = D x` plus the first half of the spring blocks and the nodal
+    /// volume term (`tets`: the model's elements).
+    pub fn multiply_first(&self, tets: &[[u32; 4]], x: &[DVec3], y: &mut [DVec3]) {
         for ((y, d), x) in y.iter_mut().zip(&self.diag).zip(x) {
             *y = *d * *x;
         }
         debug_assert!(x.iter().zip(&self.mask).all(|(x, m)| *x == *x * *m));
         self.add_spring_blocks(0..self.split(), x, y);
-    }
-
-    /// `y` = the second half of the spring blocks times `x`, plus the nodal
-    /// volume term (`tets`: the model's elements).
-    pub fn multiply_second(&self, tets: &[[u32; 4]], x: &[DVec3], y: &mut Vec<DVec3>) {
-        y.clear();
-        y.resize(x.len(), DVec3::ZERO);
-        self.add_spring_blocks(self.split()..self.free_springs.len(), x, y);
         if self.nodal.is_active() {
             self.nodal.add_product(tets, x, y);
         }
+    }
+
+    /// `y` = the second half of the spring blocks times `x`.
+    pub fn multiply_second(&self, x: &[DVec3], y: &mut Vec<DVec3>) {
+        y.clear();
+        y.resize(x.len(), DVec3::ZERO);
+        self.add_spring_blocks(self.split()..self.free_springs.len(), x, y);
     }
 
     /// Adds the second half, the contact blocks, and masks.

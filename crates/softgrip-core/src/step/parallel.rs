@@ -222,7 +222,7 @@ impl Parallel {
                 share.x.extend_from_slice(x);
             }
             self.post(PRODUCT);
-            system.multiply_first(x, y);
+            system.multiply_first(&self.shared.model.tets, x, y);
             let done = self.wait();
             let mut share = lock(&self.shared.product);
             if !done {
@@ -230,13 +230,13 @@ impl Parallel {
                     x: shared_x,
                     y: second,
                 } = &mut *share;
-                system.multiply_second(&self.shared.model.tets, shared_x, second);
+                system.multiply_second(shared_x, second);
             }
             system.multiply_finish(x, y, &share.y);
         } else {
-            system.multiply_first(x, y);
+            system.multiply_first(&self.shared.model.tets, x, y);
             let mut share = lock(&self.shared.product);
-            system.multiply_second(&self.shared.model.tets, x, &mut share.y);
+            system.multiply_second(x, &mut share.y);
             system.multiply_finish(x, y, &share.y);
         }
     }
@@ -350,7 +350,7 @@ fn run(shared: &Shared, kind: u64) {
             let system = shared.system.read().unwrap_or_else(|e| e.into_inner());
             let mut share = lock(&shared.product);
             let ProductShare { x, y } = &mut *share;
-            system.multiply_second(&shared.model.tets, x, y);
+            system.multiply_second(x, y);
         }
         _ => {}
     }
