@@ -11,14 +11,24 @@ use softgrip_core::Simulation;
 #[test]
 #[ignore = "slow: two long runs"]
 fn one_thread_and_two_give_bit_identical_runs() {
-    let run = |threads: usize| {
-        let mut sim = Simulation::new(&Scene::thesis()).expect("sim");
+    let run_scene = |scene: &Scene, threads: usize, until: f64| {
+        let mut sim = Simulation::new(scene).expect("sim");
         sim.set_threads(threads);
-        sim.run_until(0.3).expect("run");
+        sim.run_until(until).expect("run");
         (sim.is_threaded(), sim.state)
     };
+    let run = |threads: usize| run_scene(&Scene::thesis(), threads, 0.3);
     let (threaded_one, one) = run(1);
     let (threaded_two, two) = run(2);
+    // The neo-Hookean elements with their nodal volume term (computed once,
+    // applied matrix-free on the main thread's half of each product).
+    let mut continuum = Scene::thesis();
+    continuum.model.elasticity = softgrip_core::scene::Elasticity::NeoHookean;
+    continuum.model.bulk_pressure = softgrip_core::scene::BulkPressure::Nodal;
+    assert_eq!(
+        run_scene(&continuum, 1, 0.1).1,
+        run_scene(&continuum, 2, 0.1).1
+    );
     assert!(!threaded_one);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     if cores >= 2 {

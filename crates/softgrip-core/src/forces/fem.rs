@@ -52,6 +52,28 @@ fn stretch_invariant(f: DMat3) -> (f64, f64, f64) {
     ((i1 - 3.0).max(0.0), scale, i1)
 }
 
+/// `d2V / dx_i dx_j` of a tetrahedron's signed volume (`mesh::signed_volume`)
+/// for `i != j`: `-[x_d - x_a]_x / 6` with `(a, i, j, d)` an even permutation
+/// of the nodes; a skew matrix, and zero for `i == j`.
+pub fn volume_hessian(p: [DVec3; 4], i: usize, j: usize) -> DMat3 {
+    let mut rest = (0..4).filter(|&n| n != i && n != j);
+    let (k, l) = (rest.next().unwrap_or(0), rest.next().unwrap_or(0));
+    // The parity of (k, i, j, l) by counting inversions.
+    let order = [k, i, j, l];
+    let inversions = (0..4)
+        .flat_map(|m| (m + 1..4).map(move |n| (m, n)))
+        .filter(|&(m, n)| order[m] > order[n])
+        .count();
+    let (a, d) = if inversions % 2 == 0 { (k, l) } else { (l, k) };
+    let w = (p[d] - p[a]) * (1.0 / 6.0);
+    // -[w]_x
+    DMat3::from_cols(
+        DVec3::new(0.0, -w.z, w.y),
+        DVec3::new(w.z, 0.0, -w.x),
+        DVec3::new(-w.y, w.x, 0.0),
+    )
+}
+
 /// First Piola-Kirchhoff stress of the energy at `F` (Pa), with the
 /// stiffening terms `yeoh` (`Yeoh::default()`: the plain energy):
 /// `mu F + lambda (J - a) cof F + Psi_s'(s) dI1bar/dF`,
@@ -160,6 +182,11 @@ pub fn accumulate_elements(
             for (bb, &ib) in b.iter().zip(&idx) {
                 kv += v[ib] * (v0 * mu_k * b[a].dot(*bb));
             }
+            for (bb, &ib) in idx.iter().enumerate() {
+                if bb != a {
+                    kv -= volume_hessian(p, a, bb) * v[ib] * mu;
+                }
+            }
             if stiff > 0.0 {
                 block += outer(e_grad[a], e_grad[a] * (stiff * dt2));
                 kv += e_grad[a] * (stiff * stretch_rate);
@@ -177,6 +204,9 @@ pub fn accumulate_elements(
             if stiff > 0.0 {
                 block += outer(e_grad[i], e_grad[k] * (stiff * dt2));
             }
+            // The rest stress's `-mu d2V`: without it the shear block resists a
+            // rigid rotation, which implicit Euler then damps.
+            block -= volume_hessian(p, i, k) * (mu * dt2);
             system.off[slots[m] as usize] += block;
         }
     }
@@ -281,6 +311,55 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// `volume_hessian` is the volume gradient's derivative (central
+    /// differences), and with the shear block it leaves a rigid rotation
+    /// of an element at rest unresisted.
+    #[test]
+    fn the_volume_hessian_is_the_gradients_derivative() {
+        let p = [
+            DVec3::new(0.0001, -0.0002, 0.0),
+            DVec3::new(0.0112, 0.0004, 0.0002),
+            DVec3::new(0.0003, 0.0117, -0.0005),
+            DVec3::new(0.0025, 0.0006, 0.0093),
+        ];
+        for i in 0..4 {
+            for j in 0..4 {
+                if i == j {
+                    continue;
+                }
+                let h = 1e-7;
+                for k in 0..3 {
+                    let (mut plus, mut minus) = (p, p);
+                    plus[j][k] += h;
+                    minus[j][k] -= h;
+                    let column =
+                        (volume_gradients(plus)[i] - volume_gradients(minus)[i]) / (2.0 * h);
+                    let analytic = volume_hessian(p, i, j).col(k);
+                    assert!(
+                        (column - analytic).length() < 1e-9 * (1.0 + analytic.length()),
+                        "({i}, {j}) column {k}: {column} against {analytic}"
+                    );
+                }
+            }
+        }
+        // At rest: mu (b_a . b_b) I - mu d2V / V0 on a rotation's velocities.
+        let fem = FemModel::new(&p, &[[0, 1, 2, 3]], &[60e3], 0.45);
+        let (b, mu) = (fem.gradients[0], fem.mu[0]);
+        let omega = DVec3::new(0.3, -1.0, 0.7);
+        let v = p.map(|x| omega.cross(x));
+        let v0 = crate::mesh::signed_volume(p[0], p[1], p[2], p[3]);
+        for a in 0..4 {
+            let mut kv = DVec3::ZERO;
+            for bb in 0..4 {
+                kv += v[bb] * (v0 * mu * b[a].dot(b[bb]));
+                if bb != a {
+                    kv -= volume_hessian(p, a, bb) * v[bb] * mu;
+                }
+            }
+            assert!(kv.length() < 1e-9 * mu * v0 * 1e4, "node {a}: {kv}");
         }
     }
 
