@@ -56,7 +56,12 @@ pub fn accumulate_mass(model: &Model, state: &State, force: &mut [DVec3], system
     }
     let dt = system.dt();
     let (v, diag) = (&state.velocities, &mut system.diag);
-    for (((f, d), &m), v) in force.iter_mut().zip(diag.iter_mut()).zip(&model.mass).zip(v) {
+    for (((f, d), &m), v) in force
+        .iter_mut()
+        .zip(diag.iter_mut())
+        .zip(&model.mass)
+        .zip(v)
+    {
         let c = a * m;
         *f -= *v * c;
         *d += DMat3::from_diagonal(DVec3::splat(c * dt));
@@ -357,7 +362,10 @@ mod tests {
         let spin: Vec<DVec3> = deformed.iter().map(|p| w.cross(*p) + DVec3::X).collect();
         let (force, _) = assemble(&deformed, &spin);
         let scale = eta * v0 * w.length() * grads[0].length();
-        assert!(force.iter().all(|f| f.length() < 1e-12 * scale), "{force:?}");
+        assert!(
+            force.iter().all(|f| f.length() < 1e-12 * scale),
+            "{force:?}"
+        );
         // At rest: b times the shear part of the linear stiffness.
         let (_, system) = assemble(&rest, &velocities);
         let c = v0 * mu * b;

@@ -33,7 +33,12 @@ fn mass_proportional_damping_decays_a_drift_by_implicit_eulers_factor() {
             sim.step().expect("step");
             let factor = (1.0 + a * dt).powi(-n);
             travelled += dt * factor;
-            for (v, (x, x0)) in sim.state.velocities.iter().zip(sim.state.positions.iter().zip(&start)) {
+            for (v, (x, x0)) in sim
+                .state
+                .velocities
+                .iter()
+                .zip(sim.state.positions.iter().zip(&start))
+            {
                 assert!(
                     (*v - v0 * factor).length() < 1e-9 * v0.length(),
                     "{elasticity}, step {n}: {v} against {}",
@@ -124,12 +129,16 @@ fn column(gravity: [f64; 3], model: &str, dt: f64) -> Simulation {
 fn ring(model: &str, dt: f64, periods: usize) -> (f64, f64) {
     // The deflection: the column's equilibrium under a sideways body force.
     let mut loaded = column([0.3, 0.0, 0.0], model, dt);
-    loaded.equilibrium(StaticOptions::default()).expect("equilibrium");
+    loaded
+        .equilibrium(StaticOptions::default())
+        .expect("equilibrium");
     let mut sim = column([0.0, 0.0, 0.0], model, dt);
     sim.state.positions.clone_from(&loaded.state.positions);
     let rest = &sim.model.rest_positions;
     let top_z = rest.iter().map(|p| p.z).fold(f64::MIN, f64::max);
-    let top: Vec<usize> = (0..rest.len()).filter(|&i| rest[i].z > top_z - 1e-9).collect();
+    let top: Vec<usize> = (0..rest.len())
+        .filter(|&i| rest[i].z > top_z - 1e-9)
+        .collect();
     let tip = |sim: &Simulation| {
         top.iter()
             .map(|&i| sim.state.positions[i].x - sim.model.rest_positions[i].x)
@@ -168,7 +177,10 @@ fn ring(model: &str, dt: f64, periods: usize) -> (f64, f64) {
     let mean_t = peaks.iter().map(|p| p.0).sum::<f64>() / count;
     let mean_l = peaks.iter().map(|p| p.1.ln()).sum::<f64>() / count;
     let (sxy, sxx) = peaks.iter().fold((0.0, 0.0), |(sxy, sxx), (t, a)| {
-        (sxy + (t - mean_t) * (a.ln() - mean_l), sxx + (t - mean_t).powi(2))
+        (
+            sxy + (t - mean_t) * (a.ln() - mean_l),
+            sxx + (t - mean_t).powi(2),
+        )
     });
     let period = (peaks[peaks.len() - 1].0 - peaks[0].0) / (count - 1.0);
     (-sxy / sxx, std::f64::consts::TAU / period)
@@ -255,13 +267,23 @@ fn rayleigh_keys_round_trip_and_default_to_off() {
         "[model]\nrayleigh_mass = 3.5\nrayleigh_stiffness = 2e-4\n",
     );
     let scene = Scene::from_toml_str(&text, "rayleigh").expect("scene");
-    assert_eq!((scene.model.rayleigh_mass, scene.model.rayleigh_stiffness), (3.5, 2e-4));
+    assert_eq!(
+        (scene.model.rayleigh_mass, scene.model.rayleigh_stiffness),
+        (3.5, 2e-4)
+    );
     let again = Scene::from_toml_str(&scene.to_toml(), "again").expect("again");
     assert_eq!(again.model, scene.model);
     let plain = Scene::from_toml_str(&cuboid_scene("", [0.02, 0.02, 0.01], 0.005, ""), "plain")
         .expect("plain");
-    assert_eq!((plain.model.rayleigh_mass, plain.model.rayleigh_stiffness), (0.0, 0.0));
-    assert!(plain.defaults_applied.iter().any(|d| d == "[model] rayleigh_mass = 0.0"));
+    assert_eq!(
+        (plain.model.rayleigh_mass, plain.model.rayleigh_stiffness),
+        (0.0, 0.0)
+    );
+    assert!(
+        plain
+            .defaults_applied
+            .iter()
+            .any(|d| d == "[model] rayleigh_mass = 0.0")
+    );
     assert!(!plain.to_toml().contains("rayleigh"));
 }
-
