@@ -24,10 +24,11 @@
 //! for the springs' dampers, but its product with the velocities, `-(df/dx) v`, goes into
 //! `Kp v` (the right-hand side's `dt^2 (df/dx) v` of eq. 43): a rotating object's velocity
 //! change (its centripetal acceleration) shortens and turns the dashpots, and without that
-//! term `dt Dp` alone resists it, so the step damps a rigid rotation (at dt = 1e-3 s and
-//! b = 1e-3 s, 7 % more kinetic energy lost per revolution of a free block spun at 10 rad/s;
-//! with it, the exact forces' zero to first order in dt: `tests/it/rayleigh.rs`). The
-//! term is second order in the velocities and zero at rest.
+//! term `dt Dp` alone resists it, so the step damps a rigid rotation (measured once without
+//! the term, at dt = 1e-3 s and b = 1e-3 s: a free block spun at 10 rad/s lost 0.278 of its
+//! kinetic energy in a revolution against 0.204 undamped; with it the forces' zero holds to
+//! first order in dt, and `tests/it/rayleigh.rs` prints 0.3398 against 0.3379 at 20 rad/s).
+//! The term is second order in the velocities and zero at rest.
 //!
 //! The forces vanish at rest, so no equilibrium depends on a or b; they have no energy: what
 //! they take is dissipated.

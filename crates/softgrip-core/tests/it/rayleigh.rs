@@ -77,11 +77,13 @@ fn spin(model: &str) -> (f64, f64) {
 /// stretching rate. A free block spun at 20 rad/s loses over a revolution what the undamped
 /// block loses (implicit Euler's own damping of the rotation at dt = 1e-3 s, and the ringing
 /// of the centrifugal stretch, about the strain, 1e-3) to within a few percent of that, with
-/// a b that damps the block's first mode (about 1.5e4 rad/s) near critically. Without the
-/// dashpots' `-(df/dx) v` in the step (`forces::viscosity`) it lost a third more.
+/// a b that damps the block's own modes strongly (`b w / 2` = 0.38 at its lengthwise mode,
+/// `pi sqrt(E / rho) / L` = 770 rad/s). Without the dashpots' `-(df/dx) v` in the step
+/// (`forces::viscosity`) the loss was a third more than the undamped block's (measured at
+/// 10 rad/s).
 ///
 /// The elements' viscosity is zero for a rigid rotation too (`forces::viscosity`'s unit
-/// tests), but a neo-Hookean block cannot show it here: its own step takes 40 % of the
+/// tests), but a neo-Hookean block cannot show it here: its own step takes about 40 % of the
 /// rotation's kinetic energy in each step of 1e-3 s (the elements' Jacobian, whose shear block
 /// `V0 mu (b_a . b_b) I` is not zero on a rotation, enters `Kp v`).
 #[test]
