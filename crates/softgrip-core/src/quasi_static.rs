@@ -215,6 +215,7 @@ impl Simulation {
         crate::forces::springs::accumulate(model, state, &mut force, &mut system);
         crate::forces::external::accumulate(model, state, &mut force, &mut system);
         crate::forces::volume::accumulate(model, state, &mut force, &mut system);
+        crate::forces::viscosity::accumulate(model, state, &mut force, &mut system);
         // ... and the contact forces of the last step.
         for c in &state.contacts {
             let tri = model.facets[c.facet as usize];

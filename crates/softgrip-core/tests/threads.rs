@@ -7,6 +7,7 @@
 
 use softgrip_core::Scene;
 use softgrip_core::Simulation;
+use softgrip_core::scene::Elasticity;
 
 #[test]
 #[ignore = "slow: two long runs"]
@@ -58,4 +59,26 @@ fn one_thread_and_two_give_bit_identical_runs() {
         assert!(!beside, "beside another simulation, the cores are taken");
     }
     assert_eq!(sim.state, one);
+    drop(sim);
+
+    // Rayleigh damping's passes (`forces::viscosity`) split alike: the springs' dashpots and
+    // the elements' viscosity, each half on the helper.
+    for elasticity in [Elasticity::Springs, Elasticity::NeoHookean] {
+        let run = |threads: usize| {
+            let mut scene = Scene::thesis();
+            scene.model.elasticity = elasticity;
+            scene.model.rayleigh_mass = 2.0;
+            scene.model.rayleigh_stiffness = 2e-4;
+            let mut sim = Simulation::new(&scene).expect("sim");
+            sim.set_threads(threads);
+            sim.run_until(0.1).expect("run");
+            (sim.is_threaded(), sim.state)
+        };
+        let (_, one) = run(1);
+        let (threaded, two) = run(2);
+        if cores >= 2 {
+            assert!(threaded);
+        }
+        assert_eq!(one, two, "{elasticity:?}");
+    }
 }

@@ -78,6 +78,9 @@ pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), LabErr
         "tau_s" | "tau_c" => Ok((0.02, 0.5)),
         "poisson_ratio" => Ok((0.3, 0.499)),
         "damping_ratio" => Ok((0.1, 3.0)),
+        // zeta = a / (2 w) + b w / 2: a few percent to near critical for modes of 1 to 100 Hz.
+        "rayleigh_mass" => Ok((0.1, 100.0)),
+        "rayleigh_stiffness" => Ok((1e-5, 1e-2)),
         "friction" | "table_friction" => Ok((0.0, 2.0)),
         "stiffening" => Ok((0.0, 1000.0)),
         "compression_ratio" => Ok((0.2, 5.0)),

@@ -5,6 +5,7 @@ pub mod external;
 pub mod fem;
 pub mod pull;
 pub mod springs;
+pub mod viscosity;
 pub mod volume;
 
 use glam::DVec3;

@@ -85,6 +85,10 @@ pub struct Model {
     pub cg_max_iterations: usize,
     pub alpha: f64,
     pub bulk_modulus: f64,
+    /// Rayleigh damping `a M + b K` (`crate::forces::viscosity`): a (1/s) ...
+    pub rayleigh_mass: f64,
+    /// ... and b (s); 0 = off.
+    pub rayleigh_stiffness: f64,
     /// See [`crate::scene::ModelParams::limit_stiffness`].
     pub limit_stiffness: f64,
     pub tau_s: Option<f64>,
@@ -600,6 +604,8 @@ impl Model {
             cg_reference: REST_REFERENCE,
             cg_max_iterations: scene.simulation.cg_max_iterations,
             alpha: if fem_mode { 0.0 } else { scene.model.alpha },
+            rayleigh_mass: scene.model.rayleigh_mass,
+            rayleigh_stiffness: scene.model.rayleigh_stiffness,
             bulk_modulus: if fem_mode {
                 0.0
             } else {
@@ -681,6 +687,8 @@ impl Model {
             cg_max_iterations: 1000,
             alpha: 0.0,
             bulk_modulus: 0.0,
+            rayleigh_mass: 0.0,
+            rayleigh_stiffness: 0.0,
             limit_stiffness: 0.0,
             tau_s: None,
             tau_c: None,

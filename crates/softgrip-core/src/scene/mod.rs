@@ -113,6 +113,14 @@ pub struct Object {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelParams {
     pub damping_ratio: f64,
+    /// Rayleigh damping `D = a M + b K`, its mass-proportional a (1/s): each
+    /// particle's `-a m v`, which damps rigid motion too; 0 = off (softgrip;
+    /// `forces::viscosity`) ...
+    pub rayleigh_mass: f64,
+    /// ... and its stiffness-proportional b (s): a dashpot `b k` along each
+    /// spring, or a Kelvin-Voigt viscosity `2 mu b` on each element's Green
+    /// strain rate; neither damps rigid motion. 0 = off.
+    pub rayleigh_stiffness: f64,
     pub alpha: f64,
     /// Element volumetric stiffness (Pa); 0 = off (the thesis model). See
     /// `forces::volume`.

@@ -54,6 +54,8 @@ pub(super) struct RawObject {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawModel {
     pub(super) damping_ratio: Option<f64>,
+    pub(super) rayleigh_mass: Option<f64>,
+    pub(super) rayleigh_stiffness: Option<f64>,
     pub(super) alpha: Option<f64>,
     pub(super) bulk_modulus: Option<f64>,
     pub(super) bulk_pressure: Option<String>,

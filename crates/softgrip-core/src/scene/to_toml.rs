@@ -1,6 +1,6 @@
 //! A resolved scene back to its file: the raw structs built from it, written by `toml_text`.
 //! Every value is explicit, except keys whose absence means the default (`bulk_pressure`
-//! where it is the elasticity's, no `tau_s`, zero `softening`, no `travel` ...).
+//! where it is the elasticity's, no `tau_s`, zero `softening` or `rayleigh_mass`, no `travel` ...).
 
 use super::raw::{
     RawBox, RawFinger, RawLoad, RawModel, RawObject, RawPart, RawRegion, RawScene, RawSimulation,
@@ -176,6 +176,8 @@ fn raw_model(m: &ModelParams) -> RawModel {
     let nonzero = |x: f64| (x != 0.0).then_some(x);
     RawModel {
         damping_ratio: Some(m.damping_ratio),
+        rayleigh_mass: nonzero(m.rayleigh_mass),
+        rayleigh_stiffness: nonzero(m.rayleigh_stiffness),
         alpha: Some(m.alpha),
         bulk_modulus: Some(m.bulk_modulus),
         // Written only where it is not the elasticity's default.

@@ -105,7 +105,7 @@ impl Scratch {
 #[derive(Debug, Default, Clone, Copy, PartialEq)]
 pub struct StageSeconds {
     /// Every force and its blocks: springs (eq. 3-4), gravity, loads, finger
-    /// drive, contact (eq. 5, 18-39), volume (eq. 10-12) and the bulk term,
+    /// drive, contact (eq. 5, 18-39), volume (eq. 10-12), the bulk term, Rayleigh damping,
     /// both threads' shares added, and the preconditioner.
     pub forces: f64,
     /// The implicit-Euler solve (eq. 43) and the update.
@@ -344,6 +344,7 @@ fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
     forces::volume::nodal(model, state, &mut s.force, &mut system);
 
     forces::external::accumulate(model, state, &mut s.force, &mut system);
+    forces::viscosity::accumulate_mass(model, state, &mut s.force, &mut system);
     forces::pull::accumulate(model, state, &mut s.force, &mut system);
     contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
     contact::table::accumulate(model, state, &mut s.force, &mut system);
@@ -355,7 +356,10 @@ fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
         &mut s.self_collision,
     );
     let elements = parallel.main_elements();
-    forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements);
+    forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements.clone());
+    let springs = parallel.main_springs();
+    forces::viscosity::accumulate_dashpots(model, state, &mut s.force, &mut system, springs);
+    forces::viscosity::accumulate_elements(model, state, &mut s.force, &mut system, elements);
     parallel.finish_assembly(&mut s.force, &mut system);
     system.finish();
     static_residual(model, state, &s.force, &system.mask)

@@ -1,5 +1,6 @@
 //! The second core: a helper thread that takes half of each step's heavy work (the spring pass
-//! and half the element pass, and half the spring blocks of CG's product `A x`).
+//! and half the element pass, half the Rayleigh viscosity's, and half the spring blocks of CG's
+//! product `A x`).
 //!
 //! Results never depend on whether the helper runs: without it (one core, or
 //! `Simulation::set_threads(1)`) the main thread does the helper's share itself, on the same
@@ -183,6 +184,13 @@ impl Parallel {
         helper_elements(n)..n
     }
 
+    /// The springs whose Rayleigh dashpots the main thread assembles (the helper takes the
+    /// ones before them).
+    pub fn main_springs(&self) -> std::ops::Range<usize> {
+        let n = self.shared.model.springs.len();
+        helper_springs(n)..n
+    }
+
     /// Hands the step's positions and velocities to the helper and starts
     /// its share of the force passes.
     pub fn start_assembly(&self, state: &State) {
@@ -356,8 +364,8 @@ fn run(shared: &Shared, kind: u64) {
     }
 }
 
-/// The helper's share of the force passes: the springs and the elements
-/// before [`Parallel::main_elements`].
+/// The helper's share of the force passes: the springs, the elements before
+/// [`Parallel::main_elements`] and the Rayleigh dashpots before [`Parallel::main_springs`].
 fn assemble(shared: &Shared) {
     let model = &*shared.model;
     let mut share = lock(&shared.assembly);
@@ -370,8 +378,16 @@ fn assemble(shared: &Shared) {
     force.clear();
     force.resize(model.particle_count() + model.fingers.len(), DVec3::ZERO);
     forces::springs::accumulate(model, state, force, system);
+    let springs = 0..helper_springs(model.springs.len());
+    forces::viscosity::accumulate_dashpots(model, state, force, system, springs);
     let end = helper_elements(model.tets.len());
     forces::volume::accumulate_elements(model, state, force, system, 0..end);
+    forces::viscosity::accumulate_elements(model, state, force, system, 0..end);
+}
+
+/// The helper's share of the springs' Rayleigh dashpots: half.
+fn helper_springs(springs: usize) -> usize {
+    springs / 2
 }
 
 /// The helper's share of the elements: half. It also runs the spring pass,

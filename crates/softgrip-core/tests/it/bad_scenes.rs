@@ -288,6 +288,18 @@ fn negative_limit_stiffness() {
 }
 
 #[test]
+fn negative_or_nan_rayleigh_damping() {
+    for key in ["rayleigh_mass", "rayleigh_stiffness"] {
+        for (value, shown) in [("-0.5", "-0.5"), ("nan", "NaN")] {
+            expect(
+                &format!("{BASE}[model]\n{key} = {value}\n"),
+                &[key, shown, "must be >= 0", "Rayleigh", ":7", "case-"],
+            );
+        }
+    }
+}
+
+#[test]
 fn constraint_tolerance_out_of_range() {
     expect(
         &format!("{BASE}[model]\nconstraint_tolerance = 0.5\n"),

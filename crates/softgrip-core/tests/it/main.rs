@@ -17,6 +17,7 @@ mod live;
 mod mesh_import;
 mod mesh_scenes;
 mod pinch;
+mod rayleigh;
 mod rest;
 mod self_collision;
 mod sensitivity;

@@ -58,6 +58,8 @@ fn thesis_scene_has_the_thesis_values() {
                 "compression_ratio",
                 "prony_g",
                 "prony_tau",
+                "rayleigh_mass",
+                "rayleigh_stiffness",
                 "start_time",
                 "ramp_time",
                 "guide_friction",

@@ -1,5 +1,6 @@
-//! The Model section: the terms of the mass-spring-damper model and its extensions (limits,
-//! stiffening, asymmetry, viscoelasticity, bulk pressure, elasticity law, self-collision).
+//! The Model section: the terms of the mass-spring-damper model and its extensions (Rayleigh
+//! damping, limits, stiffening, asymmetry, viscoelasticity, bulk pressure, elasticity law,
+//! self-collision).
 
 use eframe::egui;
 use softgrip_core::scene::{BulkPressure, Elasticity, ModelParams};
@@ -16,6 +17,14 @@ pub(super) fn ui(ui: &mut egui::Ui, m: &mut ModelParams) -> bool {
             changed |= optional_slider(ui, &mut m.tau_s, 0.0..=1.0, "tau_s", 0.16);
             changed |= optional_slider(ui, &mut m.tau_c, 0.0..=0.9, "tau_c", 0.155);
             changed |= slider(ui, &mut m.damping_ratio, 0.0..=5.0, "damping ratio");
+            // Rayleigh damping a M + b K (`forces::viscosity`).
+            changed |= sliders(
+                ui,
+                [
+                    log_scale(&mut m.rayleigh_mass, 0.0..=1e3, "Rayleigh a (1/s)"),
+                    log_scale(&mut m.rayleigh_stiffness, 0.0..=0.1, "Rayleigh b (s)"),
+                ],
+            );
             changed |= slider(
                 ui,
                 &mut m.constraint_iterations,

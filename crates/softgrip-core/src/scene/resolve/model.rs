@@ -1,4 +1,4 @@
-//! `[model]`: damping, volume preservation, the spring limits, the elastic law (springs or
+//! `[model]`: damping (the springs' dampers, Rayleigh's), volume preservation, the spring limits, the elastic law (springs or
 //! neo-Hookean elements) and its nonlinear and viscous terms, self-collision.
 
 use super::resolver::{At, Resolver};
@@ -20,6 +20,20 @@ impl Resolver<'_> {
             1.0,
             |x| x >= 0.0,
             "must be >= 0 (1 = critical damping of each spring)",
+        )?;
+        let rayleigh_mass = self.number(
+            at("rayleigh_mass"),
+            m.rayleigh_mass,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 (1/s; Rayleigh damping's mass-proportional a: each particle's force -a m v, which damps rigid motion too; 0 = off)",
+        )?;
+        let rayleigh_stiffness = self.number(
+            at("rayleigh_stiffness"),
+            m.rayleigh_stiffness,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 (s; Rayleigh damping's stiffness-proportional b: a mode of angular frequency w is damped at ratio b w / 2; 0 = off)",
         )?;
         let alpha = self.number(
             at("alpha"),
@@ -165,6 +179,8 @@ impl Resolver<'_> {
             self_collision,
             elasticity,
             damping_ratio,
+            rayleigh_mass,
+            rayleigh_stiffness,
             alpha,
             bulk_modulus,
             bulk_pressure,

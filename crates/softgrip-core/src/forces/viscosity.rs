@@ -1,0 +1,379 @@
+//! Rayleigh damping, `D = a M + b K` (`[model] rayleigh_mass` a, `rayleigh_stiffness` b,
+//! softgrip): material damping that lets a mode of angular frequency w ring at the ratio
+//! `zeta = a / (2 w) + b w / 2`, where the springs' dampers (`damping_ratio`) damp each spring's
+//! own mode near critically and a beam hardly rings at all.
+//!
+//! - **Mass-proportional** ([`accumulate_mass`]): each particle's `-a m_i v_i`, Jacobian
+//!   `Dp = a m_i I`. It damps every motion, rigid translation and rotation too (a drag against
+//!   the ground frame): that is Rayleigh's a. The fingers are not damped.
+//! - **Stiffness-proportional**, rotation invariant, zero for rigid motion:
+//!   - springs ([`accumulate_dashpots`]): a dashpot of `b k` (k the spring's stiffness, its
+//!     rest tangent) along each spring, as the springs' own dampers are: force
+//!     `b k (u . (v_j - v_i)) u` on i, Jacobian `b k u u^T`. At rest it is `b` times the
+//!     springs' stiffness matrix (not the volume terms', alpha and the bulk term);
+//!   - neo-Hookean elements ([`accumulate_elements`]): a Kelvin-Voigt viscosity on the Green
+//!     strain rate `E' = sym(F^T F')`, `F' = sum_b v_b b_b^T`: dissipation potential
+//!     `R = V0 eta / 2 E':E'`, force `f_a = -dR/dv_a = -V0 eta F E' b_a`, Jacobian
+//!     `Dp_ab = V0 eta / 2 [(b_a . b_b) F F^T + (F b_b)(F b_a)^T]` (the Hessian of R, which is
+//!     quadratic in the velocities: symmetric positive semi-definite), with `eta = 2 mu b`. At
+//!     `F = I` that is `b V0 mu [(b_a . b_b) I + b_b b_a^T]`, exactly b times the shear part of
+//!     the linear elastic stiffness; the volumetric part (Lamé's lambda) is not damped.
+//!
+//! `Dp` enters the system as `dt Dp`. The stiffness-proportional forces also depend on the
+//! positions, through u or F; that Jacobian is not symmetric and stays out of the matrix, as
+//! for the springs' dampers, but its product with the velocities, `-(df/dx) v`, goes into
+//! `Kp v` (the right-hand side's `dt^2 (df/dx) v` of eq. 43): a rotating object's velocity
+//! change (its centripetal acceleration) shortens and turns the dashpots, and without that
+//! term `dt Dp` alone resists it, so the step damps a rigid rotation (measured once without
+//! the term, at dt = 1e-3 s and b = 1e-3 s: a free block spun at 10 rad/s lost 0.278 of its
+//! kinetic energy in a revolution against 0.204 undamped; with it the forces' zero holds to
+//! first order in dt, and `tests/it/rayleigh.rs` prints 0.3398 against 0.3379 at 20 rad/s).
+//! The term is second order in the velocities and zero at rest.
+//!
+//! The forces vanish at rest, so no equilibrium depends on a or b; they have no energy: what
+//! they take is dissipated.
+
+use glam::{DMat3, DVec3};
+
+use crate::mesh::TET_EDGES;
+use crate::model::Model;
+use crate::solver::System;
+use crate::solver::system::outer;
+use crate::state::State;
+
+/// Every Rayleigh term over the whole object (for callers that do not split the work).
+pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    accumulate_mass(model, state, force, system);
+    accumulate_dashpots(model, state, force, system, 0..model.springs.len());
+    accumulate_elements(model, state, force, system, 0..model.tets.len());
+}
+
+/// The mass-proportional term: `-a m_i v_i` on each particle, `a m_i I` into its diagonal
+/// block. Nothing when a is 0.
+pub fn accumulate_mass(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+    let a = model.rayleigh_mass;
+    if a == 0.0 {
+        return;
+    }
+    let dt = system.dt();
+    let (v, diag) = (&state.velocities, &mut system.diag);
+    for (((f, d), &m), v) in force
+        .iter_mut()
+        .zip(diag.iter_mut())
+        .zip(&model.mass)
+        .zip(v)
+    {
+        let c = a * m;
+        *f -= *v * c;
+        *d += DMat3::from_diagonal(DVec3::splat(c * dt));
+    }
+}
+
+/// The springs' stiffness-proportional dashpots, `b k` along each spring in `springs` (slots
+/// of `model.springs`). Nothing when b is 0 or the elasticity is the elements'.
+pub fn accumulate_dashpots(
+    model: &Model,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    springs: std::ops::Range<usize>,
+) {
+    let b = model.rayleigh_stiffness;
+    if b == 0.0 || model.fem.is_some() {
+        return;
+    }
+    let (x, v) = (&state.positions, &state.velocities);
+    let dt = system.dt();
+    for slot in springs {
+        let s = &model.springs[slot];
+        let (i, j) = (s.i as usize, s.j as usize);
+        let delta = x[j] - x[i];
+        let l = delta.length();
+        if l <= 0.0 {
+            continue;
+        }
+        let u = delta / l;
+        let c = b * s.stiffness;
+        let dv = v[j] - v[i];
+        let rate = u.dot(dv);
+        let f = (c * rate) * u;
+        force[i] += f;
+        force[j] -= f;
+        // Blocks (i, i) and (j, j) get +W, block (i, j) = (spring.i, spring.j) -W, W = dt Dp.
+        let w = outer(u, u) * (c * dt);
+        system.diag[i] += w;
+        system.diag[j] += w;
+        system.off[slot] -= w;
+        // The force's change as the spring turns with the velocities, (df_i/dx) v: see
+        // the module docs.
+        let turning = (u * (dv.length_squared() - rate * rate) + (dv - u * rate) * rate) * (c / l);
+        system.kv[i] -= turning;
+        system.kv[j] += turning;
+    }
+}
+
+/// The elements' Kelvin-Voigt viscosity, for the elements in `elements`. Nothing when b is 0
+/// or the elasticity is the springs'.
+pub fn accumulate_elements(
+    model: &Model,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    elements: std::ops::Range<usize>,
+) {
+    let b = model.rayleigh_stiffness;
+    let Some(fem) = &model.fem else { return };
+    if b == 0.0 {
+        return;
+    }
+    let (x, v) = (&state.positions, &state.velocities);
+    let dt = system.dt();
+    for e in elements {
+        let idx = model.tets[e].map(|i| i as usize);
+        let g = &fem.gradients[e];
+        let f = super::fem::deformation_gradient(g, idx.map(|i| x[i]));
+        let f_rate = super::fem::deformation_gradient(g, idx.map(|i| v[i]));
+        let e_rate = symmetric_part(f.transpose() * f_rate);
+        // V0 eta, eta = 2 mu b.
+        let c = model.rest_volume[e] * 2.0 * fem.mu[e] * b;
+        let fe = f * e_rate;
+        let fb = g.map(|ga| f * ga);
+        let ff = f * f.transpose();
+        let half = 0.5 * c * dt;
+        // The force's change as the element moves with the velocities, (df_a/dx) v =
+        // -V0 eta [F' E' + F F'^T F'] b_a (F' = dF along v): see the module docs.
+        let turning = f_rate * e_rate + f * (f_rate.transpose() * f_rate);
+        for a in 0..4 {
+            force[idx[a]] -= fe * g[a] * c;
+            system.diag[idx[a]] += (ff * g[a].dot(g[a]) + outer(fb[a], fb[a])) * half;
+            system.kv[idx[a]] += turning * g[a] * c;
+        }
+        let slots = model.tet_springs[e];
+        for (m, [p, q]) in TET_EDGES.into_iter().enumerate() {
+            // Block (spring.i, spring.j), spring.i < spring.j: Dp_ik has (F b_k)(F b_i)^T.
+            let (i, k) = if idx[p] < idx[q] { (p, q) } else { (q, p) };
+            system.off[slots[m] as usize] += (ff * g[i].dot(g[k]) + outer(fb[k], fb[i])) * half;
+        }
+    }
+}
+
+/// `(A + A^T) / 2`.
+#[inline]
+fn symmetric_part(a: DMat3) -> DMat3 {
+    (a + a.transpose()) * 0.5
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::fem::FemModel;
+
+    /// One neo-Hookean element: the viscous force is minus the gradient of the dissipation
+    /// potential `R = V0 eta / 2 E':E'` by the velocities, its Jacobian that gradient's
+    /// derivative (central differences; R is quadratic, so they are exact to rounding), the
+    /// force is zero for a rigid rotation of a deformed element, and at F = I the Jacobian is
+    /// b times the shear part of the linear elastic stiffness.
+    /// One spring's dashpot: `b k` times the stretching rate along it, its velocity
+    /// Jacobian `b k u u^T`, its `-(df/dx) v` by differences along the motion; nothing for a
+    /// rigid rotation.
+    #[test]
+    fn a_dashpot_follows_its_spring() {
+        let x = vec![DVec3::ZERO, DVec3::new(0.01, 0.004, -0.002)];
+        let mut model = Model::from_particles(
+            x.clone(),
+            vec![1e-3; 2],
+            vec![false; 2],
+            &[(0, 1, 50.0, 0.0)],
+            DVec3::ZERO,
+            1.0,
+        );
+        model.rayleigh_stiffness = 3e-3;
+        let c = 3e-3 * 50.0;
+        let run = |x: &[DVec3], v: &[DVec3]| {
+            let mut state = State::initial(&model);
+            state.positions = x.to_vec();
+            state.velocities = v.to_vec();
+            let mut system = System::default();
+            system.begin_partial(&model, 1.0);
+            let mut force = vec![DVec3::ZERO; 2];
+            accumulate(&model, &state, &mut force, &mut system);
+            (force, system)
+        };
+        let v = vec![DVec3::new(0.1, -0.3, 0.2), DVec3::new(-0.2, 0.1, 0.4)];
+        let (force, system) = run(&x, &v);
+        let u = (x[1] - x[0]).normalize();
+        let expected = u * (c * u.dot(v[1] - v[0]));
+        assert!(force[0].abs_diff_eq(expected, 1e-15) && force[1] == -force[0]);
+        let w = outer(u, u) * c;
+        assert!(system.diag[0].abs_diff_eq(w, 1e-15) && system.off[0].abs_diff_eq(-w, 1e-15));
+        let h = 1e-7;
+        let along = |t: f64| -> Vec<DVec3> { x.iter().zip(&v).map(|(x, v)| *x + *v * t).collect() };
+        let (fp, _) = run(&along(h), &v);
+        let (fm, _) = run(&along(-h), &v);
+        for a in 0..2 {
+            let numeric = -(fp[a] - fm[a]) / (2.0 * h);
+            assert!(
+                numeric.abs_diff_eq(system.kv[a], 1e-6 * system.kv[a].length()),
+                "{numeric} against {}",
+                system.kv[a]
+            );
+        }
+        let spin = DVec3::new(1.0, 2.0, -0.5);
+        let rigid: Vec<DVec3> = x.iter().map(|p| spin.cross(*p) + DVec3::Y).collect();
+        let (force, _) = run(&x, &rigid);
+        assert!(force[0].length() < 1e-15, "{force:?}");
+    }
+
+    fn largest(m: DMat3) -> f64 {
+        m.to_cols_array().iter().fold(0.0, |a, x| a.max(x.abs()))
+    }
+
+    #[test]
+    fn element_viscosity_is_the_gradient_of_its_dissipation_and_spares_rigid_motion() {
+        let rest = vec![
+            DVec3::ZERO,
+            DVec3::new(0.01, 0.0, 0.0),
+            DVec3::new(0.0, 0.012, 0.0),
+            DVec3::new(0.002, 0.001, 0.009),
+        ];
+        let tets = vec![[0u32, 1, 2, 3]];
+        let mut model = Model::from_particles(
+            rest.clone(),
+            vec![1e-3; 4],
+            vec![false; 4],
+            &[
+                (0, 1, 0.0, 0.0),
+                (0, 2, 0.0, 0.0),
+                (0, 3, 0.0, 0.0),
+                (1, 2, 0.0, 0.0),
+                (1, 3, 0.0, 0.0),
+                (2, 3, 0.0, 0.0),
+            ],
+            DVec3::ZERO,
+            1e-3,
+        );
+        let fem = FemModel::new(&rest, &tets, &[60e3], 0.45);
+        let (mu, grads) = (fem.mu[0], fem.gradients[0]);
+        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
+        let slots = TET_EDGES.map(|[a, b]| {
+            (model.springs.iter())
+                .position(|s| (s.i, s.j) == (a as u32, b as u32))
+                .expect("every edge has a spring") as u32
+        });
+        model.tets = tets;
+        model.rest_volume = vec![v0];
+        model.tet_springs = vec![slots];
+        model.fem = Some(fem);
+        let b = 2e-3;
+        model.rayleigh_stiffness = b;
+        let eta = 2.0 * mu * b;
+
+        let deformed = vec![
+            DVec3::new(0.0001, -0.0002, 0.0),
+            DVec3::new(0.0112, 0.0004, 0.0002),
+            DVec3::new(0.0003, 0.0117, -0.0005),
+            DVec3::new(0.0025, 0.0006, 0.0093),
+        ];
+        let velocities = vec![
+            DVec3::new(0.1, -0.2, 0.05),
+            DVec3::new(-0.3, 0.1, 0.2),
+            DVec3::new(0.02, 0.15, -0.1),
+            DVec3::new(0.2, -0.05, 0.3),
+        ];
+        let potential = |v: &[DVec3]| {
+            let f = super::super::fem::deformation_gradient(
+                &grads,
+                [deformed[0], deformed[1], deformed[2], deformed[3]],
+            );
+            let fr = super::super::fem::deformation_gradient(&grads, [v[0], v[1], v[2], v[3]]);
+            let er = symmetric_part(f.transpose() * fr);
+            let sq: f64 = er.to_cols_array().iter().map(|x| x * x).sum();
+            0.5 * v0 * eta * sq
+        };
+        let assemble = |x: &[DVec3], v: &[DVec3]| {
+            let mut state = State::initial(&model);
+            state.positions = x.to_vec();
+            state.velocities = v.to_vec();
+            let mut system = System::default();
+            system.begin_partial(&model, 1.0);
+            let mut force = vec![DVec3::ZERO; 4];
+            accumulate(&model, &state, &mut force, &mut system);
+            (force, system)
+        };
+        let (force, system) = assemble(&deformed, &velocities);
+        // Block (a, b) of Dp from the system (dt = 1, no mass).
+        let block = |a: usize, bb: usize| -> DMat3 {
+            if a == bb {
+                return system.diag[a];
+            }
+            let slot = model.tet_springs[0][TET_EDGES
+                .iter()
+                .position(|e| *e == [a.min(bb), a.max(bb)])
+                .unwrap()] as usize;
+            if a < bb {
+                system.off[slot]
+            } else {
+                system.off[slot].transpose()
+            }
+        };
+        let h = 1e-6;
+        for a in 0..4 {
+            for k in 0..3 {
+                let (mut plus, mut minus) = (velocities.clone(), velocities.clone());
+                plus[a][k] += h;
+                minus[a][k] -= h;
+                let numeric = -(potential(&plus) - potential(&minus)) / (2.0 * h);
+                assert!(
+                    (numeric - force[a][k]).abs() < 1e-7 * force[a].length(),
+                    "node {a} axis {k}: {numeric} against {}",
+                    force[a][k]
+                );
+                // Column (b, k) of Dp: -(f(v + h e) - f(v - h e)) / 2h.
+                let (fp, _) = assemble(&deformed, &plus);
+                let (fm, _) = assemble(&deformed, &minus);
+                for bb in 0..4 {
+                    let numeric = -(fp[bb] - fm[bb]) / (2.0 * h);
+                    let analytic = block(bb, a).col(k);
+                    assert!(
+                        numeric.abs_diff_eq(analytic, 1e-7 * largest(block(bb, bb))),
+                        "Dp ({bb}, {a}) column {k}: {numeric} against {analytic}"
+                    );
+                }
+            }
+        }
+        // Kp v = -(df/dx) v, along the positions moved with the velocities.
+        let moved = |t: f64| -> Vec<DVec3> {
+            (deformed.iter().zip(&velocities))
+                .map(|(x, v)| *x + *v * t)
+                .collect()
+        };
+        let h = 1e-7;
+        let (fp, _) = assemble(&moved(h), &velocities);
+        let (fm, _) = assemble(&moved(-h), &velocities);
+        for a in 0..4 {
+            let numeric = -(fp[a] - fm[a]) / (2.0 * h);
+            assert!(
+                numeric.abs_diff_eq(system.kv[a], 1e-6 * system.kv[a].length()),
+                "Kp v at {a}: {numeric} against {}",
+                system.kv[a]
+            );
+        }
+        // A rigid rotation of the deformed element: no force.
+        let w = DVec3::new(0.3, -1.2, 0.7);
+        let spin: Vec<DVec3> = deformed.iter().map(|p| w.cross(*p) + DVec3::X).collect();
+        let (force, _) = assemble(&deformed, &spin);
+        let scale = eta * v0 * w.length() * grads[0].length();
+        assert!(
+            force.iter().all(|f| f.length() < 1e-12 * scale),
+            "{force:?}"
+        );
+        // At rest: b times the shear part of the linear stiffness.
+        let (_, system) = assemble(&rest, &velocities);
+        let c = v0 * mu * b;
+        for a in 0..4 {
+            let expected =
+                (DMat3::IDENTITY * grads[a].dot(grads[a]) + outer(grads[a], grads[a])) * c;
+            assert!(system.diag[a].abs_diff_eq(expected, 1e-12 * largest(expected)));
+        }
+    }
+}
