@@ -520,8 +520,11 @@ pub fn fit_many(
             &jobs,
             options.workers,
             |&(i, j)| {
-                let values: Vec<f64> =
-                    params.iter().zip(&todo[i]).map(|(p, x)| p.value(*x)).collect();
+                let values: Vec<f64> = params
+                    .iter()
+                    .zip(&todo[i])
+                    .map(|(p, x)| p.value(*x))
+                    .collect();
                 let r = run_one(&recordings[j], &values).map(|r| r.errors.nrmse);
                 if let (Ok(f), Ok(mut part)) = (&r, partial.lock()) {
                     part[i].0 += 1;
@@ -632,7 +635,8 @@ pub fn fit_many(
     let at_bound = best_u.iter().map(|u| at_bound(*u)).collect();
     let after = mean_nrmse(&fitted_replays);
     check_cancel()?;
-    let (uncertainty, sensitivity) = evidence(recordings, params, &fitted, &fitted_replays, options);
+    let (uncertainty, sensitivity) =
+        evidence(recordings, params, &fitted, &fitted_replays, options);
     check_cancel()?;
     let recordings = first
         .into_iter()

@@ -199,7 +199,8 @@ fn refine(t: &[f64], z: &[f64], bounds: &Bounds, w: f64, s: f64) -> Option<(f64,
             match project(t, z, nw, ns) {
                 Some((_, nr)) if ssr(&nr) < f => {
                     let nf = ssr(&nr);
-                    let small = (nw - w).abs() <= 1e-10 * w && (ns - s).abs() <= 1e-10 * (w + s.abs());
+                    let small =
+                        (nw - w).abs() <= 1e-10 * w && (ns - s).abs() <= 1e-10 * (w + s.abs());
                     let gain = f - nf;
                     (w, s, r, f) = (nw, ns, nr, nf);
                     lambda = (lambda / 3.0).max(1e-12);
@@ -298,10 +299,13 @@ pub fn measure(times: &[f64], values: &[f64]) -> Result<Ringing, NoRinging> {
         (a, b) if a > 0.0 && b > 0.0 => (2.0 * (a / b).ln() / span).max(0.0),
         _ => 1.0 / span,
     };
-    let mut starts: Vec<f64> = [spectrum_peak(&t, &z, f_nyquist), crossings_frequency(&t, &z)]
-        .into_iter()
-        .flatten()
-        .collect();
+    let mut starts: Vec<f64> = [
+        spectrum_peak(&t, &z, f_nyquist),
+        crossings_frequency(&t, &z),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     starts.dedup();
     let mut best: Option<(f64, f64, f64)> = None;
     for f in starts {
@@ -352,7 +356,11 @@ pub fn axis_name(axis: usize) -> &'static str {
 }
 
 /// The recorded coordinate `axis` of `marker` over time: (times, values), where observed.
-pub fn recorded_series(recording: &Recording, marker: MarkerRef, axis: usize) -> (Vec<f64>, Vec<f64>) {
+pub fn recorded_series(
+    recording: &Recording,
+    marker: MarkerRef,
+    axis: usize,
+) -> (Vec<f64>, Vec<f64>) {
     recording
         .samples
         .iter()
@@ -410,7 +418,8 @@ pub fn of_recording(recording: &Recording) -> Vec<AxisRinging> {
                 continue;
             }
             let mean = z.iter().sum::<f64>() / z.len() as f64;
-            let motion = (z.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / z.len() as f64).sqrt();
+            let motion =
+                (z.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / z.len() as f64).sqrt();
             out.push(AxisRinging {
                 marker,
                 axis,
@@ -475,14 +484,26 @@ mod tests {
     use super::*;
     use crate::synth::Gaussian;
 
-    fn damped(f: f64, s: f64, a: f64, c: f64, phi: f64, noise: f64, n: usize, dt: f64) -> (Vec<f64>, Vec<f64>) {
+    fn damped(
+        f: f64,
+        s: f64,
+        a: f64,
+        c: f64,
+        phi: f64,
+        noise: f64,
+        n: usize,
+        dt: f64,
+    ) -> (Vec<f64>, Vec<f64>) {
         let mut g = Gaussian::new(3);
         let w = std::f64::consts::TAU * f;
         (0..n)
             .map(|i| {
                 let t = 0.5 + i as f64 * dt;
                 let x = t - 0.5;
-                (t, c + a * (-s * x).exp() * (w * x + phi).cos() + noise * g.sample())
+                (
+                    t,
+                    c + a * (-s * x).exp() * (w * x + phi).cos() + noise * g.sample(),
+                )
             })
             .unzip()
     }
@@ -491,7 +512,12 @@ mod tests {
     /// 1 % in f and 5 % in s (the beam recordings' scale: 100 Hz, 1.6 to 2.5 s, zeta 0.05).
     #[test]
     fn recovers_frequency_and_decay_of_damped_sinusoids() {
-        for &(f, s, phi) in &[(7.7, 2.7, 0.3), (4.35, 1.8, -2.0), (3.41, 1.4, 1.2), (1.0, 0.2, 0.0)] {
+        for &(f, s, phi) in &[
+            (7.7, 2.7, 0.3),
+            (4.35, 1.8, -2.0),
+            (3.41, 1.4, 1.2),
+            (1.0, 0.2, 0.0),
+        ] {
             let (t, z) = damped(f, s, 5e-3, 0.03, phi, 0.0, 200, 0.01);
             let r = measure(&t, &z).unwrap();
             assert!((r.frequency_hz - f).abs() < 1e-6 * f, "{f}: {r:?}");
@@ -518,7 +544,10 @@ mod tests {
         assert!(r.decay_rate.abs() < 0.05, "{r:?}");
         let (t, z) = damped(5.0, 3.0, 1.0, 0.0, 0.0, 0.001, 300, 0.01);
         let r = measure(&t[50..], &z[50..]).unwrap();
-        assert!((r.frequency_hz - 5.0).abs() < 0.01 && (r.decay_rate - 3.0).abs() < 0.05, "{r:?}");
+        assert!(
+            (r.frequency_hz - 5.0).abs() < 0.01 && (r.decay_rate - 3.0).abs() < 0.05,
+            "{r:?}"
+        );
         // The amplitude is at the window's start.
         assert!((r.amplitude - (-3.0f64 * 0.5).exp()).abs() < 0.01, "{r:?}");
     }
@@ -526,7 +555,10 @@ mod tests {
     #[test]
     fn short_flat_and_bad_data_are_errors_not_panics() {
         assert_eq!(measure(&[], &[]), Err(NoRinging::TooShort(0)));
-        assert_eq!(measure(&[0.0, 1.0], &[0.0, 1.0]), Err(NoRinging::TooShort(2)));
+        assert_eq!(
+            measure(&[0.0, 1.0], &[0.0, 1.0]),
+            Err(NoRinging::TooShort(2))
+        );
         let t: Vec<f64> = (0..20).map(|i| i as f64 * 0.01).collect();
         assert_eq!(measure(&t, &[0.05; 20]), Err(NoRinging::Flat));
         assert_eq!(measure(&t, &[0.0; 20]), Err(NoRinging::Flat));

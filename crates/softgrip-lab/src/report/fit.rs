@@ -70,7 +70,11 @@ pub fn recording_name(path: &Path) -> String {
     if stem == "recording" || stem.is_empty() {
         path.canonicalize()
             .ok()
-            .and_then(|p| p.parent()?.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .and_then(|p| {
+                p.parent()?
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+            })
             .unwrap_or(stem)
     } else {
         stem
@@ -127,7 +131,10 @@ pub fn fit_many(
         let markers = plotted_markers(&part.replay.residuals);
         let mut chart = residual_chart(
             recording,
-            &[("at the start", &part.start_replay), ("fitted", &part.replay)],
+            &[
+                ("at the start", &part.start_replay),
+                ("fitted", &part.replay),
+            ],
             &markers,
         );
         chart.title = "RMS residual per sample, at the start and fitted".into();

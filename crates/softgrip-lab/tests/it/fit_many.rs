@@ -47,9 +47,14 @@ max = [-0.0495, 0.016, 0.031]
 
 /// The beam's sag at rest as a quasi-static recording of one sample: four markers, all axes,
 /// 20 um Gaussian noise.
-fn beam_recording(dir: &std::path::Path, young_modulus: f64, tip_mass: f64, seed: u64) -> Recording {
-    let scene = softgrip_core::Scene::from_toml_str(&beam_scene(young_modulus, tip_mass), "beam")
-        .unwrap();
+fn beam_recording(
+    dir: &std::path::Path,
+    young_modulus: f64,
+    tip_mass: f64,
+    seed: u64,
+) -> Recording {
+    let scene =
+        softgrip_core::Scene::from_toml_str(&beam_scene(young_modulus, tip_mass), "beam").unwrap();
     let spec = Synthesis {
         mode: Mode::QuasiStatic,
         start: Start::Rest,
@@ -116,7 +121,11 @@ fn two_recordings_sharing_e_are_fitted_back_together() {
         f.uncertainty.sigma_m
     );
     for r in &f.recordings {
-        assert!(r.after.nrmse < 0.2 * r.before.nrmse, "{:?}", (r.before, r.after));
+        assert!(
+            r.after.nrmse < 0.2 * r.before.nrmse,
+            "{:?}",
+            (r.before, r.after)
+        );
     }
     // The objective is the mean of what `compare` says at the fitted point.
     let compared: Vec<f64> = recordings
@@ -130,7 +139,11 @@ fn two_recordings_sharing_e_are_fitted_back_together() {
         })
         .collect();
     let mean = (compared[0] + compared[1]) / 2.0;
-    assert!((f.after - mean).abs() <= 1e-9 * mean, "{} vs {mean}", f.after);
+    assert!(
+        (f.after - mean).abs() <= 1e-9 * mean,
+        "{} vs {mean}",
+        f.after
+    );
     for (r, c) in f.recordings.iter().zip(&compared) {
         assert!((r.after.nrmse - c).abs() <= 1e-9 * c);
     }
@@ -146,7 +159,10 @@ fn two_recordings_sharing_e_are_fitted_back_together() {
     assert!(md.contains("01-gravity/recording.md"), "{md}");
     assert!(md.contains("02-loaded/recording.md"), "{md}");
     assert!(md.contains("| young_modulus (Pa) |"), "{md}");
-    assert!(dir.join("report/02-loaded/residuals_before_after.png").exists());
+    assert!(
+        dir.join("report/02-loaded/residuals_before_after.png")
+            .exists()
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 
