@@ -119,7 +119,7 @@ fn project(t: &[f64], z: &[f64], w: f64, s: f64) -> Option<([f64; 3], Vec<f64>)>
 /// near-singular system (a basis column that vanishes) reads as singular.
 fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
     let scale = (0..3).map(|i| a[i][i].abs()).fold(0.0, f64::max);
-    if !(scale > 0.0 && scale.is_finite()) {
+    if scale.is_nan() || scale <= 0.0 || scale.is_infinite() {
         return None;
     }
     for k in 0..3 {
@@ -189,7 +189,7 @@ fn refine(t: &[f64], z: &[f64], bounds: &Bounds, w: f64, s: f64) -> Option<(f64,
         for _ in 0..30 {
             let (a11, a22) = (aww * (1.0 + lambda), ass * (1.0 + lambda));
             let det = a11 * a22 - aws * aws;
-            if !(det.is_finite() && det > 0.0) {
+            if !det.is_finite() || det <= 0.0 {
                 lambda *= 10.0;
                 continue;
             }
@@ -277,7 +277,10 @@ pub fn measure(times: &[f64], values: &[f64]) -> Result<Ringing, NoRinging> {
     let z: Vec<f64> = values.iter().map(|v| v - mean).collect();
     let sst = ssr(&z);
     let size = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    if !(sst > 0.0) || sst.sqrt() / (n as f64).sqrt() <= 1e-12 * size.max(f64::MIN_POSITIVE) {
+    if sst.is_nan()
+        || sst <= 0.0
+        || sst.sqrt() / (n as f64).sqrt() <= 1e-12 * size.max(f64::MIN_POSITIVE)
+    {
         return Err(NoRinging::Flat);
     }
     let span = t[n - 1];
@@ -321,7 +324,7 @@ pub fn measure(times: &[f64], values: &[f64]) -> Result<Ringing, NoRinging> {
     let (w, s, f) = best.ok_or(NoRinging::NoFit)?;
     let (coef, _) = project(&t, &z, w, s).ok_or(NoRinging::NoFit)?;
     let amplitude = coef[1].hypot(coef[2]);
-    if !(amplitude > 0.0 && amplitude.is_finite()) {
+    if !amplitude.is_finite() || amplitude <= 0.0 {
         return Err(NoRinging::NoFit);
     }
     Ok(Ringing {
