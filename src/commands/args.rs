@@ -42,25 +42,24 @@ impl ReportArgs {
         if let Some(d) = &self.report {
             return Some(d.clone());
         }
-        // `.../gravity_a/recording.toml` is named by its directory.
-        let stem = recording
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let name = if stem == "recording" || stem.is_empty() {
-            recording
-                .canonicalize()
-                .ok()
-                .and_then(|p| {
-                    p.parent()?
-                        .file_name()
-                        .map(|n| n.to_string_lossy().into_owned())
-                })
-                .unwrap_or(stem)
-        } else {
-            stem
-        };
+        let name = softgrip_lab::report::recording_name(recording);
         Some(PathBuf::from(format!("report-{command}-{name}")))
+    }
+
+    /// The report's directory for `command` on several recordings: `--report`, or
+    /// report-COMMAND-NAME1-NAME2-... in the current directory; none with `--no-report`.
+    pub fn dir_many(&self, command: &str, recordings: &[PathBuf]) -> Option<PathBuf> {
+        match recordings {
+            [one] => self.dir(command, one),
+            _ if self.no_report => None,
+            _ => Some(self.report.clone().unwrap_or_else(|| {
+                let names: Vec<String> = recordings
+                    .iter()
+                    .map(|r| softgrip_lab::report::recording_name(r))
+                    .collect();
+                PathBuf::from(format!("report-{command}-{}", names.join("-")))
+            })),
+        }
     }
 }
 

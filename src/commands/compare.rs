@@ -8,16 +8,19 @@ use anyhow::Result;
 use softgrip_lab::recording::Recording;
 
 use super::args::{ReportArgs, SettleArgs, SettleMode};
-use super::figures::{describe, errors_json_for, write_json, wrote};
+use super::figures::{describe, errors_json_for, print_ringing, ringing_json, write_json, wrote};
 use super::progress::progress_bar;
 
 /// Simulate a lab recording and measure the error as the thesis does
-/// (NRMSE, eq. 45-46): per marker, per axis, overall.
+/// (NRMSE, eq. 45-46): per marker, per axis, overall; for a time series
+/// also how the object rings (frequency, decay rate, damping ratio of
+/// the most-moving marker axis), recorded and simulated.
 #[derive(clap::Args)]
 pub struct Args {
     /// The recording's .toml header.
     recording: PathBuf,
-    /// Also write the figures as JSON (nrmse, rmse_m, nrmse_all, params).
+    /// Also write the figures as JSON (nrmse, rmse_m, nrmse_all, params;
+    /// ringing for a time series).
     #[arg(long)]
     json: Option<PathBuf>,
     /// Also replay on a mesh 0.8 times as fine and, for a time series,
@@ -84,6 +87,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(v) = run.volume_errors.last() {
         println!("volume error at the last sample: {v:.3e}");
     }
+    print_ringing(&recording, &[("simulated", &run)]);
     let discretisation = discretisation.then(|| {
         let noise = softgrip_lab::diagnose::estimate_noise(&run.residuals);
         println!("noise (estimated from the residual): {}", noise.describe());
@@ -114,6 +118,9 @@ pub fn run(args: Args) -> Result<()> {
         });
         if let Some(d) = &discretisation {
             value["discretisation"] = d.to_json();
+        }
+        if let Some(r) = ringing_json(&recording, &[("simulated", &run)]) {
+            value["ringing"] = r;
         }
         write_json(json, &value)?;
     }

@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use softgrip_lab::compare::Errors;
 use softgrip_lab::recording::Recording;
+use softgrip_lab::replay::Replay;
 use softgrip_lab::report::Written;
 
 /// The recording's header line: description, mode, samples and markers.
@@ -65,4 +66,53 @@ pub fn errors_json(e: &Errors) -> serde_json::Value {
         "rmse_all_m": e.rmse_all_m,
         "observations": e.count,
     })
+}
+
+/// The recording's ringing (its most-moving marker axis) against each replay's on that axis,
+/// printed as a table; `None` (and nothing printed) for a quasi-static recording.
+pub fn print_ringing(recording: &Recording, replays: &[(&str, &Replay)]) -> Option<()> {
+    use softgrip_lab::ringing::{self, NoRinging, Ringing};
+    let d = ringing::dominant(recording)?;
+    println!(
+        "ringing of {} {} (the most-moving marker axis; c + A exp(-s t) cos(w t + phi) fitted):",
+        recording.marker_name(d.marker),
+        ringing::axis_name(d.axis)
+    );
+    println!("                  f (Hz)    s (1/s)   zeta     A (mm)    fit rms (mm)");
+    let row = |label: &str, r: &Result<Ringing, NoRinging>| match r {
+        Ok(r) => println!(
+            "  {label:<15} {:<9.3} {:<9.3} {:<8.4} {:<9.3} {:.3}",
+            r.frequency_hz,
+            r.decay_rate,
+            r.damping_ratio,
+            1e3 * r.amplitude,
+            1e3 * r.residual_rms
+        ),
+        Err(e) => println!("  {label:<15} none: {e}"),
+    };
+    row("recorded", &d.ringing);
+    for (label, replay) in replays {
+        if let Some(c) = ringing::compare(recording, &replay.residuals) {
+            row(label, &c.simulated);
+        }
+    }
+    Some(())
+}
+
+/// The ringing as JSON: the marker axis, the recording's and each replay's (under its label);
+/// `None` for a quasi-static recording.
+pub fn ringing_json(
+    recording: &Recording,
+    replays: &[(&str, &Replay)],
+) -> Option<serde_json::Value> {
+    use softgrip_lab::ringing;
+    let first = replays.first()?;
+    let mut value = ringing::compare(recording, &first.1.residuals)?.to_json(recording);
+    value.as_object_mut()?.remove("simulated");
+    for (label, replay) in replays {
+        if let Some(c) = ringing::compare(recording, &replay.residuals) {
+            value[*label] = c.to_json(recording)["simulated"].clone();
+        }
+    }
+    Some(value)
 }

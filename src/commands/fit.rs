@@ -1,5 +1,6 @@
-//! `softgrip fit`: scene parameters fitted to a recording, with each one's
-//! uncertainty and sensitivity (`softgrip_lab::fit`).
+//! `softgrip fit`: scene parameters fitted to a recording, or one set of
+//! them to several recordings at once, with each one's uncertainty and
+//! sensitivity (`softgrip_lab::fit`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -8,16 +9,22 @@ use anyhow::{Context, Result};
 use softgrip_lab::recording::Recording;
 
 use super::args::{ReportArgs, WorkersArgs};
-use super::figures::{describe, errors_json, errors_json_for, write_json, wrote};
+use super::figures::{
+    describe, errors_json, errors_json_for, print_ringing, ringing_json, write_json, wrote,
+};
 use super::progress::simulations_bar;
 
 /// Fit scene parameters to a recording: NRMSE minimised by a bounded
 /// Nelder-Mead search after a space-filling design, with each
 /// parameter's noise-implied uncertainty and +/-10 % sensitivity
-/// (unidentifiable parameters are flagged).
+/// (unidentifiable parameters are flagged). Several recordings share one
+/// set of parameters, each simulated on its own scene (e.g. the same
+/// beam with different tip masses); their mean NRMSE is minimised.
 #[derive(clap::Args)]
 pub struct Args {
-    recording: PathBuf,
+    /// The recordings' .toml headers: one, or several fitted together.
+    #[arg(required = true)]
+    recordings: Vec<PathBuf>,
     /// Parameters to fit: name or name=LOW:HIGH (add :log or :lin),
     /// comma-separated or repeated, e.g. --params young_modulus,alpha
     /// --params tau_c=0.05:0.3. Default bounds: 1/10 to 10 times the
@@ -30,10 +37,12 @@ pub struct Args {
     max_evaluations: usize,
     #[command(flatten)]
     workers: WorkersArgs,
-    /// Also write the figures as JSON (nrmse before and after, fitted params, ...).
+    /// Also write the figures as JSON (nrmse before and after, fitted params,
+    /// ringing of a time series, ...; with several recordings, each one's).
     #[arg(long)]
     json: Option<PathBuf>,
-    /// Write the fitted scene here (TOML).
+    /// Write the fitted scene here (TOML). With several recordings, a
+    /// directory: one fitted scene per recording, NN-NAME.toml.
     #[arg(long)]
     scene_out: Option<PathBuf>,
     #[command(flatten)]
@@ -41,8 +50,14 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if args.recordings.len() > 1 {
+        return run_many(args);
+    }
     use softgrip_lab::fit;
-    let (path, params) = (args.recording.as_path(), &args.params);
+    let Some(path) = args.recordings.first() else {
+        anyhow::bail!("give a recording to fit");
+    };
+    let (path, params) = (path.as_path(), &args.params);
     let (max_evaluations, workers) = (args.max_evaluations, args.workers.workers);
     let (json, scene_out) = (args.json.as_deref(), args.scene_out.as_deref());
     let report = &args.report;
@@ -106,6 +121,13 @@ pub fn run(args: Args) -> Result<()> {
             }
         );
     }
+    print_ringing(
+        &recording,
+        &[
+            ("at the start", &result.start_replay),
+            ("fitted", &result.replay),
+        ],
+    );
     if let Some(out) = scene_out {
         let scene = fit::scene_with(&recording.scene, &result.params, &result.fitted)
             .map_err(anyhow::Error::msg)?;
@@ -117,22 +139,7 @@ pub fn run(args: Args) -> Result<()> {
         wrote(&softgrip_lab::report::fit(&dir, &recording, &result)?);
     }
     if let Some(json) = json {
-        let by_name = |values: &[f64]| -> serde_json::Value {
-            result
-                .params
-                .iter()
-                .zip(values)
-                .map(|(p, v)| {
-                    let v = if v.is_finite() {
-                        serde_json::Value::from(*v)
-                    } else {
-                        serde_json::Value::Null
-                    };
-                    (p.param.name.to_string(), v)
-                })
-                .collect::<serde_json::Map<_, _>>()
-                .into()
-        };
+        let by_name = |values: &[f64]| by_name(&result.params, values);
         let mut value = errors_json_for(path, &result.after);
         value["params"] = by_name(&result.fitted);
         value["start"] = by_name(&result.start);
@@ -148,6 +155,203 @@ pub fn run(args: Args) -> Result<()> {
         value["noise_m"] = result.uncertainty.sigma_m.into();
         value["simulations"] = result.trials.len().into();
         value["converged"] = result.converged.into();
+        let replays = [("start", &result.start_replay), ("fitted", &result.replay)];
+        if let Some(r) = ringing_json(&recording, &replays) {
+            value["ringing"] = r;
+        }
+        write_json(json, &value)?;
+    }
+    Ok(())
+}
+
+/// The parameters by name as a JSON object (`null` where not finite).
+fn by_name(params: &[softgrip_lab::fit::FitParam], values: &[f64]) -> serde_json::Value {
+    params
+        .iter()
+        .zip(values)
+        .map(|(p, v)| {
+            let v = if v.is_finite() {
+                serde_json::Value::from(*v)
+            } else {
+                serde_json::Value::Null
+            };
+            (p.param.name.to_string(), v)
+        })
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}
+
+/// One set of parameters fitted to several recordings at once.
+fn run_many(args: Args) -> Result<()> {
+    use softgrip_lab::fit;
+    let paths = &args.recordings;
+    let recordings: Vec<Recording> = paths
+        .iter()
+        .map(|p| Recording::load(p).with_context(|| format!("reading {}", p.display())))
+        .collect::<Result<_>>()?;
+    for (path, recording) in paths.iter().zip(&recordings) {
+        describe(path, recording);
+    }
+    if let Some(dir) = args.scene_out.as_deref().filter(|d| d.is_file()) {
+        anyhow::bail!(
+            "--scene-out {}: with several recordings this names a directory (one fitted scene per recording, NN-NAME.toml), and it is a file",
+            dir.display()
+        );
+    }
+    // Bounds from the first recording's scene; every scene must take them.
+    let params =
+        fit::parse_params(&args.params, &recordings[0].scene).map_err(anyhow::Error::msg)?;
+    fit::check_params(&recordings, &params).map_err(anyhow::Error::msg)?;
+    for p in &params {
+        println!(
+            "  fit {} in {:e} .. {:e}{}, shared by the {} recordings",
+            p.param.name,
+            p.lower,
+            p.upper,
+            if p.log { " (log scale)" } else { "" },
+            recordings.len()
+        );
+    }
+    let options = fit::FitOptions {
+        max_evaluations: args.max_evaluations,
+        workers: args.workers.workers,
+        ..fit::FitOptions::default()
+    };
+    let bar = simulations_bar((args.max_evaluations + 4 * params.len()) as u64);
+    let started = Instant::now();
+    let result = fit::fit_many(&recordings, &params, options, &|n, best| {
+        bar.set_position(n as u64);
+        bar.set_message(format!("best mean NRMSE {best:.5}"));
+    })?;
+    bar.finish_and_clear();
+    println!(
+        "{} points of {} simulations each in {:.0} s ({}); mean NRMSE {:.5} at the start, {:.5} fitted",
+        result.trials.len(),
+        recordings.len(),
+        started.elapsed().as_secs_f64(),
+        if result.converged {
+            "converged"
+        } else {
+            "stopped at --max-evaluations, not converged"
+        },
+        result.before,
+        result.after,
+    );
+    println!(
+        "  recording                                  NRMSE start  NRMSE fitted  RMSE fitted (mm)"
+    );
+    for (path, part) in paths.iter().zip(&result.recordings) {
+        println!(
+            "  {:<42} {:<12.5} {:<13.5} {:.3}",
+            path.display(),
+            part.before.nrmse,
+            part.after.nrmse,
+            1e3 * part.after.rmse_m
+        );
+    }
+    println!(
+        "noise implied by the fitted residuals (all recordings): {:.4} mm per coordinate",
+        1e3 * result.uncertainty.sigma_m
+    );
+    println!(
+        "  parameter            fitted       +/- (1 s.e.)   NRMSE -10%  NRMSE +10%  verdict (NRMSE: the mean)"
+    );
+    for (i, p) in result.params.iter().enumerate() {
+        let s = &result.sensitivity[i];
+        let n = |x: Option<f64>| x.map_or("n/a".to_string(), |f| format!("{f:.5}"));
+        println!(
+            "  {:<20} {:<12.5e} {:<14.3e} {:<11} {:<11} {}{}",
+            p.param.name,
+            result.fitted[i],
+            result.uncertainty.standard_errors[i],
+            n(s.minus),
+            n(s.plus),
+            s.verdict.label(),
+            if result.at_bound[i] {
+                " (at a bound)"
+            } else {
+                ""
+            }
+        );
+    }
+    for ((path, recording), part) in paths.iter().zip(&recordings).zip(&result.recordings) {
+        let replays = [
+            ("at the start", &part.start_replay),
+            ("fitted", &part.replay),
+        ];
+        if softgrip_lab::ringing::dominant(recording).is_some() {
+            print!("{}: ", path.display());
+            print_ringing(recording, &replays);
+        }
+    }
+    let names: Vec<String> = recordings
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            format!(
+                "{:02}-{}",
+                i + 1,
+                softgrip_lab::report::recording_name(&r.source)
+            )
+        })
+        .collect();
+    if let Some(dir) = args.scene_out.as_deref() {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        for (recording, name) in recordings.iter().zip(&names) {
+            let scene = fit::scene_with(&recording.scene, &result.params, &result.fitted)
+                .map_err(anyhow::Error::msg)?;
+            let out = dir.join(format!("{name}.toml"));
+            std::fs::write(&out, scene.to_toml())
+                .with_context(|| format!("writing {}", out.display()))?;
+        }
+        println!(
+            "wrote the fitted scenes to {} ({})",
+            dir.display(),
+            names
+                .iter()
+                .map(|n| format!("{n}.toml"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    if let Some(dir) = args.report.dir_many("fit", paths) {
+        wrote(&softgrip_lab::report::fit_many(&dir, &recordings, &result)?);
+    }
+    if let Some(json) = args.json.as_deref() {
+        let each: Vec<serde_json::Value> = paths
+            .iter()
+            .zip(&recordings)
+            .zip(&result.recordings)
+            .map(|((path, recording), part)| {
+                let mut v = errors_json_for(path, &part.after);
+                v["before"] = errors_json(&part.before);
+                v["mode"] = recording.mode.name().into();
+                let replays = [("start", &part.start_replay), ("fitted", &part.replay)];
+                if let Some(r) = ringing_json(recording, &replays) {
+                    v["ringing"] = r;
+                }
+                v
+            })
+            .collect();
+        let value = serde_json::json!({
+            "recordings": each,
+            "nrmse": result.after,
+            "before": { "nrmse": result.before },
+            "objective": "mean of the recordings' NRMSE",
+            "params": by_name(&result.params, &result.fitted),
+            "start": by_name(&result.params, &result.start),
+            "standard_errors": by_name(&result.params, &result.uncertainty.standard_errors),
+            "identifiability": result
+                .params
+                .iter()
+                .zip(&result.sensitivity)
+                .map(|(p, s)| (p.param.name.to_string(), s.verdict.label().into()))
+                .collect::<serde_json::Map<_, _>>(),
+            "noise_m": result.uncertainty.sigma_m,
+            "points": result.trials.len(),
+            "simulations": result.trials.len() * recordings.len(),
+            "converged": result.converged,
+        });
         write_json(json, &value)?;
     }
     Ok(())

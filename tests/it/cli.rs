@@ -237,6 +237,21 @@ fn modulus_and_compare_write_their_figures() {
     // NRMSE is RMSE over the beam's 100 mm extent.
     assert!((nrmse - rmse / 0.1).abs() < 1e-12);
     assert_eq!(v["params"]["young_modulus"].as_f64(), Some(215856.0));
+    // The beam's ringing, recorded and simulated, on its most-moving marker axis (a tip's z).
+    assert!(out.contains("ringing of tip"), "{out}");
+    assert_eq!(v["ringing"]["axis"].as_str(), Some("z"), "{v}");
+    let f = v["ringing"]["recorded"]["frequency_hz"]
+        .as_f64()
+        .expect("f");
+    assert!((7.6..7.9).contains(&f), "{f}");
+    let zeta = v["ringing"]["recorded"]["damping_ratio"]
+        .as_f64()
+        .expect("zeta");
+    assert!((0.03..0.1).contains(&zeta), "{zeta}");
+    assert!(
+        v["ringing"]["simulated"]["frequency_hz"].as_f64().is_some(),
+        "{v}"
+    );
 
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -310,6 +325,101 @@ fn fit_and_sweep_write_their_figures_and_reports() {
     let csv = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4);
     assert!(dir.join("sweep/sweep.png").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `fit A B`: two small cantilevers softgrip made itself, the same material with and without a
+/// tip mass, fitted together: the JSON lists each recording's NRMSE before and after and the
+/// shared E; the report links each recording's figures; `--scene-out` is a directory with one
+/// fitted scene per recording, and a file there is refused before the fit.
+#[test]
+fn fit_of_several_recordings_shares_the_parameters() {
+    use softgrip_lab::recording::{Mode, Start};
+    use softgrip_lab::synth::{Synthesis, synthesize};
+    let dir = scratch_path("softgrip-cli-fit-many");
+    let beam = |tip_mass: f64| {
+        let mut text = "[simulation]\ndt = 1e-3\nduration = 0.1\ngravity = [0.0, 0.0, -9.81]\n\n[object]\nshape = \"cuboid\"\nsize = [0.1, 0.03, 0.03]\nedge_length = 0.01\ndensity = 1070.0\nyoung_modulus = 200000.0\npoisson_ratio = 0.45\n\n[support]\nkind = \"none\"\n\n[[fixed]]\nmin = [-0.0505, -0.016, -0.001]\nmax = [-0.0495, 0.016, 0.031]\n".to_string();
+        if tip_mass > 0.0 {
+            text += &format!(
+                "\n[[load]]\nmin = [0.0495, -0.016, 0.0295]\nmax = [0.0505, 0.016, 0.0305]\nmass = {tip_mass:?}\n"
+            );
+        }
+        softgrip_core::Scene::from_toml_str(&text, "beam").unwrap()
+    };
+    let spec = |seed: u64| Synthesis {
+        mode: Mode::QuasiStatic,
+        start: Start::Rest,
+        samples: vec![(None, 0.0)],
+        markers: vec![
+            ("tip1".into(), glam::DVec3::new(0.05, 0.0, 0.03)),
+            ("tip2".into(), glam::DVec3::new(0.05, -0.015, 0.015)),
+            ("mid".into(), glam::DVec3::new(0.0, 0.0, 0.03)),
+        ],
+        finger: false,
+        axes: [true; 3],
+        noise: 2e-5,
+        seed,
+        description: "cli fit of several".into(),
+    };
+    let mut recs = Vec::new();
+    for (name, mass, seed) in [("gravity", 0.0, 1), ("loaded", 0.05, 2)] {
+        let mut scene = beam(mass);
+        scene.object.young_modulus = 350e3;
+        let r = synthesize(&beam(mass), &spec(seed), &dir.join(name)).unwrap();
+        // Start from a wrong E.
+        std::fs::write(&r.scene_path, scene.to_toml()).unwrap();
+        recs.push(dir.join(name).join("recording.toml"));
+    }
+    let (json, report, scenes) = (dir.join("fit.json"), dir.join("report"), dir.join("scenes"));
+    std::fs::write(&scenes, "a file").unwrap();
+    let search = [
+        "--params",
+        "young_modulus=5e4:1e6",
+        "--scene-out",
+        arg(&scenes),
+    ];
+    let o = softgrip(&[&["fit", arg(&recs[0]), arg(&recs[1])], &search[..]].concat());
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("names a directory"), "{}", stderr(&o));
+    std::fs::remove_file(&scenes).unwrap();
+    let o = lab_command(
+        "fit",
+        arg(&recs[0]),
+        &[&[arg(&recs[1])], &search[..]].concat(),
+        &json,
+        &report,
+    );
+    assert!(o.status.success(), "{o:?}");
+    let out = stdout(&o);
+    assert!(
+        out.contains("mean NRMSE") && out.contains("loaded/recording.toml"),
+        "{out}"
+    );
+    let v = read_json(&json);
+    let each = v["recordings"].as_array().expect("recordings");
+    assert_eq!(each.len(), 2);
+    for r in each {
+        let (after, before) = (
+            r["nrmse"].as_f64().unwrap(),
+            r["before"]["nrmse"].as_f64().unwrap(),
+        );
+        assert!(after < 0.2 * before, "{r}");
+    }
+    let mean = (each[0]["nrmse"].as_f64().unwrap() + each[1]["nrmse"].as_f64().unwrap()) / 2.0;
+    assert!((v["nrmse"].as_f64().unwrap() - mean).abs() < 1e-12, "{v}");
+    let e = v["params"]["young_modulus"].as_f64().expect("E");
+    let se = v["standard_errors"]["young_modulus"]
+        .as_f64()
+        .expect("its error");
+    assert!((e - 200e3).abs() <= 3.0 * se, "{e} +/- {se}");
+    let md = std::fs::read_to_string(report.join("fit.md")).unwrap();
+    assert!(md.contains("(01-gravity/recording.md)"), "{md}");
+    assert!(report.join("02-loaded/recording.md").exists());
+    for name in ["01-gravity.toml", "02-loaded.toml"] {
+        let text = std::fs::read_to_string(scenes.join(name)).unwrap();
+        let fitted = softgrip_core::Scene::from_toml_str(&text, name).unwrap();
+        assert!((fitted.object.young_modulus - e).abs() < 1e-6 * e, "{name}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -8,7 +8,9 @@
 //! standard errors and correlations ([`Uncertainty`]), and NRMSE at +/-10 %
 //! of each value tells whether the data identify it ([`Identifiability`]).
 //! Batches of simulations run in parallel; results do not depend on the
-//! number of workers. The method in full: `docs/design/fitting.md`.
+//! number of workers. [`fit_many`] fits one parameter vector to several
+//! recordings at once (each on its own scene), minimising the mean of their
+//! NRMSE; [`fit`] is it for one. The method in full: `docs/design/fitting.md`.
 
 use std::collections::HashMap;
 
@@ -333,19 +335,141 @@ fn run(recording: &Recording, scene: &Scene) -> Result<Replay, LabError> {
     replay(recording, scene, options, |_| {}).map_err(LabError::from)
 }
 
-/// Progress of a fit: simulations done and the best NRMSE so far.
+/// Progress of a fit: simulations done and the best NRMSE so far (of a fit over several
+/// recordings: points done, each the recordings' simulations, and the best mean NRMSE).
 pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
+
+/// One recording's part in a fit over several ([`fit_many`]).
+#[derive(Debug, Clone)]
+pub struct RecordingFit {
+    pub before: Errors,
+    pub after: Errors,
+    /// Its replays at the start and at the fit.
+    pub start_replay: Replay,
+    pub replay: Replay,
+}
+
+/// One parameter vector fitted to several recordings at once, and its evidence.
+#[derive(Debug, Clone)]
+pub struct FitMany {
+    pub params: Vec<FitParam>,
+    pub start: Vec<f64>,
+    pub fitted: Vec<f64>,
+    /// The objective, the mean of the recordings' NRMSE, at the start and at the fit.
+    pub before: f64,
+    pub after: f64,
+    /// One per recording, in the order given.
+    pub recordings: Vec<RecordingFit>,
+    /// Every point of the search, in order, with its mean NRMSE (each point is one
+    /// simulation per recording).
+    pub trials: Vec<Trial>,
+    pub converged: bool,
+    pub at_bound: Vec<bool>,
+    /// From the recordings' residuals stacked into one vector.
+    pub uncertainty: Uncertainty,
+    /// The mean NRMSE at +/-10 %; significance on the stacked residuals.
+    pub sensitivity: Vec<Sensitivity>,
+}
 
 /// Fits `params` of the recording's scene to the recording, starting
 /// from the scene's values (clamped into the bounds; the middle of the
-/// bounds for a spring limit that is off).
+/// bounds for a spring limit that is off). [`fit_many`] of one recording.
 pub fn fit(
     recording: &Recording,
     params: &[FitParam],
     options: FitOptions,
     progress: Progress,
 ) -> Result<Fit, LabError> {
-    let scene = &recording.scene;
+    let many = fit_many(std::slice::from_ref(recording), params, options, progress)?;
+    let FitMany {
+        params,
+        start,
+        fitted,
+        recordings,
+        trials,
+        converged,
+        at_bound,
+        uncertainty,
+        sensitivity,
+        ..
+    } = many;
+    let Some(one) = recordings.into_iter().next() else {
+        return Err(LabError::input("the fit has no recording"));
+    };
+    Ok(Fit {
+        params,
+        start,
+        before: one.before,
+        fitted,
+        after: one.after,
+        start_replay: one.start_replay,
+        replay: one.replay,
+        trials,
+        converged,
+        at_bound,
+        uncertainty,
+        sensitivity,
+    })
+}
+
+/// Every recording's scene takes every parameter at both its bounds: the error names the
+/// recording whose scene cannot (a finger parameter where one has no finger, ...).
+pub fn check_params(recordings: &[Recording], params: &[FitParam]) -> Result<(), LabError> {
+    for r in recordings {
+        for p in params {
+            for v in [p.lower, p.upper] {
+                params::set(&r.scene, p.param.name, v).map_err(|e| {
+                    LabError::Input(format!(
+                        "{}: its scene ({}) cannot take {} = {v}: {e}",
+                        r.source.display(),
+                        r.scene_path.display(),
+                        p.param.name
+                    ))
+                })?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `f` of each recording: in parallel when there are several.
+fn each<R: Send>(
+    recordings: &[Recording],
+    workers: usize,
+    f: impl Fn(&Recording) -> R + Sync,
+) -> Vec<R> {
+    match recordings {
+        [one] => vec![f(one)],
+        _ => parallel_map(recordings, workers, f, &|_| {}),
+    }
+}
+
+/// Fits one set of values of `params` to every recording at once, each simulated on its own
+/// scene (the recordings may differ in their scenes: a load, a tip mass, the mode) with the
+/// parameters set to the same values. The objective is the mean of the recordings' NRMSE: each
+/// recording's error is normalised by its own object's extent and counted as the root mean
+/// square over its own observations, so a recording with more samples or markers, or a larger
+/// motion, does not outweigh the others (a stacked sum of squares would let the longest
+/// recording decide). The simulations of one point run in parallel on the worker pool, with
+/// the points of a batch.
+///
+/// The search and the evidence are [`fit`]'s: it starts from the first recording's scene
+/// values; the uncertainty comes from the recordings' residual vectors stacked into one (one
+/// noise level s for all, `s^2 (J^T J)^-1` of the stacked Jacobian), the sensitivity from the
+/// mean NRMSE at +/-10 % with significance on the stacked sum of squares. With one recording
+/// this is [`fit`] exactly.
+pub fn fit_many(
+    recordings: &[Recording],
+    params: &[FitParam],
+    options: FitOptions,
+    progress: Progress,
+) -> Result<FitMany, LabError> {
+    let Some(first_recording) = recordings.first() else {
+        return Err(LabError::input("a fit needs at least one recording"));
+    };
+    check_params(recordings, params)?;
+    let several = recordings.len() > 1;
+    let scene = &first_recording.scene;
     let start: Vec<f64> = params
         .iter()
         .map(|p| {
@@ -353,20 +477,36 @@ pub fn fit(
             v.map_or_else(|| p.value(0.5), |v| p.value(p.unit(v)))
         })
         .collect();
-    let at_values = |values: &[f64]| -> Result<Replay, LabError> {
-        run(recording, &scene_with(scene, params, values)?)
+    // One recording's replay at `values`; of several, the error names the recording.
+    let run_one = |recording: &Recording, values: &[f64]| -> Result<Replay, LabError> {
+        run(recording, &scene_with(&recording.scene, params, values)?).map_err(|e| {
+            if several && !matches!(e, LabError::Cancelled) {
+                LabError::Input(format!("{}: {e}", recording.source.display()))
+            } else {
+                e
+            }
+        })
+    };
+    let at_values = |values: &[f64]| -> Result<Vec<Replay>, LabError> {
+        each(recordings, options.workers, |r| run_one(r, values))
+            .into_iter()
+            .collect()
+    };
+    let mean_nrmse = |replays: &[Replay]| -> f64 {
+        replays.iter().map(|r| r.errors.nrmse).sum::<f64>() / replays.len() as f64
     };
     let first = at_values(&start).map_err(start_error)?;
-    let before = first.errors;
+    let before = mean_nrmse(&first);
     let mut trials = vec![Trial {
         values: start.clone(),
-        nrmse: Ok(before.nrmse),
+        nrmse: Ok(before),
     }];
     let mut cache: HashMap<Vec<u64>, f64> = HashMap::new();
     let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
     let u0: Vec<f64> = params.iter().zip(&start).map(|(p, v)| p.unit(*v)).collect();
-    cache.insert(key(&u0), before.nrmse);
-    let best_so_far = std::sync::Mutex::new(before.nrmse);
+    cache.insert(key(&u0), before);
+    let k = recordings.len();
+    let best_so_far = std::sync::Mutex::new(before);
     let mut evaluate = |points: &[Vec<f64>]| -> Vec<f64> {
         let todo: Vec<Vec<f64>> = points
             .iter()
@@ -374,23 +514,47 @@ pub fn fit(
             .cloned()
             .collect();
         let done_before = trials.len();
+        // One job per point and recording; a point's mean once its last recording is in.
+        let jobs: Vec<(usize, usize)> = (0..todo.len())
+            .flat_map(|i| (0..k).map(move |j| (i, j)))
+            .collect();
+        let partial = std::sync::Mutex::new(vec![(0usize, 0.0f64); todo.len()]);
         let results = parallel_map(
-            &todo,
+            &jobs,
             options.workers,
-            |u| {
-                let values: Vec<f64> = params.iter().zip(u).map(|(p, x)| p.value(*x)).collect();
-                let r = at_values(&values).map(|r| r.errors.nrmse);
-                if let (Ok(f), Ok(mut b)) = (&r, best_so_far.lock()) {
-                    *b = b.min(*f);
+            |&(i, j)| {
+                let values: Vec<f64> = params
+                    .iter()
+                    .zip(&todo[i])
+                    .map(|(p, x)| p.value(*x))
+                    .collect();
+                let r = run_one(&recordings[j], &values).map(|r| r.errors.nrmse);
+                if let (Ok(f), Ok(mut part)) = (&r, partial.lock()) {
+                    part[i].0 += 1;
+                    part[i].1 += f;
+                    if part[i].0 == k
+                        && let Ok(mut b) = best_so_far.lock()
+                    {
+                        *b = b.min(part[i].1 / k as f64);
+                    }
                 }
-                (values, r)
+                r
             },
             &|n| {
                 let best = best_so_far.lock().map_or(f64::NAN, |b| *b);
-                progress(done_before + n, best);
+                progress(done_before + n / k, best);
             },
         );
-        for (u, (values, r)) in todo.iter().zip(results) {
+        let mut results = results.into_iter();
+        for u in &todo {
+            let values: Vec<f64> = params.iter().zip(u).map(|(p, x)| p.value(*x)).collect();
+            // All k taken before the first error is looked for (a collect into a `Result`
+            // would stop there and leave the point's other results for the next).
+            let mine: Vec<Result<f64, LabError>> = results.by_ref().take(k).collect();
+            let r = mine
+                .into_iter()
+                .collect::<Result<Vec<f64>, LabError>>()
+                .map(|f| f.iter().sum::<f64>() / k as f64);
             let f = r.as_ref().map_or(f64::INFINITY, |f| *f);
             cache.insert(key(u), f);
             trials.push(Trial { values, nrmse: r });
@@ -403,7 +567,7 @@ pub fn fit(
     // A space-filling design first: NRMSE is flat wherever a spring limit
     // acts on no spring, and a local search that starts on such a plateau
     // never leaves it.
-    let (mut best_u, mut best_f) = (u0, before.nrmse);
+    let (mut best_u, mut best_f) = (u0, before);
     let design: Vec<Vec<f64>> = (1..=options.design_points(params.len()))
         .map(|k| halton(k, params.len()))
         .collect();
@@ -425,18 +589,25 @@ pub fn fit(
     (best_u, best_f, converged) = (first_search.x, first_search.f, first_search.converged);
     let value_at =
         |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
-    let mut fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
+    let mut fitted_replays = at_values(&value_at(&best_u)).map_err(start_error)?;
+    // The largest spring stretch and compression of the fitted runs, over the recordings.
+    let largest_strain = |replays: &[Replay]| -> [f64; 2] {
+        replays.iter().fold([0.0f64; 2], |m, r| {
+            [m[0].max(r.largest_strain[0]), m[1].max(r.largest_strain[1])]
+        })
+    };
     // A spring limit above every strain of the fitted run acts nowhere, and
     // NRMSE is flat in it: the search may have settled there with the
     // modulus making up for it. Try again with such limits just below the
     // largest strain (so that they act), and keep what fits better.
     for _ in 0..2 {
+        let strain = largest_strain(&fitted_replays);
         let mut retry = best_u.clone();
         let mut changed = false;
         for (i, p) in params.iter().enumerate() {
             let largest = match p.param.name {
-                "tau_s" => fitted_replay.largest_strain[0],
-                "tau_c" => fitted_replay.largest_strain[1],
+                "tau_s" => strain[0],
+                "tau_c" => strain[1],
                 _ => continue,
             };
             if p.value(best_u[i]) > largest && largest > 0.0 {
@@ -461,22 +632,32 @@ pub fn fit(
             break;
         }
         (best_u, best_f, converged) = (r.x, r.f, r.converged);
-        fitted_replay = at_values(&value_at(&best_u)).map_err(start_error)?;
+        fitted_replays = at_values(&value_at(&best_u)).map_err(start_error)?;
     }
     let fitted = value_at(&best_u);
     let at_bound = best_u.iter().map(|u| at_bound(*u)).collect();
-    let after = fitted_replay.errors;
+    let after = mean_nrmse(&fitted_replays);
     check_cancel()?;
-    let (uncertainty, sensitivity) = evidence(recording, params, &fitted, &fitted_replay, options);
+    let (uncertainty, sensitivity) =
+        evidence(recordings, params, &fitted, &fitted_replays, options);
     check_cancel()?;
-    Ok(Fit {
+    let recordings = first
+        .into_iter()
+        .zip(fitted_replays)
+        .map(|(start_replay, replay)| RecordingFit {
+            before: start_replay.errors,
+            after: replay.errors,
+            start_replay,
+            replay,
+        })
+        .collect();
+    Ok(FitMany {
         params: params.to_vec(),
         start,
-        before,
         fitted,
+        before,
         after,
-        start_replay: first,
-        replay: fitted_replay,
+        recordings,
         trials,
         converged,
         at_bound,
@@ -485,16 +666,23 @@ pub fn fit(
     })
 }
 
-/// The uncertainty and the sensitivity at the fit.
+/// The uncertainty and the sensitivity at the fit, from the recordings' residuals stacked.
 fn evidence(
-    recording: &Recording,
+    recordings: &[Recording],
     params: &[FitParam],
     fitted: &[f64],
-    at_fit: &Replay,
+    at_fit: &[Replay],
     options: FitOptions,
 ) -> (Uncertainty, Vec<Sensitivity>) {
     let p = params.len();
-    let r0 = components(&at_fit.residuals);
+    let k = recordings.len();
+    let stacked = |replays: &[&Replay]| -> Vec<f64> {
+        replays
+            .iter()
+            .flat_map(|r| components(&r.residuals))
+            .collect()
+    };
+    let r0 = stacked(&at_fit.iter().collect::<Vec<_>>());
     let m = r0.len();
     let ssr: f64 = r0.iter().map(|x| x * x).sum();
     let dof = m.saturating_sub(p).max(1) as f64;
@@ -520,26 +708,43 @@ fn evidence(
             points.push(v);
         }
     }
+    // One job per point and recording.
+    let jobs: Vec<(usize, usize)> = (0..points.len())
+        .flat_map(|i| (0..k).map(move |j| (i, j)))
+        .collect();
     let runs = parallel_map(
-        &points,
+        &jobs,
         options.workers,
-        |values| scene_with(&recording.scene, params, values).and_then(|s| run(recording, &s)),
+        |&(i, j)| {
+            let recording = &recordings[j];
+            scene_with(&recording.scene, params, &points[i]).and_then(|s| run(recording, &s))
+        },
         &|_| {},
     );
+    // A point's replays, one per recording, or `None` if one failed.
+    let point = |i: usize| -> Option<Vec<&Replay>> {
+        runs[k * i..k * (i + 1)]
+            .iter()
+            .map(|r| r.as_ref().ok())
+            .collect()
+    };
     let mut jacobian: Vec<Option<Vec<f64>>> = Vec::with_capacity(p);
     let mut sensitivity: Vec<(Option<f64>, Option<f64>, bool, bool)> = Vec::with_capacity(p);
     // The rise of the sum of squared residuals against chi-square's 95 %.
-    let significant = |e: Option<&Errors>| {
-        e.is_some_and(|e| {
-            let rise = e.count as f64 * e.rmse_m.powi(2) - ssr;
-            rise > 3.84 * sigma2
+    let significant = |e: Option<&Vec<&Replay>>| {
+        e.is_some_and(|rs| {
+            let total: f64 = rs
+                .iter()
+                .map(|r| r.errors.count as f64 * r.errors.rmse_m.powi(2))
+                .sum();
+            total - ssr > 3.84 * sigma2
         })
     };
+    let mean = |rs: &Vec<&Replay>| rs.iter().map(|r| r.errors.nrmse).sum::<f64>() / k as f64;
     for i in 0..p {
-        let run_at = |k: usize| runs[4 * i + k].as_ref().ok();
-        let column = match (run_at(0), run_at(1)) {
+        let column = match (point(4 * i), point(4 * i + 1)) {
             (Some(a), Some(b)) => {
-                let (ra, rb) = (components(&a.residuals), components(&b.residuals));
+                let (ra, rb) = (stacked(&a), stacked(&b));
                 (ra.len() == m && rb.len() == m).then(|| {
                     ra.iter()
                         .zip(&rb)
@@ -550,12 +755,12 @@ fn evidence(
             _ => None,
         };
         jacobian.push(column);
-        let (minus, plus) = (run_at(2).map(|r| &r.errors), run_at(3).map(|r| &r.errors));
+        let (minus, plus) = (point(4 * i + 2), point(4 * i + 3));
         sensitivity.push((
-            minus.map(|e| e.nrmse),
-            plus.map(|e| e.nrmse),
-            significant(minus),
-            significant(plus),
+            minus.as_ref().map(mean),
+            plus.as_ref().map(mean),
+            significant(minus.as_ref()),
+            significant(plus.as_ref()),
         ));
     }
     let (standard_errors, correlations) = covariance(&jacobian, m, sigma2);

@@ -10,6 +10,7 @@
 //!   evidence, recordings made by softgrip itself; [`optimize`]: the optimisers fits use.
 //! - [`diagnose`], [`discretisation`], [`prove`]: what physics the model left out, how much of
 //!   a mismatch the mesh and step make, the diagnosis scored on hidden effects.
+//! - [`ringing`]: the frequency and decay of a time series' dominant damped oscillation.
 //! - [`grasp`]: squeeze, lift and hold, and the least friction that holds.
 //! - [`sensitivity`]: `dx/dp` of a static equilibrium for named parameters.
 //! - [`plot`], [`report`]: PNG plots and the Markdown reports around them.
@@ -31,6 +32,7 @@ pub mod prove;
 pub mod recording;
 pub mod replay;
 pub mod report;
+pub mod ringing;
 pub mod sensitivity;
 pub mod sweep;
 pub mod synth;

@@ -20,7 +20,7 @@ mod tables;
 
 pub use compare::compare;
 pub use diagnosis::diagnosis;
-pub use fit::fit;
+pub use fit::{fit, fit_many, recording_name};
 pub use modulus::modulus;
 pub use out::{ReportError, Written};
 pub use sweep::sweep;

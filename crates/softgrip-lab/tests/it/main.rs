@@ -6,6 +6,7 @@ mod diagnose;
 mod diagnose_run;
 mod discretisation;
 mod fit;
+mod fit_many;
 mod grasp;
 mod modulus;
 mod no_equilibrium;
