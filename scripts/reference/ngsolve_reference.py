@@ -1,8 +1,13 @@
 #!/usr/bin/env python3
 """Independent finite element reference for softgrip's neo-Hookean model, computed with NGSolve.
 
-usage: scripts/reference/ngsolve_reference.py [--problem hanging|cylinder|indentation|cantilever|all]
-                                              [--levels both|fine] [--out DIR] [--threads N]
+usage: scripts/reference/ngsolve_reference.py [--problem hanging|cylinder|cantilever|indentation|all]
+                                              [--levels both|fine|coarse] [--out DIR] [--threads N]
+                                              [--verbose]
+
+`all` runs hanging, cylinder and cantilever. `indentation` is UNFINISHED: its Newton solver does
+not yet converge past about 3 mm depth (see tests/reference/README.md); it is kept so that the
+work can be continued, and runs only when asked for by name.
 
 Four problems, each solved at two refinement levels ("coarse" and "fine": a finer mesh or a
 higher polynomial order, stated per problem) so that the change between them bounds the
@@ -12,9 +17,9 @@ discretisation error; the fine level is the reference value. Writes DIR/ngsolve.
 Material: the energy softgrip's `forces::fem` uses (docs/design/neo-hookean.md), per unit rest
 volume  Psi(F) = mu/2 (tr F^T F - 3) + lam/2 (J - a)^2,  a = 1 + mu/lam,
 mu = E / (2 (1 + nu)),  lam = E nu / ((1 + nu)(1 - 2 nu)) + mu,
-discretised with H1 vector elements of order 2 to 4 on curved (where the geometry is) tetrahedra.
-The symmetric problems are solved on a quarter (or half) of the body with symmetry conditions;
-the figures are those of the whole body.
+discretised with H1 vector elements of order 3 to 4: tetrahedra, except the cylinder, which is
+solved axisymmetric (triangles in (r, z), an exact reduction). The symmetric problems are solved
+on a quarter (or half) of the body with symmetry conditions; the figures are the whole body's.
 
 Test-time tool only: NGSolve (LGPL-2.1) is not linked into softgrip. Requires the PyPI package
 `ngsolve` (tested with 6.2.2608) and numpy; nothing else.
@@ -381,12 +386,13 @@ def run_cylinder(levels):
 
 INDENT = {
     "L": 0.025, "H": 0.02, "rho": 1070.0, "E": 57.6e3, "nu": 0.49, "R": 0.015,
-    "kappa": 1e10,  # penalty stiffness, Pa/m
-    "loads": [0.1, 0.3, 0.7, 1.3, 2.2, 3.4, 5.0, 7.0, 9.73, 12.0, 14.3],
+    "kappa": 3e9,  # penalty stiffness, Pa/m
+    "loads": [0.1, 9.73, 14.3],
+    "depth_path": [0.0004, 0.001, 0.002, 0.0032, 0.0045, 0.006, 0.0075, 0.009, 0.0105, 0.012],
     "report": [9.73, 14.3],
     "contact_refinement_radius": 0.017,
-    "levels": {"coarse": {"order": 2, "maxh": 0.004, "hc": 0.0015},
-               "fine": {"order": 3, "maxh": 0.004, "hc": 0.0015}},
+    "levels": {"coarse": {"order": 2, "maxh": 0.004, "hc": 0.002},
+               "fine": {"order": 3, "maxh": 0.004, "hc": 0.002}},
 }
 
 
@@ -457,26 +463,51 @@ def indentation(level):
     msk = GX ** 2 + GY ** 2 <= 0.02 ** 2
     disc = np.c_[GX[msk], GY[msk], np.full(msk.sum(), H)]
     Estar = p["E"] / (1 - p["nu"] ** 2)
-    steps = []
-    F_prev, d_prev = None, None
-    for F in p["loads"]:
-        Fq.Set(F / 4)
-        d_new = d_prev * (F / F_prev) ** (2 / 3) if d_prev else hertz_depth(F, R, Estar) - sag
-        ratio = d_new / d_prev if d_prev else 0.0
-        # predictor: the change since gravity scaled as the depth, the sphere at its guessed depth
-        gf.vec.data = grav.vec + ratio * (gf.vec - grav.vec)
-        gw.vec[0] = -d_new
-        with TaskManager():
-            its0 = newton.solve(fd_u)   # sphere held at the guessed depth
-            its1 = newton.solve(fd_all)  # then free under the load F
+    steps, path, states = [], [], []
+
+    def measure():
         wv = float(gw.vec[0])
-        depth = -wv
         relv = CF((x, y, z)) + gu - CF((0, 0, H + R + wv))
         gapv = R - Norm(relv)
         fz = 4 * Integrate(kappa * IfPos(gapv, gapv, 0) * (-relv[2] / Norm(relv)), mesh, BND,
                            definedon=mesh.Boundaries("top"), order=3 * lv["order"] + 2)
+        return -wv, fz
+
+    def hold(depth, scale):
+        """Displacement control: the sphere held at depth; predictor: the change since the
+        gravity state scaled by `scale`."""
+        gf.vec.data = grav.vec + scale * (gf.vec - grav.vec)
+        gw.vec[0] = -depth
+        with TaskManager():
+            return newton.solve(fd_u)
+
+    # 1. the load path in displacement control (robust: the sphere's depth prescribed), each
+    #    step's contact force measured
+    d_prev = 0.0
+    for d in p["depth_path"]:
+        its = hold(d, d / d_prev if d_prev else 0.0)
+        dd, fz = measure()
+        path.append({"depth_m": dd, "contact_force_N": fz, "newton_iterations": its})
+        states.append(gf.vec.CreateVector())
+        states[-1].data = gf.vec
+        log(f"   indentation {level}: depth {dd*1e3:.3f} mm held, force {fz:.4f} N, Newton {its}, "
+            f"{time.time()-t0:.1f} s")
+        d_prev = d
+    # 2. each load in force control: the sphere's z a global unknown loaded by F, started from
+    #    the path's state at the depth interpolated (log-log) for F
+    ld = np.log([q["depth_m"] for q in path])
+    lf = np.log([q["contact_force_N"] for q in path])
+    for F in p["loads"]:
+        Fq.Set(F / 4)
+        d0 = float(np.exp(np.interp(math.log(F), lf, ld)))
+        k = int(np.argmin([abs(q["depth_m"] - d0) for q in path]))
+        gf.vec.data = states[k]
+        its0 = hold(d0, d0 / path[k]["depth_m"])
+        with TaskManager():
+            its1 = newton.solve(fd_all)
+        depth, fz = measure()
         Ud = eval_points(gu, mesh, disc)
-        Pd = disc + Ud - np.array([0, 0, H + R + wv])
+        Pd = disc + Ud - np.array([0, 0, H + R - depth])
         pen = max(0.0, float(np.max(R - np.linalg.norm(Pd, axis=1))))
         steps.append({"F_N": F, "depth_m": depth, "contact_force_N": fz,
                       "penetration_max_m": pen, "penetration_over_depth": pen / depth,
@@ -486,8 +517,7 @@ def indentation(level):
                       "newton_iterations": [its0, its1]})
         log(f"   indentation {level}: F = {F} N, depth {depth*1e3:.4f} mm, force {fz:.4f} N, "
             f"penetration {pen*1e6:.2f} um, Newton {its0} + {its1}, {time.time()-t0:.1f} s")
-        F_prev, d_prev = F, depth
-    return {"steps": steps, "gravity_sag_top_centre_m": sag, "order": lv["order"],
+    return {"steps": steps, "displacement_path": path, "gravity_sag_top_centre_m": sag, "order": lv["order"],
             "maxh_m": lv["maxh"], "contact_zone_h_m": lv["hc"], "ndof": fes.ndof,
             "elements": mesh.ne, "newton_iterations_total": newton.iterations,
             "seconds": time.time() - t0}
@@ -501,7 +531,10 @@ def run_indentation(levels):
                       "rho_kg_m3": p["rho"], "E_Pa": p["E"], "nu": p["nu"], "g_m_s2": G,
                       "bottom": "clamped", "sphere_radius_m": p["R"],
                       "sphere_centre_start_m": [0, 0, p["H"] + p["R"]],
-                      "loads_N": p["report"], "load_path_N": p["loads"],
+                      "loads_N": p["report"], "hertz_check_load_N": p["loads"][0],
+                      "path": "the sphere's depth prescribed along depth_path_m (displacement "
+                              "control), then each load solved in force control from there",
+                      "depth_path_m": p["depth_path"],
                       "contact": "penalty kappa/2 max(0, R - |X + u - c(w)|)^2 per unit rest area "
                                  "of the top face, force F w on the sphere's z displacement w "
                                  "(a global unknown, NumberSpace)",
@@ -509,7 +542,7 @@ def run_indentation(levels):
                       "top_contour_x_mm": list(np.arange(0, 25.0001, 2.5)),
                       "side_contour_z_mm": list(np.arange(0, 20.0001, 2.5))},
            "material": material(p["E"], p["nu"]),
-           "refinement": "p: same mesh (1.5 mm within 17 mm of the top centre, 4 mm elsewhere, "
+           "refinement": "p: same mesh (2 mm within 17 mm of the top centre, 4 mm elsewhere, "
                          "quarter), order 2 -> 3",
            "levels": r}
     fine = r[levels[-1]]
@@ -636,7 +669,9 @@ def cantilever(level, with_full):
     bz = {}
     for r in sym:
         f = [md["frequency_Hz"] for md in r["modes"] if md["label"].startswith("bending z")]
-        bz[f"{r['tip_mass_kg']}"] = f[:2]
+        # with a tip mass only the first is kept: the line mass on the soft edge adds local modes
+        # (mesh-dependent, the edge load being singular) that mix with the higher bending modes
+        bz[f"{r['tip_mass_kg']}"] = f[:2] if r["tip_mass_kg"] == 0 else f[:1]
     out = {"modes_no_tip_mass": modes, "bending_z_Hz_by_tip_mass_kg": bz,
            "sym_half": sym, "anti_half": anti, "order": lv["order"], "maxh_m": lv["maxh"],
            "ndof_half": nd_s, "elements_half": mesh.ne}
@@ -784,7 +819,7 @@ def main():
     root = os.path.dirname(os.path.dirname(here))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--problem", default="all", choices=["all"] + list(PROBLEMS))
-    ap.add_argument("--levels", default="both", choices=["both", "fine"],
+    ap.add_argument("--levels", default="both", choices=["both", "fine", "coarse"],
                     help="both: the refinement study (default); fine: the reference level only")
     ap.add_argument("--out", default=os.path.join(root, "tests", "reference"))
     ap.add_argument("--threads", type=int, default=2)
@@ -793,12 +828,12 @@ def main():
     global VERBOSE
     VERBOSE = args.verbose
     SetNumThreads(args.threads)
-    levels = ["coarse", "fine"] if args.levels == "both" else ["fine"]
-    names = list(PROBLEMS) if args.problem == "all" else [args.problem]
+    levels = ["coarse", "fine"] if args.levels == "both" else [args.levels]
+    names = ["hanging", "cylinder", "cantilever"] if args.problem == "all" else [args.problem]
     os.makedirs(args.out, exist_ok=True)
     path = os.path.join(args.out, "ngsolve.json")
     doc = {}
-    if os.path.exists(path) and args.problem != "all":
+    if os.path.exists(path):
         with open(path) as f:
             doc = json.load(f)  # keep the other problems' results
     doc.setdefault("problems", {})

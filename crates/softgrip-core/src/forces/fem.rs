@@ -158,6 +158,9 @@ pub fn accumulate_elements(
         // A softened element's shear factor is positive for any J > 0
         // (phi >= 1 - q^2 > 0); the Jacobian clamps it where J is tiny.
         let mu_k = mu_s.max(0.0);
+        // The weight of `-d2V` (see below): mu at rest, less where softening
+        // has lowered the shear factor, so the blocks stay semi-definite.
+        let rest_stress = mu_k.min(mu);
         let fb = b.map(|ba| f * ba);
         for a in 0..4 {
             force[idx[a]] -= fb[a] * (v0 * mu_s) + g[a] * volumetric;
@@ -184,7 +187,7 @@ pub fn accumulate_elements(
             }
             for (bb, &ib) in idx.iter().enumerate() {
                 if bb != a {
-                    kv -= volume_hessian(p, a, bb) * v[ib] * mu;
+                    kv -= volume_hessian(p, a, bb) * v[ib] * rest_stress;
                 }
             }
             if stiff > 0.0 {
@@ -206,7 +209,7 @@ pub fn accumulate_elements(
             }
             // The rest stress's `-mu d2V`: without it the shear block resists a
             // rigid rotation, which implicit Euler then damps.
-            block -= volume_hessian(p, i, k) * (mu * dt2);
+            block -= volume_hessian(p, i, k) * (rest_stress * dt2);
             system.off[slots[m] as usize] += block;
         }
     }

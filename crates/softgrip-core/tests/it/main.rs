@@ -18,6 +18,7 @@ mod mesh_import;
 mod mesh_scenes;
 mod pinch;
 mod rayleigh;
+mod reference;
 mod rest;
 mod self_collision;
 mod sensitivity;

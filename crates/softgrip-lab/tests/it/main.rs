@@ -1,5 +1,6 @@
 //! The integration tests, one binary: one module per subject.
 
+mod beam;
 mod cancel;
 mod compare;
 mod diagnose;
