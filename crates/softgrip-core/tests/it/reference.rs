@@ -2,13 +2,12 @@
 //! problems, computed by `scripts/reference/ngsolve_reference.py` and committed in
 //! `tests/reference/ngsolve.json` (library, version and run time in its README). The continuum
 //! option (neo-Hookean elements, nodal pressures) is compared with them; the spring lattice's
-//! error on the same problems is printed for docs/results/accuracy.md.
+//! error on the same problems is printed. The figures of docs/results/accuracy.md at every mesh:
+//! `cargo run --release -p softgrip-core --example reference_figures`.
 
-use softgrip_core::Simulation;
 use softgrip_core::equilibrium::StaticOptions;
-use softgrip_core::scene::{BulkPressure, Elasticity};
 
-use crate::support::{cuboid_scene, shipped_scene, simulation};
+use crate::support::{cuboid_scene, simulation};
 
 /// The mean z displacement of the bottom face (m, negative down) of the 20 x 20 x 60 mm block
 /// hanging from its top face under its own weight (reference problem 1).
@@ -31,33 +30,6 @@ pub fn hanging_sag(model: &str, poisson_ratio: f64, edge: f64) -> f64 {
         .map(|&i| sim.state.positions[i].z - sim.model.rest_positions[i].z)
         .sum::<f64>()
         / bottom.len() as f64
-}
-
-/// The thesis indentation (reference problem 3): the light-guide scene without friction,
-/// `elasticity` and `bulk_pressure` as given, at `edge`; the finger's depth (m) at each load,
-/// NaN where it has no static equilibrium.
-pub fn indentation(
-    elasticity: Elasticity,
-    pressure: BulkPressure,
-    edge: f64,
-    loads: &[f64],
-) -> Vec<f64> {
-    let mut scene = shipped_scene("thesis_cuboid_light_guide.toml");
-    scene.object.edge_length = edge;
-    scene.model.elasticity = elasticity;
-    scene.model.bulk_pressure = pressure;
-    scene.fingers[0].friction = 0.0;
-    let mut sim = Simulation::new(&scene).expect("sim");
-    loads
-        .iter()
-        .map(|&load| {
-            sim.set_load(0, load);
-            match sim.equilibrium(StaticOptions::default()) {
-                Ok(_) => sim.indentation(0),
-                Err(_) => f64::NAN,
-            }
-        })
-        .collect()
 }
 
 /// `tests/reference/ngsolve.json`.
@@ -93,45 +65,5 @@ fn the_hanging_block_agrees_with_the_reference() {
             100.0 * (lattice / expected - 1.0)
         );
         assert!(error.abs() < 0.02, "nu {nu}: {:+.2} %", 100.0 * error);
-    }
-}
-
-/// The figures behind docs/results/accuracy.md's first table, printed (`-- --nocapture`).
-#[test]
-#[ignore = "slow: fine meshes of every problem"]
-fn softgrip_on_the_reference_problems() {
-    for nu in [0.45, 0.49] {
-        for edge in [0.005, 0.0025] {
-            let continuum = hanging_sag("elasticity = \"neo-hookean\"", nu, edge);
-            let element = hanging_sag(
-                "elasticity = \"neo-hookean\"\nbulk_pressure = \"element\"",
-                nu,
-                edge,
-            );
-            let lattice = hanging_sag("alpha = 0.0\nbulk_modulus = 9.6e5", nu, edge);
-            eprintln!(
-                "hanging, nu {nu}, edge {} mm: sag {:.4} mm nodal, {:.4} element, {:.4} lattice",
-                edge * 1e3,
-                -continuum * 1e3,
-                -element * 1e3,
-                -lattice * 1e3
-            );
-        }
-    }
-    let loads = [9.73, 14.3];
-    for edge in [0.005, 0.004, 0.0025] {
-        for (name, elasticity, pressure) in [
-            ("nodal", Elasticity::NeoHookean, BulkPressure::Nodal),
-            ("element", Elasticity::NeoHookean, BulkPressure::Element),
-            ("lattice", Elasticity::Springs, BulkPressure::Element),
-        ] {
-            let depths = indentation(elasticity, pressure, edge, &loads);
-            eprintln!(
-                "indentation, {name}, edge {} mm: depth {:.3} mm at 9.73 N, {:.3} mm at 14.3 N",
-                edge * 1e3,
-                depths[0] * 1e3,
-                depths[1] * 1e3
-            );
-        }
     }
 }
