@@ -103,24 +103,13 @@ pub fn run(args: Args) -> Result<()> {
         1e3 * result.uncertainty.sigma_m
     );
     println!("  parameter            fitted       +/- (1 s.e.)   NRMSE -10%  NRMSE +10%  verdict");
-    for (i, p) in result.params.iter().enumerate() {
-        let s = &result.sensitivity[i];
-        let n = |x: Option<f64>| x.map_or("n/a".to_string(), |f| format!("{f:.5}"));
-        println!(
-            "  {:<20} {:<12.5e} {:<14.3e} {:<11} {:<11} {}{}",
-            p.param.name,
-            result.fitted[i],
-            result.uncertainty.standard_errors[i],
-            n(s.minus),
-            n(s.plus),
-            s.verdict.label(),
-            if result.at_bound[i] {
-                " (at a bound)"
-            } else {
-                ""
-            }
-        );
-    }
+    print_params(
+        &result.params,
+        &result.fitted,
+        &result.uncertainty.standard_errors,
+        &result.sensitivity,
+        &result.at_bound,
+    );
     print_ringing(
         &recording,
         &[
@@ -165,6 +154,30 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// The parameters by name as a JSON object (`null` where not finite).
+/// One row per fitted parameter: value, standard error, the +/-10 % check and its verdict.
+fn print_params(
+    params: &[softgrip_lab::fit::FitParam],
+    fitted: &[f64],
+    standard_errors: &[f64],
+    sensitivity: &[softgrip_lab::fit::Sensitivity],
+    at_bound: &[bool],
+) {
+    for (i, p) in params.iter().enumerate() {
+        let s = &sensitivity[i];
+        let n = |x: Option<f64>| x.map_or("n/a".to_string(), |f| format!("{f:.5}"));
+        println!(
+            "  {:<20} {:<12.5e} {:<14.3e} {:<11} {:<11} {}{}",
+            p.param.name,
+            fitted[i],
+            standard_errors[i],
+            n(s.minus),
+            n(s.plus),
+            s.verdict.label(),
+            if at_bound[i] { " (at a bound)" } else { "" }
+        );
+    }
+}
+
 fn by_name(params: &[softgrip_lab::fit::FitParam], values: &[f64]) -> serde_json::Value {
     params
         .iter()
@@ -256,24 +269,13 @@ fn run_many(args: Args) -> Result<()> {
     println!(
         "  parameter            fitted       +/- (1 s.e.)   NRMSE -10%  NRMSE +10%  verdict (NRMSE: the mean)"
     );
-    for (i, p) in result.params.iter().enumerate() {
-        let s = &result.sensitivity[i];
-        let n = |x: Option<f64>| x.map_or("n/a".to_string(), |f| format!("{f:.5}"));
-        println!(
-            "  {:<20} {:<12.5e} {:<14.3e} {:<11} {:<11} {}{}",
-            p.param.name,
-            result.fitted[i],
-            result.uncertainty.standard_errors[i],
-            n(s.minus),
-            n(s.plus),
-            s.verdict.label(),
-            if result.at_bound[i] {
-                " (at a bound)"
-            } else {
-                ""
-            }
-        );
-    }
+    print_params(
+        &result.params,
+        &result.fitted,
+        &result.uncertainty.standard_errors,
+        &result.sensitivity,
+        &result.at_bound,
+    );
     for ((path, recording), part) in paths.iter().zip(&recordings).zip(&result.recordings) {
         let replays = [
             ("at the start", &part.start_replay),

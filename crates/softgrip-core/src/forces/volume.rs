@@ -256,25 +256,30 @@ fn unit(r: DVec3, len: f64) -> DVec3 {
 pub fn volume_and_bulk_energy(model: &Model, state: &State) -> (f64, f64) {
     let x = &state.positions;
     if let Some(nodal) = &model.nodal_bulk {
-        // K V0 / 2 (V / V0 - 1)^2 per node.
-        let mut share = vec![0.0; nodal.rest_volume.len()];
-        let mut volume = 0.0;
-        for tet in &model.tets {
-            let [a, b, c, d] = tet.map(|i| i as usize);
-            let v = signed_volume(x[a], x[b], x[c], x[d]);
-            volume += v;
-            for i in [a, b, c, d] {
-                share[i] += 0.25 * v;
+        // K V0 / 2 (V / V0 - 1)^2 per node; the shares in the nodal pass's
+        // buffer, so that the step's diagnostics allocate nothing.
+        return NODAL_SCRATCH.with_borrow_mut(|s| {
+            let share = &mut s.volume;
+            share.clear();
+            share.resize(nodal.rest_volume.len(), 0.0);
+            let mut volume = 0.0;
+            for tet in &model.tets {
+                let [a, b, c, d] = tet.map(|i| i as usize);
+                let v = signed_volume(x[a], x[b], x[c], x[d]);
+                volume += v;
+                for i in [a, b, c, d] {
+                    share[i] += 0.25 * v;
+                }
             }
-        }
-        let energy = share
-            .iter()
-            .zip(&nodal.rest_volume)
-            .zip(&nodal.modulus)
-            .filter(|((_, v0), _)| **v0 > 0.0)
-            .map(|((v, v0), k)| 0.5 * k * v0 * (v / v0 - 1.0).powi(2))
-            .sum();
-        return (volume, energy);
+            let energy = share
+                .iter()
+                .zip(&nodal.rest_volume)
+                .zip(&nodal.modulus)
+                .filter(|((_, v0), _)| **v0 > 0.0)
+                .map(|((v, v0), k)| 0.5 * k * v0 * (v / v0 - 1.0).powi(2))
+                .sum();
+            (volume, energy)
+        });
     }
     // A plain loop: the iterator form compiled to code seven times slower.
     let (mut volume, mut squares) = (0.0, 0.0);
