@@ -27,28 +27,42 @@ fn hanging_sag(model: &str, poisson_ratio: f64, edge: f64) -> Result<f64, String
         / bottom.len() as f64)
 }
 
-/// The light-guide scene without friction: the finger's depth (m) at each load, NaN where it
-/// has no static equilibrium.
+/// The light-guide scene without friction: at each load the finger's depth and the top centre's
+/// sag (m; the depth less the penalty contact's penetration), NaN where it has no static
+/// equilibrium.
 fn indentation(
     elasticity: Elasticity,
     pressure: BulkPressure,
     edge: f64,
+    contact_scale: f64,
     loads: &[f64],
-) -> Vec<f64> {
+) -> Vec<(f64, f64)> {
     let path = format!("{SCENES}thesis_cuboid_light_guide.toml");
     let mut scene = Scene::load(std::path::Path::new(&path)).expect("the shipped scene");
     scene.object.edge_length = edge;
     scene.model.elasticity = elasticity;
     scene.model.bulk_pressure = pressure;
     scene.fingers[0].friction = 0.0;
+    scene.fingers[0].contact_stiffness_scale = contact_scale;
     let mut sim = Simulation::new(&scene).expect("sim");
+    let top = 0.02; // the block's height
+    let centre = (0..sim.model.particle_count())
+        .min_by(|&a, &b| {
+            let d =
+                |i: usize| (sim.model.rest_positions[i] - glam::DVec3::new(0.0, 0.0, top)).length();
+            d(a).total_cmp(&d(b))
+        })
+        .expect("nodes");
     loads
         .iter()
         .map(|&load| {
             sim.set_load(0, load);
             match sim.equilibrium(StaticOptions::default()) {
-                Ok(_) => sim.indentation(0),
-                Err(_) => f64::NAN,
+                Ok(_) => (
+                    sim.indentation(0),
+                    sim.model.rest_positions[centre].z - sim.state.positions[centre].z,
+                ),
+                Err(_) => (f64::NAN, f64::NAN),
             }
         })
         .collect()
@@ -56,7 +70,11 @@ fn indentation(
 
 fn main() {
     let mm = |x: Result<f64, String>| x.map_or(f64::NAN, |v| -v * 1e3);
-    for nu in [0.45, 0.49] {
+    for nu in if std::env::args().any(|a| a == "--indentation") {
+        vec![]
+    } else {
+        vec![0.45, 0.49]
+    } {
         for edge in [0.005, 0.0025] {
             let nodal = mm(hanging_sag("elasticity = \"neo-hookean\"", nu, edge));
             let element = mm(hanging_sag(
@@ -73,17 +91,30 @@ fn main() {
     }
     let loads = [9.73, 14.3];
     for edge in [0.005, 0.004, 0.0025] {
-        for (name, elasticity, pressure) in [
-            ("nodal", Elasticity::NeoHookean, BulkPressure::Nodal),
-            ("element", Elasticity::NeoHookean, BulkPressure::Element),
-            ("lattice", Elasticity::Springs, BulkPressure::Element),
+        for (name, elasticity, pressure, contact) in [
+            ("nodal", Elasticity::NeoHookean, BulkPressure::Nodal, 3.0),
+            (
+                "nodal, stiff contact",
+                Elasticity::NeoHookean,
+                BulkPressure::Nodal,
+                30.0,
+            ),
+            (
+                "element",
+                Elasticity::NeoHookean,
+                BulkPressure::Element,
+                3.0,
+            ),
+            ("lattice", Elasticity::Springs, BulkPressure::Element, 3.0),
         ] {
-            let d = indentation(elasticity, pressure, edge, &loads);
+            let d = indentation(elasticity, pressure, edge, contact, &loads);
             println!(
-                "indentation, {name}, edge {} mm: depth {:.3} mm at 9.73 N, {:.3} mm at 14.3 N",
+                "indentation, {name}, edge {} mm: depth {:.3} / {:.3} mm at 9.73 / 14.3 N, top centre {:.3} / {:.3} mm",
                 edge * 1e3,
-                d[0] * 1e3,
-                d[1] * 1e3
+                d[0].0 * 1e3,
+                d[1].0 * 1e3,
+                d[0].1 * 1e3,
+                d[1].1 * 1e3
             );
         }
     }

@@ -206,6 +206,12 @@ impl Simulation {
     /// table's force of the last step: the support reaction (N). At rest it
     /// balances gravity, loads and finger forces.
     pub fn support_reaction(&self) -> DVec3 {
+        self.reaction(|_| true) + crate::contact::table::total_force(&self.state)
+    }
+
+    /// Sum of the forces the pinned particles `pick` selects (by index) need to stay put (N):
+    /// what a bonded plate holding them carries.
+    pub fn reaction(&self, pick: impl Fn(usize) -> bool) -> DVec3 {
         let (model, state) = (&self.model, &self.state);
         let n = model.particle_count();
         let mut force = vec![DVec3::ZERO; n + model.fingers.len()];
@@ -224,12 +230,9 @@ impl Simulation {
                     c.weights[a] * (c.normal_force * c.normal + c.tangential_force);
             }
         }
-        -force[..n]
-            .iter()
-            .zip(&model.fixed)
-            .filter(|(_, fixed)| **fixed)
-            .map(|(f, _)| *f)
+        -(0..n)
+            .filter(|&i| model.fixed[i] && pick(i))
+            .map(|i| force[i])
             .sum::<DVec3>()
-            + crate::contact::table::total_force(state)
     }
 }

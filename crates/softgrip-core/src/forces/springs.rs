@@ -7,6 +7,15 @@ use crate::solver::System;
 use crate::solver::system::outer;
 use crate::state::State;
 
+/// Spring `s`'s end points, its length and its unit axis from i to j in `x`; `None` when its
+/// ends coincide (no direction: the spring exerts nothing).
+pub(crate) fn axis(x: &[DVec3], s: &crate::model::Spring) -> Option<(usize, usize, f64, DVec3)> {
+    let (i, j) = (s.i as usize, s.j as usize);
+    let delta = x[j] - x[i];
+    let l = delta.length();
+    (l > 0.0).then(|| (i, j, l, delta / l))
+}
+
 /// Adds every spring's elastic and damping force and its Jacobian blocks.
 ///
 /// The stiffness Jacobian of a spring is
@@ -35,13 +44,9 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
     let x = &state.positions;
     let v = &state.velocities;
     for (slot, s) in model.springs.iter().enumerate() {
-        let (i, j) = (s.i as usize, s.j as usize);
-        let delta = x[j] - x[i];
-        let l = delta.length();
-        if l <= 0.0 {
+        let Some((i, j, l, u)) = axis(x, s) else {
             continue;
-        }
-        let u = delta / l;
+        };
         let elastic = s.stiffness * (l - s.rest_length); // eq. 3
         let damping = s.damping * u.dot(v[j] - v[i]); // eq. 4
         let f = (elastic + damping) * u;
@@ -114,13 +119,9 @@ pub fn accumulate_general(model: &Model, state: &State, force: &mut [DVec3], sys
     let x = &state.positions;
     let v = &state.velocities;
     for (slot, s) in model.springs.iter().enumerate() {
-        let (i, j) = (s.i as usize, s.j as usize);
-        let delta = x[j] - x[i];
-        let l = delta.length();
-        if l <= 0.0 {
+        let Some((i, j, l, u)) = axis(x, s) else {
             continue;
-        }
-        let u = delta / l;
+        };
         let q = state.maxwell.get(slot).copied().unwrap_or(0.0);
         let law = spring_law(model, s, l, q);
         let damping = s.damping * u.dot(v[j] - v[i]);
@@ -150,13 +151,9 @@ fn accumulate_dampers(model: &Model, state: &State, force: &mut [DVec3], system:
     let v = &state.velocities;
     let dt = system.dt();
     for (slot, s) in model.springs.iter().enumerate() {
-        let (i, j) = (s.i as usize, s.j as usize);
-        let delta = x[j] - x[i];
-        let l = delta.length();
-        if l <= 0.0 {
+        let Some((i, j, _, u)) = axis(x, s) else {
             continue;
-        }
-        let u = delta / l;
+        };
         let f = (s.damping * u.dot(v[j] - v[i])) * u;
         force[i] += f;
         force[j] -= f;

@@ -86,13 +86,9 @@ pub fn accumulate_dashpots(
     let dt = system.dt();
     for slot in springs {
         let s = &model.springs[slot];
-        let (i, j) = (s.i as usize, s.j as usize);
-        let delta = x[j] - x[i];
-        let l = delta.length();
-        if l <= 0.0 {
+        let Some((i, j, l, u)) = super::springs::axis(x, s) else {
             continue;
-        }
-        let u = delta / l;
+        };
         let c = b * s.stiffness;
         let dv = v[j] - v[i];
         let rate = u.dot(dv);

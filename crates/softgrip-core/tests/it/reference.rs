@@ -32,6 +32,44 @@ pub fn hanging_sag(model: &str, poisson_ratio: f64, edge: f64) -> f64 {
         / bottom.len() as f64
 }
 
+/// The force (N) on the top plate of the 50 mm x 30 mm cylinder bonded to two plates and
+/// compressed to each of `strains` (reference problem 2), with its barrel (the largest radial
+/// displacement at mid-height, m). The top nodes are held at their compressed places, so no
+/// point slides on a plate.
+pub fn bonded_cylinder(model: &str, edge: f64, strains: &[f64]) -> Vec<(f64, f64)> {
+    let (radius, height) = (0.025, 0.03);
+    let text = format!(
+        "[simulation]\n{}\n[object]\nshape = \"cylinder\"\nradius = {radius}\nheight = {height}\nedge_length = {edge:?}\ndensity = 1070.0\nyoung_modulus = 103.46e3\npoisson_ratio = 0.49\n[model]\n{model}\n[support]\nkind = \"fixed-bottom\"\n[[fixed]]\nmin = [-1.0, -1.0, {}]\nmax = [1.0, 1.0, 1.0]\n",
+        crate::support::WEIGHTLESS,
+        height - 1e-6
+    );
+    let mut sim = simulation(&text, "bonded cylinder");
+    let top: Vec<usize> = (0..sim.model.particle_count())
+        .filter(|&i| sim.model.rest_positions[i].z > height - 1e-6)
+        .collect();
+    let middle: Vec<usize> = (0..sim.model.particle_count())
+        .filter(|&i| (sim.model.rest_positions[i].z - height / 2.0).abs() < 0.26 * edge)
+        .collect();
+    strains
+        .iter()
+        .map(|&strain| {
+            for &i in &top {
+                sim.state.positions[i].z = height * (1.0 - strain);
+            }
+            sim.equilibrium(StaticOptions::default())
+                .unwrap_or_else(|e| panic!("strain {strain}: {e}"));
+            let barrel = middle
+                .iter()
+                .map(|&i| {
+                    let (p, r) = (sim.state.positions[i], sim.model.rest_positions[i]);
+                    p.truncate().length() - r.truncate().length()
+                })
+                .fold(0.0, f64::max);
+            (-sim.reaction(|i| top.contains(&i)).z, barrel)
+        })
+        .collect()
+}
+
 /// `tests/reference/ngsolve.json`.
 fn reference() -> serde_json::Value {
     let path = concat!(
@@ -65,5 +103,59 @@ fn the_hanging_block_agrees_with_the_reference() {
             100.0 * (lattice / expected - 1.0)
         );
         assert!(error.abs() < 0.02, "nu {nu}: {:+.2} %", 100.0 * error);
+    }
+}
+
+/// Problem 2: the bonded cylinder's force against NGSolve's (axisymmetric, order 4, converged to
+/// 0.3 %) at strains 0.02 to 0.2. Linear tetrahedra converge slowly at the bonded rims (a
+/// singular corner): the continuum is 10-20 % stiff at 5 mm, 4.5-11 % at 2.5 mm (2-6 % at
+/// 1.25 mm, 2 minutes). So the test asserts convergence to the reference: the error at least
+/// 40 % smaller from 5 to 2.5 mm at every strain, and the first-order extrapolation
+/// `2 f(2.5) - f(5)` within 2 %. The lattice's and the plain tetrahedra's errors are printed.
+#[test]
+#[ignore = "slow: bonded cylinders at 5 and 2.5 mm"]
+fn the_bonded_cylinder_converges_to_the_reference() {
+    let reference = reference();
+    let steps = reference["problems"]["cylinder"]["result"]["steps"]
+        .as_array()
+        .expect("steps")
+        .clone();
+    let figure = |s: &serde_json::Value, key: &str| s[key].as_f64().expect("a figure");
+    let strains: Vec<f64> = steps.iter().map(|s| figure(s, "strain")).collect();
+    let expected: Vec<f64> = steps.iter().map(|s| figure(s, "force_N")).collect();
+    let forces = |model: &str, edge: f64| -> Vec<f64> {
+        bonded_cylinder(model, edge, &strains)
+            .into_iter()
+            .map(|(force, _)| force)
+            .collect()
+    };
+    let coarse = forces("elasticity = \"neo-hookean\"", 0.005);
+    let fine = forces("elasticity = \"neo-hookean\"", 0.0025);
+    let element = forces(
+        "elasticity = \"neo-hookean\"\nbulk_pressure = \"element\"",
+        0.0025,
+    );
+    let lattice = forces("alpha = 0.0\nbulk_modulus = 9.6e5", 0.0025);
+    let error = |f: f64, r: f64| 100.0 * (f / r - 1.0);
+    for (k, &strain) in strains.iter().enumerate() {
+        let r = expected[k];
+        let extrapolated = 2.0 * fine[k] - coarse[k];
+        eprintln!(
+            "strain {strain:.2}: NGSolve {r:.3} N; continuum 5 mm {:+.1} %, 2.5 mm {:+.1} %, extrapolated {:+.1} %; plain tets 2.5 mm {:+.1} %; lattice 2.5 mm {:+.1} %",
+            error(coarse[k], r),
+            error(fine[k], r),
+            error(extrapolated, r),
+            error(element[k], r),
+            error(lattice[k], r)
+        );
+        assert!(
+            (fine[k] - r).abs() < 0.6 * (coarse[k] - r).abs(),
+            "strain {strain}: no convergence to the reference"
+        );
+        assert!(
+            error(extrapolated, r).abs() < 2.0,
+            "strain {strain}: extrapolated {:+.2} %",
+            error(extrapolated, r)
+        );
     }
 }

@@ -41,22 +41,7 @@ pub fn fit(dir: &Path, recording: &Recording, fit: &Fit) -> Result<Written, Repo
     md += &parameters(&shared);
     md += "## Plots\n\n";
     md += &convergence(&mut out, &shared)?;
-    let markers = plotted_markers(&fit.replay.residuals);
-    let mut chart = residual_chart(
-        recording,
-        &[("at the start", &fit.start_replay), ("fitted", &fit.replay)],
-        &markers,
-    );
-    chart.title = "RMS residual per sample, at the start and fitted".into();
-    md += &out.chart(
-        "residuals_before_after.png",
-        &chart,
-        "residuals before and after",
-    )?;
-    md += &replay_plots(&mut out, recording, &fit.replay, "fitted")?;
-    md += "## Per marker, fitted\n\n";
-    md += &marker_table(recording, &fit.replay);
-    md += &volume_line(&fit.replay);
+    md += &fitted_sections(&mut out, recording, &fit.start_replay, &fit.replay)?;
     out.finish("fit.md", &md)
 }
 
@@ -128,25 +113,7 @@ pub fn fit_many(
             part.before.nrmse, part.after.nrmse
         );
         smd += &errors_table(&[("start", &part.before), ("fitted", &part.after)]);
-        let markers = plotted_markers(&part.replay.residuals);
-        let mut chart = residual_chart(
-            recording,
-            &[
-                ("at the start", &part.start_replay),
-                ("fitted", &part.replay),
-            ],
-            &markers,
-        );
-        chart.title = "RMS residual per sample, at the start and fitted".into();
-        smd += &sub.chart(
-            "residuals_before_after.png",
-            &chart,
-            "residuals before and after",
-        )?;
-        smd += &replay_plots(&mut sub, recording, &part.replay, "fitted")?;
-        smd += "## Per marker, fitted\n\n";
-        smd += &marker_table(recording, &part.replay);
-        smd += &volume_line(&part.replay);
+        smd += &fitted_sections(&mut sub, recording, &part.start_replay, &part.replay)?;
         let written = sub.finish("recording.md", &smd)?;
         sections.push((name, written.images.clone()));
         images.extend(written.images);
@@ -201,6 +168,32 @@ struct Shared<'a> {
 }
 
 /// The parameters' section: the uncertainty, the table, the spring limits, the correlations.
+/// One recording's residuals at the start and fitted, its replay plots and its marker table.
+fn fitted_sections(
+    out: &mut Out,
+    recording: &Recording,
+    start: &crate::replay::Replay,
+    fitted: &crate::replay::Replay,
+) -> Result<String, ReportError> {
+    let markers = plotted_markers(&fitted.residuals);
+    let mut chart = residual_chart(
+        recording,
+        &[("at the start", start), ("fitted", fitted)],
+        &markers,
+    );
+    chart.title = "RMS residual per sample, at the start and fitted".into();
+    let mut md = out.chart(
+        "residuals_before_after.png",
+        &chart,
+        "residuals before and after",
+    )?;
+    md += &replay_plots(out, recording, fitted, "fitted")?;
+    md += "## Per marker, fitted\n\n";
+    md += &marker_table(recording, fitted);
+    md += &volume_line(fitted);
+    Ok(md)
+}
+
 fn parameters(sh: &Shared) -> String {
     let mut md = String::new();
     let u = sh.uncertainty;
