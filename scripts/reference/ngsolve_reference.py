@@ -5,9 +5,8 @@ usage: scripts/reference/ngsolve_reference.py [--problem hanging|cylinder|cantil
                                               [--levels both|fine|coarse] [--out DIR] [--threads N]
                                               [--verbose]
 
-`all` runs hanging, cylinder and cantilever. `indentation` is UNFINISHED: its Newton solver does
-not yet converge past about 3 mm depth (see tests/reference/README.md); it is kept so that the
-work can be continued, and runs only when asked for by name.
+`all` runs hanging, cylinder and cantilever; `indentation` (about 5 minutes on 2 cores) runs only
+when asked for by name.
 
 Four problems, each solved at two refinement levels ("coarse" and "fine": a finer mesh or a
 higher polynomial order, stated per problem) so that the change between them bounds the
@@ -17,9 +16,10 @@ discretisation error; the fine level is the reference value. Writes DIR/ngsolve.
 Material: the energy softgrip's `forces::fem` uses (docs/design/neo-hookean.md), per unit rest
 volume  Psi(F) = mu/2 (tr F^T F - 3) + lam/2 (J - a)^2,  a = 1 + mu/lam,
 mu = E / (2 (1 + nu)),  lam = E nu / ((1 + nu)(1 - 2 nu)) + mu,
-discretised with H1 vector elements of order 3 to 4: tetrahedra, except the cylinder, which is
-solved axisymmetric (triangles in (r, z), an exact reduction). The symmetric problems are solved
-on a quarter (or half) of the body with symmetry conditions; the figures are the whole body's.
+discretised with H1 vector elements of order 3 to 4 (the indentation: 2 to 3): tetrahedra, except
+the cylinder, which is solved axisymmetric (triangles in (r, z), an exact reduction). The symmetric
+problems are solved on a quarter (or half) of the body with symmetry conditions; the figures are
+the whole body's.
 
 Test-time tool only: NGSolve (LGPL-2.1) is not linked into softgrip. Requires the PyPI package
 `ngsolve` (tested with 6.2.2608) and numpy; nothing else.
@@ -98,6 +98,7 @@ class Minimizer:
         self.A, self.gf, self.prox = A, gf, prox  # prox: (Parameter sig, GridFunction anchor, sig0)
         self.rtol, self.atol, self.maxit = rtol, atol, maxit
         self.iterations = 0
+        self.shifts = 0  # iterations where the shift had to be switched on or raised
 
     def solve(self, freedofs):
         A, gf = self.A, self.gf
@@ -112,6 +113,7 @@ class Minimizer:
             A.Apply(gf.vec, res)
             A.AssembleLinearization(gf.vec)
             inv = A.mat.Inverse(freedofs, inverse="sparsecholesky")
+            self.inv = inv  # A.mat and its inverse at the last iterate (for a tangent predictor)
             du.data = inv * res
             dec = InnerProduct(du, res)
             self.iterations += 1
@@ -134,6 +136,7 @@ class Minimizer:
                 if self.prox is None:
                     raise RuntimeError(f"Newton: no descent (decrement {dec:.3e})")
                 sig = self.prox[2] if sig == 0 else sig * 10
+                self.shifts += 1
                 continue
             if sig > 0:
                 sig = sig / 100 if sig > self.prox[2] * 1e-6 else 0.0
@@ -387,12 +390,17 @@ def run_cylinder(levels):
 INDENT = {
     "L": 0.025, "H": 0.02, "rho": 1070.0, "E": 57.6e3, "nu": 0.49, "R": 0.015,
     "kappa": 3e9,  # penalty stiffness, Pa/m
-    "loads": [0.1, 9.73, 14.3],
-    "depth_path": [0.0004, 0.001, 0.002, 0.0032, 0.0045, 0.006, 0.0075, 0.009, 0.0105, 0.012],
+    "kappa_check": 1e10,  # the first level's loads solved again with this kappa (sensitivity)
+    "loads": [0.1, 9.73, 14.3],  # 0.1 N: the Hertz check
     "report": [9.73, 14.3],
+    # the sphere's depth prescribed along this path (continuation with a tangent predictor) to
+    # reach the loads; only the first refinement level walks it, the next starts each load from
+    # the previous level's solution. 1 mm steps: Newton takes 6-9 iterations each (exact
+    # Hessian, no shift needed); 1.5 mm steps took 17 and 52.
+    "depth_path": [0.0004, 0.001, 0.002, 0.003, 0.004, 0.005, 0.006, 0.007, 0.008],
     "contact_refinement_radius": 0.017,
-    "levels": {"coarse": {"order": 2, "maxh": 0.004, "hc": 0.002},
-               "fine": {"order": 3, "maxh": 0.004, "hc": 0.002}},
+    "maxh": 0.004, "hc": 0.002,  # one mesh for both levels: 2 mm near the contact, 4 mm elsewhere
+    "levels": {"coarse": {"order": 2}, "fine": {"order": 3}},
 }
 
 
@@ -400,17 +408,15 @@ def hertz_depth(F, R, Estar):
     return (9 * F * F / (16 * R * Estar * Estar)) ** (1 / 3)
 
 
-def indentation(level):
+def indentation_mesh():
     p = INDENT
-    lv = p["levels"][level]
-    t0 = time.time()
-    L, H, R = p["L"], p["H"], p["R"]
+    L, H = p["L"], p["H"]
     box = Box(Pnt(0, 0, 0), Pnt(L, L, H))
     name_faces(box, [(lambda c: near(c.z, H), "top"), (lambda c: near(c.z, 0), "bottom"),
                      (lambda c: near(c.x, 0), "symx"), (lambda c: near(c.y, 0), "symy"),
                      (lambda c: near(c.x, L), "side")])
-    mp = MeshingParameters(maxh=lv["maxh"], grading=0.3)
-    hc, rc = lv["hc"], p["contact_refinement_radius"]
+    mp = MeshingParameters(maxh=p["maxh"], grading=0.3)
+    hc, rc = p["hc"], p["contact_refinement_radius"]
     n = int(math.ceil(rc / hc))
     for i in range(n + 1):
         for j in range(n + 1):
@@ -418,7 +424,17 @@ def indentation(level):
             if px * px + py * py <= rc * rc:
                 for depth in (0.0, hc, 2 * hc):
                     mp.RestrictH(px, py, H - depth, hc)
-    mesh = Mesh(OCCGeometry(box).GenerateMesh(mp))
+    return Mesh(OCCGeometry(box).GenerateMesh(mp))
+
+
+def indentation(level, mesh, start=None):
+    """One refinement level. start: None (walk the depth path from the unloaded block) or a
+    dict F -> the previous level's solution (u, w) at load F, the initial guess of each load.
+    Returns the figures and a dict F -> solution (GridFunction components)."""
+    p = INDENT
+    lv = p["levels"][level]
+    t0 = time.time()
+    L, H, R = p["L"], p["H"], p["R"]
     m = material(p["E"], p["nu"])
     fesu = VectorH1(mesh, order=lv["order"], dirichlet="bottom", dirichletx="symx",
                     dirichlety="symy")
@@ -426,13 +442,13 @@ def indentation(level):
     (u, w) = fes.TrialFunction()
     wdof = fes.ndof - 1
     Fq = Parameter(0.0)  # the quarter's share of the sphere's load
+    kappa = Parameter(p["kappa"])
     sig = Parameter(0.0)
     anchor = GridFunction(fes)
     ua, wa = anchor.components
     centre = CF((0, 0, H + R)) + w * CF((0, 0, 1))
     rel = CF((x, y, z)) + u - centre
     gap = R - Norm(rel)  # > 0: penetration
-    kappa = p["kappa"]
     top_area = L * L
     vol_energy = psi(u, m) + p["rho"] * G * u[2] + sig / 2 * InnerProduct(u - ua, u - ua)
     # the proximal term on w: sig * (block volume) / 2 (w - w_k)^2, spread over the top face
@@ -443,16 +459,16 @@ def indentation(level):
     A += Variation(bnd_energy.Compile() * ds("top", bonus_intorder=2 * lv["order"]))
     gf = GridFunction(fes)
     gu, gw = gf.components
-    newton = Minimizer(A, gf, prox=(sig, anchor, 1e-3 * m["mu"] / lv["hc"] ** 2))
+    newton = Minimizer(A, gf, prox=(sig, anchor, 1e-3 * m["mu"] / p["hc"] ** 2))
     fd_all = fes.FreeDofs()
     fd_u = BitArray(fd_all)
     fd_u[wdof] = False
+    free = np.array([fd_all[i] for i in range(fes.ndof)], dtype=bool)
     log(f"   indentation {level}: {mesh.ne} elements, {fes.ndof} dofs, {time.time()-t0:.1f} s")
-    with TaskManager():
-        its_g = newton.solve(fd_u)  # gravity alone, sphere held at w = 0 (not touching)
-    grav = GridFunction(fes)
-    grav.vec.data = gf.vec
-    sag = float(eval_points(gu, mesh, [[0, 0, H]])[0, 2])
+    if start is None:
+        with TaskManager():
+            newton.solve(fd_u)  # gravity alone, sphere held at w = 0 (touching, no force)
+        sag = float(eval_points(gu, mesh, [[0, 0, H]])[0, 2])
 
     # outputs
     xs = np.arange(0, 25.0001, 2.5) * 1e-3
@@ -463,90 +479,151 @@ def indentation(level):
     msk = GX ** 2 + GY ** 2 <= 0.02 ** 2
     disc = np.c_[GX[msk], GY[msk], np.full(msk.sum(), H)]
     Estar = p["E"] / (1 - p["nu"] ** 2)
-    steps, path, states = [], [], []
+    steps, path, states, sols = [], [], [], {}
+    ew, col, dv = gf.vec.CreateVector(), gf.vec.CreateVector(), gf.vec.CreateVector()
 
     def measure():
         wv = float(gw.vec[0])
         relv = CF((x, y, z)) + gu - CF((0, 0, H + R + wv))
         gapv = R - Norm(relv)
         fz = 4 * Integrate(kappa * IfPos(gapv, gapv, 0) * (-relv[2] / Norm(relv)), mesh, BND,
-                           definedon=mesh.Boundaries("top"), order=3 * lv["order"] + 2)
-        return -wv, fz
+                           definedon=mesh.Boundaries("top"), order=4 * lv["order"])
+        return -wv, fz  # fz: with the assembly's quadrature rule (order 2 p + bonus 2 p)
 
-    def hold(depth, scale):
-        """Displacement control: the sphere held at depth; predictor: the change since the
-        gravity state scaled by `scale`."""
-        gf.vec.data = grav.vec + scale * (gf.vec - grav.vec)
+    def hold(depth):
+        """Displacement control: the sphere moved to depth and held there. Predictor: the
+        tangent d u / d w = -K_uu^-1 K_uw of the last converged state (whose factorisation the
+        Minimizer kept), so that the contact zone moves with the sphere. With the previous field
+        scaled instead, Newton stalled from about 3 mm on: its steps (driven by the penalty's
+        large forces where the guess penetrates the sphere) were cut to ~1 % by the line search,
+        with or without a positive semi-definite tangent."""
+        d_now = -float(gw.vec[0])
+        ew[:] = 0.0
+        ew[wdof] = 1.0
+        col.data = A.mat * ew
+        dv.data = newton.inv * col
+        gf.vec.data += (depth - d_now) * dv
         gw.vec[0] = -depth
         with TaskManager():
             return newton.solve(fd_u)
 
-    # 1. the load path in displacement control (robust: the sphere's depth prescribed), each
-    #    step's contact force measured
-    d_prev = 0.0
-    for d in p["depth_path"]:
-        its = hold(d, d / d_prev if d_prev else 0.0)
-        dd, fz = measure()
-        path.append({"depth_m": dd, "contact_force_N": fz, "newton_iterations": its})
-        states.append(gf.vec.CreateVector())
-        states[-1].data = gf.vec
-        log(f"   indentation {level}: depth {dd*1e3:.3f} mm held, force {fz:.4f} N, Newton {its}, "
-            f"{time.time()-t0:.1f} s")
-        d_prev = d
-    # 2. each load in force control: the sphere's z a global unknown loaded by F, started from
-    #    the path's state at the depth interpolated (log-log) for F
-    ld = np.log([q["depth_m"] for q in path])
-    lf = np.log([q["contact_force_N"] for q in path])
-    for F in p["loads"]:
+    def force_control(F):
         Fq.Set(F / 4)
-        d0 = float(np.exp(np.interp(math.log(F), lf, ld)))
-        k = int(np.argmin([abs(q["depth_m"] - d0) for q in path]))
-        gf.vec.data = states[k]
-        its0 = hold(d0, d0 / path[k]["depth_m"])
         with TaskManager():
-            its1 = newton.solve(fd_all)
+            return newton.solve(fd_all)
+
+    def record(F, its):
         depth, fz = measure()
         Ud = eval_points(gu, mesh, disc)
         Pd = disc + Ud - np.array([0, 0, H + R - depth])
         pen = max(0.0, float(np.max(R - np.linalg.norm(Pd, axis=1))))
-        steps.append({"F_N": F, "depth_m": depth, "contact_force_N": fz,
-                      "penetration_max_m": pen, "penetration_over_depth": pen / depth,
-                      "hertz_depth_m": hertz_depth(F, R, Estar),
-                      "top_uz_m": [float(v) for v in eval_points(gu, mesh, top_line)[:, 2]],
-                      "side_ux_m": [float(v) for v in eval_points(gu, mesh, side_line)[:, 0]],
-                      "newton_iterations": [its0, its1]})
-        log(f"   indentation {level}: F = {F} N, depth {depth*1e3:.4f} mm, force {fz:.4f} N, "
-            f"penetration {pen*1e6:.2f} um, Newton {its0} + {its1}, {time.time()-t0:.1f} s")
-    return {"steps": steps, "displacement_path": path, "gravity_sag_top_centre_m": sag, "order": lv["order"],
-            "maxh_m": lv["maxh"], "contact_zone_h_m": lv["hc"], "ndof": fes.ndof,
-            "elements": mesh.ne, "newton_iterations_total": newton.iterations,
-            "seconds": time.time() - t0}
+        top = [float(v) for v in eval_points(gu, mesh, top_line)[:, 2]]
+        return {"F_N": F, "depth_m": depth, "contact_force_N": fz,
+                "contact_force_over_F": fz / F, "penetration_max_m": pen,
+                "penetration_over_depth": pen / depth, "top_centre_uz_m": top[0],
+                "hertz_depth_m": hertz_depth(F, R, Estar), "top_uz_m": top,
+                "side_ux_m": [float(v) for v in eval_points(gu, mesh, side_line)[:, 0]],
+                "newton_iterations": its}
+
+    def keep(F):
+        sols[F] = [GridFunction(gu.space), float(gw.vec[0])]
+        sols[F][0].vec.data = gu.vec
+
+    if start is None:
+        # 1. the load path in displacement control (the sphere's depth prescribed), each step's
+        #    contact force measured
+        for d in p["depth_path"]:
+            its = hold(d)
+            dd, fz = measure()
+            path.append({"depth_m": dd, "contact_force_N": fz, "newton_iterations": its})
+            states.append(gf.vec.CreateVector())
+            states[-1].data = gf.vec
+            log(f"   indentation {level}: depth {dd*1e3:.3f} mm held, force {fz:.4f} N, "
+                f"Newton {its}, {time.time()-t0:.1f} s")
+        # 2. each load in force control (the sphere's z a global unknown loaded by F), started
+        #    from the path's state nearest to the depth interpolated (log-log) for F
+        ld = np.log([q["depth_m"] for q in path])
+        lf = np.log([q["contact_force_N"] for q in path])
+    for F in p["loads"]:
+        if start is None:
+            d0 = float(np.exp(np.interp(math.log(F), lf, ld)))
+            k = int(np.argmin([abs(math.log(q["depth_m"] / d0)) for q in path]))
+            gf.vec.data = states[k]
+        else:
+            gu.Set(start[F][0])  # exact: the previous level's space is contained in this one
+            gf.vec.FV().NumPy()[~free] = 0.0  # the Dirichlet / symmetry values exactly 0
+            gw.vec[0] = start[F][1]
+        its = force_control(F)
+        steps.append(record(F, its))
+        keep(F)
+        s = steps[-1]
+        log(f"   indentation {level}: F = {F} N, depth {s['depth_m']*1e3:.4f} mm, force "
+            f"{s['contact_force_N']:.4f} N, penetration {s['penetration_max_m']*1e6:.2f} um, "
+            f"Newton {its}, {time.time()-t0:.1f} s")
+    out = {"steps": steps, "order": lv["order"], "maxh_m": p["maxh"], "contact_zone_h_m": p["hc"],
+           "ndof": fes.ndof, "elements": mesh.ne}
+    if start is None:
+        out["gravity_sag_top_centre_m"] = sag
+        out["displacement_path"] = path
+        # 3. the penalty's effect: the reported loads again with a stiffer penalty (on the
+        #    first level only, to save time: the penetration is a local effect)
+        kappa.Set(p["kappa_check"])
+        out["kappa_check"] = {"kappa_Pa_per_m": p["kappa_check"], "steps": []}
+        for F in p["report"]:
+            gu.vec.data = sols[F][0].vec
+            gw.vec[0] = sols[F][1]
+            its = force_control(F)
+            s = record(F, its)
+            out["kappa_check"]["steps"].append(
+                {k: s[k] for k in ("F_N", "depth_m", "contact_force_N", "penetration_max_m",
+                                   "top_centre_uz_m", "newton_iterations")})
+            log(f"   indentation {level}: kappa {p['kappa_check']:.0e}: F = {F} N, depth "
+                f"{s['depth_m']*1e3:.4f} mm, penetration {s['penetration_max_m']*1e6:.2f} um, "
+                f"Newton {its}, {time.time()-t0:.1f} s")
+        kappa.Set(p["kappa"])
+    out["newton_iterations_total"] = newton.iterations
+    out["newton_shifts"] = newton.shifts  # 0: the exact Hessian gave descent at every iterate
+    out["seconds"] = time.time() - t0
+    return out, sols
 
 
 def run_indentation(levels):
     p = INDENT
-    r = {lv: indentation(lv) for lv in levels}
+    t0 = time.time()
+    mesh = indentation_mesh()
+    log(f"   indentation: mesh {time.time()-t0:.1f} s")
+    r, start = {}, None
+    for lv in levels:
+        r[lv], start = indentation(lv, mesh, start)
     out = {"description": "rigid frictionless sphere pressed into a block by a force, gravity on",
            "inputs": {"block": "x,y in [-0.025, 0.025], z in [0, 0.02] m (quarter model x,y >= 0)",
                       "rho_kg_m3": p["rho"], "E_Pa": p["E"], "nu": p["nu"], "g_m_s2": G,
                       "bottom": "clamped", "sphere_radius_m": p["R"],
                       "sphere_centre_start_m": [0, 0, p["H"] + p["R"]],
                       "loads_N": p["report"], "hertz_check_load_N": p["loads"][0],
-                      "path": "the sphere's depth prescribed along depth_path_m (displacement "
-                              "control), then each load solved in force control from there",
+                      "path": "the first level: the sphere's depth prescribed along depth_path_m "
+                              "(displacement control, tangent predictor), then each load solved "
+                              "in force control from the nearest path state; the next level "
+                              "starts each load from the previous level's solution",
                       "depth_path_m": p["depth_path"],
                       "contact": "penalty kappa/2 max(0, R - |X + u - c(w)|)^2 per unit rest area "
                                  "of the top face, force F w on the sphere's z displacement w "
                                  "(a global unknown, NumberSpace)",
+                      "depth": "the sphere's downward displacement from first touch (includes "
+                               "the gravity sag and the penalty's penetration)",
                       "kappa_Pa_per_m": p["kappa"],
                       "top_contour_x_mm": list(np.arange(0, 25.0001, 2.5)),
-                      "side_contour_z_mm": list(np.arange(0, 20.0001, 2.5))},
+                      "top_contour": "u_z along y = 0 on the top face",
+                      "side_contour_z_mm": list(np.arange(0, 20.0001, 2.5)),
+                      "side_contour": "u_x along x = 0.025, y = 0"},
            "material": material(p["E"], p["nu"]),
            "refinement": "p: same mesh (2 mm within 17 mm of the top centre, 4 mm elsewhere, "
-                         "quarter), order 2 -> 3",
+                         "quarter), order " + " -> ".join(str(p["levels"][lv]["order"])
+                                                          for lv in levels),
            "levels": r}
     fine = r[levels[-1]]
     out["result"] = {f"F={F}": next(s for s in fine["steps"] if s["F_N"] == F) for F in p["report"]}
+    out["kappa_check"] = dict(r[levels[0]]["kappa_check"], level=levels[0])
     if len(levels) == 2:
         ch = {}
         for F in p["report"]:
@@ -554,6 +631,7 @@ def run_indentation(levels):
             b = next(s for s in r["fine"]["steps"] if s["F_N"] == F)
             ch[f"F={F}"] = {
                 "depth": rel_change(a["depth_m"], b["depth_m"]),
+                "top_centre_uz": rel_change(a["top_centre_uz_m"], b["top_centre_uz_m"]),
                 "top_uz_max_abs_over_depth": max(abs(i - j) for i, j in
                                                  zip(a["top_uz_m"], b["top_uz_m"])) / b["depth_m"],
                 "side_ux_max_abs_over_max": max(abs(i - j) for i, j in
@@ -786,18 +864,22 @@ def summary(name, r):
                          f"u_r {c['max_radial_displacement_max']*100:.3f} %")
     elif name == "indentation":
         for k, s in r["result"].items():
-            lines.append(f"   {k}: depth = {s['depth_m']*1e3:.4f} mm, contact force = "
+            lines.append(f"   {k}: depth = {s['depth_m']*1e3:.4f} mm, top-centre uz = "
+                         f"{s['top_centre_uz_m']*1e3:.4f} mm, contact force = "
                          f"{s['contact_force_N']:.4f} N, penetration = "
-                         f"{s['penetration_max_m']*1e6:.2f} um "
-                         f"({s['penetration_over_depth']*100:.3f} % of depth)")
+                         f"{s['penetration_max_m']*1e6:.2f} um")
             lines.append("      top uz (mm): " + " ".join(f"{v*1e3:.3f}" for v in s["top_uz_m"]))
-            lines.append("      side ux (mm): " + " ".join(f"{v*1e3:.3f}" for v in s["side_ux_m"]))
-        st = r["levels"][next(iter(r["levels"]))]["steps"][0]
+            lines.append("      side ux (mm): " + " ".join(f"{v*1e3:.4f}" for v in s["side_ux_m"]))
+        for s in r["kappa_check"]["steps"]:
+            lines.append(f"   kappa {r['kappa_check']['kappa_Pa_per_m']:.0e}: F={s['F_N']}: depth "
+                         f"{s['depth_m']*1e3:.4f} mm, penetration {s['penetration_max_m']*1e6:.2f} um")
+        st = r["levels"][next(reversed(r["levels"]))]["steps"][0]
         lines.append(f"   smallest load {st['F_N']} N: depth {st['depth_m']*1e3:.4f} mm, "
                      f"Hertz {st['hertz_depth_m']*1e3:.4f} mm")
         if "change_coarse_to_fine" in r:
             for k, c in r["change_coarse_to_fine"].items():
-                lines.append(f"   change coarse -> fine {k}: depth {c['depth']*100:.3f} %, top "
+                lines.append(f"   change coarse -> fine {k}: depth {c['depth']*100:.3f} %, "
+                             f"top centre {c['top_centre_uz']*100:.3f} %, top "
                              f"contour {c['top_uz_max_abs_over_depth']*100:.3f} % of depth, side "
                              f"{c['side_ux_max_abs_over_max']*100:.3f} % of its max")
     elif name == "cantilever":
