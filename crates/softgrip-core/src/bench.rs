@@ -36,7 +36,7 @@ pub fn thesis_scene_run(
 /// The thesis scene with each of the physics options of issue 6 turned on
 /// in turn (the first: none), for `softgrip bench --options`.
 pub fn option_variants(edge_length: f64) -> Vec<(&'static str, Scene)> {
-    use crate::scene::{AaBox, Elasticity, Region, SupportKind};
+    use crate::scene::{AaBox, BulkPressure, Elasticity, Region, SupportKind};
     let base = thesis_scene_with_edge(edge_length);
     let with = |f: &dyn Fn(&mut Scene)| {
         let mut s = base.clone();
@@ -83,8 +83,25 @@ pub fn option_variants(edge_length: f64) -> Vec<(&'static str, Scene)> {
         ),
         ("self-collision", with(&|s| s.model.self_collision = true)),
         (
-            "neo-Hookean elements",
-            with(&|s| s.model.elasticity = Elasticity::NeoHookean),
+            "neo-Hookean, nodal pressures",
+            with(&|s| {
+                s.model.elasticity = Elasticity::NeoHookean;
+                s.model.bulk_pressure = BulkPressure::Nodal;
+            }),
+        ),
+        (
+            "neo-Hookean, plain tetrahedra",
+            with(&|s| {
+                s.model.elasticity = Elasticity::NeoHookean;
+                s.model.bulk_pressure = BulkPressure::Element;
+            }),
+        ),
+        (
+            "Rayleigh a 2 1/s, b 3e-4 s",
+            with(&|s| {
+                s.model.rayleigh_mass = 2.0;
+                s.model.rayleigh_stiffness = 3e-4;
+            }),
         ),
     ]
 }
