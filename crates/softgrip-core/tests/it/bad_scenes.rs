@@ -334,6 +334,20 @@ fn softening_out_of_range_or_on_springs() {
 }
 
 #[test]
+fn spring_only_laws_on_elements() {
+    // The elements have no Maxwell arms and no compression asymmetry: an error, not a key
+    // silently ignored.
+    expect(
+        &format!("{BASE}[model]\nelasticity = \"neo-hookean\"\nprony_g = 0.5\n"),
+        &["prony_g", "0.5", ":8", "springs only"],
+    );
+    expect(
+        &format!("{BASE}[model]\nelasticity = \"neo-hookean\"\ncompression_ratio = 2.0\n"),
+        &["compression_ratio", "2", ":8", "springs only"],
+    );
+}
+
+#[test]
 fn unknown_bulk_pressure() {
     expect(
         &format!("{BASE}[model]\nbulk_modulus = 1e6\nbulk_pressure = \"node\"\n"),

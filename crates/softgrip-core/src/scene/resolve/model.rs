@@ -174,6 +174,20 @@ impl Resolver<'_> {
                 }
             }
         }
+        if elasticity == Elasticity::NeoHookean {
+            for (key, value, plain) in [
+                ("prony_g", prony_g, 0.0),
+                ("compression_ratio", compression_ratio, 1.0),
+            ] {
+                if value != plain {
+                    return Err(self.err(
+                        at(key),
+                        value,
+                        "applies to the springs only (the neo-Hookean elements have no such term): remove the key, or set [model] elasticity = \"springs\"",
+                    ));
+                }
+            }
+        }
         let self_collision = self.default(at("self_collision"), m.self_collision, false);
         Ok(ModelParams {
             self_collision,
