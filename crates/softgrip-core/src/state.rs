@@ -176,7 +176,8 @@ pub struct State {
     /// order; empty without a table.
     pub table: Vec<TableContact>,
     /// Viscoelastic springs: each spring's Maxwell-arm dashpot extension
-    /// (m), in spring order; empty unless `[model] prony_g > 0`.
+    /// (m), in spring order; with neo-Hookean elements each element's viscous Green strain (six
+    /// entries: xx, yy, zz, xy, xz, yz); empty unless `[model] prony_g > 0`.
     pub maxwell: Vec<f64>,
     /// This step's self-collision contacts (`[model] self_collision`).
     pub self_contacts: Vec<SelfContact>,
@@ -208,7 +209,10 @@ impl State {
                 model.table.as_ref().map_or(0, |t| t.particles.len())
             ],
             maxwell: if model.spring_law.is_viscoelastic() {
-                vec![0.0; model.springs.len()]
+                match model.fem {
+                    Some(_) => vec![0.0; 6 * model.tets.len()],
+                    None => vec![0.0; model.springs.len()],
+                }
             } else {
                 Vec::new()
             },

@@ -22,10 +22,13 @@ fn one_thread_and_two_give_bit_identical_runs() {
     let (threaded_one, one) = run(1);
     let (threaded_two, two) = run(2);
     // The neo-Hookean elements with their nodal volume term (computed once,
-    // applied matrix-free on the main thread's half of each product).
+    // applied matrix-free on the main thread's half of each product) and their Maxwell arms
+    // (each thread's elements read the viscous strains the step started from).
     let mut continuum = Scene::thesis();
     continuum.model.elasticity = softgrip_core::scene::Elasticity::NeoHookean;
     continuum.model.bulk_pressure = softgrip_core::scene::BulkPressure::Nodal;
+    continuum.model.prony_g = 0.3;
+    continuum.model.prony_tau = 0.05;
     assert_eq!(
         run_scene(&continuum, 1, 0.1).1,
         run_scene(&continuum, 2, 0.1).1

@@ -171,6 +171,9 @@ pub fn relax(model: &Model, state: &mut State) {
     if !model.spring_law.is_viscoelastic() {
         return;
     }
+    if model.fem.is_some() {
+        return super::viscosity::relax_elements(model, state);
+    }
     if state.maxwell.len() != model.springs.len() {
         state.maxwell = vec![0.0; model.springs.len()];
     }

@@ -108,8 +108,9 @@ pub fn accumulate_dashpots(
     }
 }
 
-/// The elements' Kelvin-Voigt viscosity, for the elements in `elements`. Nothing when b is 0
-/// or the elasticity is the springs'.
+/// The elements' viscous terms for the elements in `elements`: their Maxwell arms
+/// ([`accumulate_arms`]) and their Kelvin-Voigt viscosity (nothing when b is 0 or the elasticity
+/// is the springs').
 pub fn accumulate_elements(
     model: &Model,
     state: &State,
@@ -117,6 +118,7 @@ pub fn accumulate_elements(
     system: &mut System,
     elements: std::ops::Range<usize>,
 ) {
+    accumulate_arms(model, state, force, system, elements.clone());
     let b = model.rayleigh_stiffness;
     let Some(fem) = &model.fem else { return };
     if b == 0.0 {
@@ -151,6 +153,111 @@ pub fn accumulate_elements(
             system.off[slots[m] as usize] += (ff * g[i].dot(g[k]) + outer(fb[k], fb[i])) * half;
         }
     }
+}
+
+/// The neo-Hookean elements' Prony term (`[model] prony_g` g, `prony_tau` tau): a standard
+/// linear solid as the springs' ([`super::springs::spring_law`]), the elements' own shear modulus
+/// lowered to `(1 - g) mu` (at the model's build) and in parallel a Maxwell arm on the Green
+/// strain, energy `V0 mu_g |E - E_v|^2` with `mu_g = g mu` (so `2 mu_g` per unit strain, a
+/// Saint Venant-Kirchhoff arm without lambda), its viscous strain `E_v` relaxing towards E with
+/// time constant tau. Implicit Euler over the step, `E_v' = (E_v + a E) / (1 + a)`, `a = dt /
+/// tau`, makes the arm a spring of modulus `mu_g / (1 + a)` from the step's start `E_v`. A held
+/// shear relaxes to `1 - g` of its stress with time constant tau; a constant load creeps with
+/// `tau / (1 - g)` in the incompressible limit. The volumetric response does not relax.
+/// Jacobian: the arm's Gauss-Newton part, `V0 c [(b_a . b_b) F F^T + (F b_b)(F b_a)^T]` with
+/// `c = mu_g / (1 + a)` (positive semi-definite); its stress term `(b_a^T S b_b) I` is left out,
+/// as small as the arm's stress.
+pub fn accumulate_arms(
+    model: &Model,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    elements: std::ops::Range<usize>,
+) {
+    let Some(fem) = &model.fem else { return };
+    let g_share = model.spring_law.prony_g;
+    if g_share == 0.0 || state.maxwell.len() != 6 * model.tets.len() {
+        return;
+    }
+    let dt = system.dt();
+    let dt2 = dt * dt;
+    let (x, v) = (&state.positions, &state.velocities);
+    let relax = 1.0 + model.dt / model.spring_law.prony_tau;
+    for e in elements {
+        let idx = model.tets[e].map(|i| i as usize);
+        let g = &fem.gradients[e];
+        let f = super::fem::deformation_gradient(g, idx.map(|i| x[i]));
+        let strain = green_strain(f);
+        let viscous = unpack(&state.maxwell[6 * e..6 * e + 6]);
+        // The arm's modulus `mu_g / (1 + a)`, mu_g = g mu = g / (1 - g) times the elements'
+        // lowered shear modulus; V0 times it.
+        let c = model.rest_volume[e] * fem.mu[e] * g_share / (1.0 - g_share) / relax;
+        let stress = (strain - viscous) * (2.0 * c); // V0 S
+        let fb = g.map(|ga| f * ga);
+        let ff = f * f.transpose();
+        for a in 0..4 {
+            force[idx[a]] -= f * (stress * g[a]);
+        }
+        let block = |a: usize, b: usize| (ff * g[a].dot(g[b]) + outer(fb[b], fb[a])) * c;
+        for a in 0..4 {
+            system.diag[idx[a]] += block(a, a) * dt2;
+            let mut kv = DVec3::ZERO;
+            for bb in 0..4 {
+                kv += block(a, bb) * v[idx[bb]];
+            }
+            system.kv[idx[a]] += kv;
+        }
+        let slots = model.tet_springs[e];
+        for (m, [p, q]) in TET_EDGES.into_iter().enumerate() {
+            let (i, k) = if idx[p] < idx[q] { (p, q) } else { (q, p) };
+            system.off[slots[m] as usize] += block(i, k) * dt2;
+        }
+    }
+}
+
+/// After a step: each element's viscous strain moves towards its present Green strain,
+/// `E_v = (E_v + a E) / (1 + a)`, `a = dt / tau` (the step [`accumulate_arms`] assumed).
+pub fn relax_elements(model: &Model, state: &mut State) {
+    let Some(fem) = &model.fem else { return };
+    if !model.spring_law.is_viscoelastic() {
+        return;
+    }
+    if state.maxwell.len() != 6 * model.tets.len() {
+        state.maxwell = vec![0.0; 6 * model.tets.len()];
+    }
+    let a = model.dt / model.spring_law.prony_tau;
+    let x = &state.positions;
+    for (e, tet) in model.tets.iter().enumerate() {
+        let f = super::fem::deformation_gradient(&fem.gradients[e], tet.map(|i| x[i as usize]));
+        let strain = green_strain(f);
+        let slot = &mut state.maxwell[6 * e..6 * e + 6];
+        let viscous = (unpack(slot) + strain * a) * (1.0 / (1.0 + a));
+        slot.copy_from_slice(&pack(viscous));
+    }
+}
+
+/// The Green strain `(F^T F - I) / 2`.
+#[inline]
+fn green_strain(f: DMat3) -> DMat3 {
+    (f.transpose() * f - DMat3::IDENTITY) * 0.5
+}
+
+/// A symmetric matrix from its six entries xx, yy, zz, xy, xz, yz.
+#[inline]
+fn unpack(s: &[f64]) -> DMat3 {
+    DMat3::from_cols(
+        DVec3::new(s[0], s[3], s[4]),
+        DVec3::new(s[3], s[1], s[5]),
+        DVec3::new(s[4], s[5], s[2]),
+    )
+}
+
+/// The six entries of a symmetric matrix (its upper triangle).
+#[inline]
+fn pack(m: DMat3) -> [f64; 6] {
+    [
+        m.x_axis.x, m.y_axis.y, m.z_axis.z, m.y_axis.x, m.z_axis.x, m.z_axis.y,
+    ]
 }
 
 /// `(A + A^T) / 2`.
@@ -370,6 +477,127 @@ mod tests {
             let expected =
                 (DMat3::IDENTITY * grads[a].dot(grads[a]) + outer(grads[a], grads[a])) * c;
             assert!(system.diag[a].abs_diff_eq(expected, 1e-12 * largest(expected)));
+        }
+    }
+
+    /// One element's Maxwell arm: its force is minus the gradient of its energy
+    /// `V0 c |E - E_v|^2` (central differences), and where the arm is unstressed (E = E_v) its
+    /// blocks are the force's exact derivative.
+    #[test]
+    fn an_element_arm_is_the_gradient_of_its_energy() {
+        let rest = vec![
+            DVec3::ZERO,
+            DVec3::new(0.01, 0.0, 0.0),
+            DVec3::new(0.0, 0.012, 0.0),
+            DVec3::new(0.002, 0.001, 0.009),
+        ];
+        let tets = vec![[0u32, 1, 2, 3]];
+        let edges: Vec<(u32, u32, f64, f64)> = TET_EDGES
+            .iter()
+            .map(|&[a, b]| (a as u32, b as u32, 0.0, 0.0))
+            .collect();
+        let mut model = Model::from_particles(
+            rest.clone(),
+            vec![1e-3; 4],
+            vec![false; 4],
+            &edges,
+            DVec3::ZERO,
+            1e-3,
+        );
+        let fem = FemModel::new(&rest, &tets, &[60e3], 0.45);
+        let grads = fem.gradients[0];
+        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
+        let slots = TET_EDGES.map(|[a, b]| {
+            (model.springs.iter())
+                .position(|s| (s.i, s.j) == (a as u32, b as u32))
+                .expect("every edge has a spring") as u32
+        });
+        model.tets = tets;
+        model.rest_volume = vec![v0];
+        model.tet_springs = vec![slots];
+        model.spring_law.prony_g = 0.4;
+        model.spring_law.prony_tau = 0.05;
+        let c = v0 * fem.mu[0] * 0.4 / 0.6 / (1.0 + 1e-3 / 0.05);
+        model.fem = Some(fem);
+        let deformed = vec![
+            DVec3::new(0.0001, -0.0002, 0.0),
+            DVec3::new(0.0112, 0.0004, 0.0002),
+            DVec3::new(0.0003, 0.0117, -0.0005),
+            DVec3::new(0.0025, 0.0006, 0.0093),
+        ];
+        let strain = |x: &[DVec3]| {
+            green_strain(super::super::fem::deformation_gradient(
+                &grads,
+                [x[0], x[1], x[2], x[3]],
+            ))
+        };
+        let viscous = [0.01, -0.02, 0.005, 0.004, -0.003, 0.002];
+        let energy = |x: &[DVec3]| {
+            let d = strain(x) - unpack(&viscous);
+            c * d.to_cols_array().iter().map(|v| v * v).sum::<f64>()
+        };
+        let assemble = |x: &[DVec3], maxwell: &[f64]| {
+            let mut state = State::initial(&model);
+            state.positions = x.to_vec();
+            state.maxwell = maxwell.to_vec();
+            let mut system = System::default();
+            system.begin_partial(&model, 1.0);
+            let mut force = vec![DVec3::ZERO; 4];
+            accumulate_arms(&model, &state, &mut force, &mut system, 0..1);
+            (force, system)
+        };
+        let (force, _) = assemble(&deformed, &viscous);
+        let h = 1e-8;
+        for a in 0..4 {
+            for k in 0..3 {
+                let shifted = |t: f64| {
+                    let mut x = deformed.clone();
+                    x[a][k] += t;
+                    energy(&x)
+                };
+                let numeric = -(shifted(h) - shifted(-h)) / (2.0 * h);
+                assert!(
+                    (numeric - force[a][k]).abs() < 1e-6 * force[a].length(),
+                    "node {a}, axis {k}: {numeric} against {}",
+                    force[a][k]
+                );
+            }
+        }
+        // Unstressed: E_v = E.
+        let held = pack(strain(&deformed));
+        let (force, system) = assemble(&deformed, &held);
+        assert!(force.iter().all(|f| f.length() < 1e-12), "{force:?}");
+        let block = |a: usize, b: usize| -> DMat3 {
+            if a == b {
+                return system.diag[a];
+            }
+            let slot = (0..6)
+                .find(|&m| {
+                    let [p, q] = TET_EDGES[m];
+                    (p, q) == (a.min(b), a.max(b))
+                })
+                .expect("an edge");
+            let off = system.off[slots[slot] as usize];
+            if a < b { off } else { off.transpose() }
+        };
+        for b in 0..4 {
+            for k in 0..3 {
+                let along = |t: f64| {
+                    let mut x = deformed.clone();
+                    x[b][k] += t;
+                    assemble(&x, &held).0
+                };
+                let (fp, fm) = (along(h), along(-h));
+                for a in 0..4 {
+                    // K_ab e_k = -df_a / dx_bk.
+                    let numeric = -(fp[a] - fm[a]) / (2.0 * h);
+                    let exact = block(a, b).col(k);
+                    assert!(
+                        numeric.abs_diff_eq(exact, 1e-6 * largest(block(a, a))),
+                        "block ({a}, {b}), column {k}: {numeric} against {exact}"
+                    );
+                }
+            }
         }
     }
 }

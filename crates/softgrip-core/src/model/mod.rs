@@ -546,6 +546,11 @@ impl Model {
                 scene.model.stiffening_cubic,
                 scene.model.softening,
             );
+            // A Prony term: the share g of the shear modulus is the Maxwell arms'
+            // (`forces::viscosity::accumulate_arms`); lambda does not relax.
+            for mu in &mut fem.mu {
+                *mu *= 1.0 - scene.model.prony_g;
+            }
             fem
         });
 

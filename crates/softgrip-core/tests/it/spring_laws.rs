@@ -218,3 +218,61 @@ fn a_held_viscoelastic_spring_relaxes() {
         );
     }
 }
+
+/// The neo-Hookean elements' Prony term: a block hanging from its top face (nu 0.499, nearly
+/// incompressible, so shear carries the sag) creeps under its own weight as a standard linear
+/// solid does: from the instant sag (the elastic block's, solved statically) to `1 / (1 - g)`
+/// of it, a share `1 - 1/e` of the creep done at `tau / (1 - g)`.
+#[test]
+fn a_viscoelastic_continuum_creeps_as_a_standard_linear_solid() {
+    let (g, tau): (f64, f64) = (0.5, 0.1);
+    let scene = |prony: bool| {
+        let more = format!(
+            "density = 1070.0\nyoung_modulus = 57.6e3\npoisson_ratio = 0.499\n[model]\nelasticity = \"neo-hookean\"\nrayleigh_mass = 40.0\n{}[support]\nkind = \"none\"\n[[fixed]]\nmin = [-1.0, -1.0, {}]\nmax = [1.0, 1.0, 1.0]\n",
+            if prony {
+                format!("prony_g = {g}\nprony_tau = {tau}\n")
+            } else {
+                String::new()
+            },
+            0.06 - 1e-6
+        );
+        crate::support::cuboid_scene("dt = 1e-3", [0.02, 0.02, 0.06], 0.005, &more)
+    };
+    let sag = |sim: &Simulation| {
+        let bottom: Vec<usize> = (0..sim.model.particle_count())
+            .filter(|&i| sim.model.rest_positions[i].z < 1e-9)
+            .collect();
+        -bottom
+            .iter()
+            .map(|&i| sim.state.positions[i].z - sim.model.rest_positions[i].z)
+            .sum::<f64>()
+            / bottom.len() as f64
+    };
+    let mut elastic = crate::support::simulation(&scene(false), "elastic");
+    elastic
+        .equilibrium(softgrip_core::equilibrium::StaticOptions::default())
+        .expect("equilibrium");
+    let instant = sag(&elastic);
+    let mut sim = crate::support::simulation(&scene(true), "viscoelastic");
+    let creep_time = tau / (1.0 - g);
+    let mut at_creep_time = 0.0;
+    for step in 1..=2000 {
+        sim.step().expect("a step");
+        if step == (creep_time / 1e-3).round() as usize {
+            at_creep_time = sag(&sim);
+        }
+    }
+    let last = sag(&sim);
+    let expected_last = instant / (1.0 - g);
+    let share = (at_creep_time - instant) / (expected_last - instant);
+    eprintln!(
+        "instant {:.4} mm, at tau/(1-g) {:.4} mm ({share:.3} of the creep; SLS 0.632), after 2 s {:.4} mm ({:.3} x the instant; SLS {:.3})",
+        instant * 1e3,
+        at_creep_time * 1e3,
+        last * 1e3,
+        last / instant,
+        1.0 / (1.0 - g)
+    );
+    assert!((last / expected_last - 1.0).abs() < 0.03);
+    assert!((share - (1.0 - (-1.0f64).exp())).abs() < 0.06);
+}

@@ -175,10 +175,7 @@ impl Resolver<'_> {
             }
         }
         if elasticity == Elasticity::NeoHookean {
-            for (key, value, plain) in [
-                ("prony_g", prony_g, 0.0),
-                ("compression_ratio", compression_ratio, 1.0),
-            ] {
+            for (key, value, plain) in [("compression_ratio", compression_ratio, 1.0)] {
                 if value != plain {
                     return Err(self.err(
                         at(key),
