@@ -125,8 +125,8 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             effect: "viscoelastic-creep",
             variant: String::new(),
             // Started inside the range, not at g = 0: with no relaxing
-            // share the relaxation time moves nothing and the fit cannot
-            // find its way out (creep-weak stayed at g 0.004, tau 1.0).
+            // share the relaxation time moves nothing (a zero gradient),
+            // and the fit cannot find its way out.
             // The baseline fitted the material as if fully relaxed, so the
             // start keeps that long-term modulus, E (1 - g), where it was.
             scene: with(&|s| {

@@ -71,18 +71,17 @@ pub fn diagnose(
     fits.done = 2;
     // Where the residual stands out of the noise.
     let location = locate(recording, &baseline.replay, &noise);
-    // Reported, not acted on: refitting them in every candidate, and
-    // trying the candidates at the noise level when one was pinned, named
-    // one effect fewer on the suite (docs/results/diagnosis-notes/pinned-refitted.md).
+    // Reported, not acted on: a parameter at its bound is evidence of a form
+    // error, and refitting it in every candidate adds freedom to each alike
+    // (docs/results/diagnosis-notes/pinned-refitted.md).
     let pinned = pinned_at_bounds(&baseline.params, &base_params);
     // The effects that explain it, by a greedy search of the catalogue.
     let found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;
     // The verdict: what is left, how far the discretisation alone moves the
     // markers, and the evidence in words.
     let remaining = locate(recording, &found.current.replay, &noise);
-    // On the final model: the baseline's may not show it (on the suite's
-    // strong creep, half the step moves the baseline by 0.001 mm and the
-    // model with the creep by about 0.1).
+    // On the final model: the baseline's may not show it (a rate-dependent
+    // effect makes the found model step-sensitive where the baseline is not).
     fits.done = fits.done.min(fits.planned);
     fits.starting("the final model on a finer mesh and step");
     let discretisation = crate::discretisation::check(

@@ -49,8 +49,8 @@ pub(super) enum Search {
     /// point.
     Design,
     /// The design, and searches from its best and next best points (the
-    /// baseline: on the suite's control-3 the first search once ended at
-    /// NRMSE 0.0041 where the second found 0.0032, the noise's level).
+    /// baseline: every verdict is measured against it, so a local minimum
+    /// there would show as an effect everywhere).
     Twice,
     /// The design, and a second search from the next best point when the
     /// first explains a share (PROMISING) of the current fit's residual
@@ -329,8 +329,7 @@ fn fit_task(
         // Other starts the caller knows of (values, not unit), first, and
         // the floor. The floor is not a place to search from: where the
         // effect is off its own parameters do nothing (creep's time at
-        // g 0), and a search from there stays near it (on the suite's weak
-        // creep: 2 % of the residual from there, 6 % with it as a floor).
+        // g 0), and a search from there stays near it.
         // The fit ends at the floor when the search ends worse.
         let mut design: Vec<Vec<f64>> = others.iter().map(|(u, _)| u.clone()).collect();
         if search != Search::Local {
@@ -365,9 +364,8 @@ fn fit_task(
         // explains something (PROMISING) from there, also from the next
         // best point of the design (on the budget left). A candidate's
         // cost can have two valleys, and which one the search from the
-        // best point ends in can turn on its start's last bits: on
-        // control-2, a soft bottom half ended at BIC -29 or at -12 as they
-        // went; from the next best point it reaches -41.
+        // best point ends in can turn on its start's last bits; a second
+        // start from another valley makes the verdict independent of them.
         // A verdict must not turn on that. A candidate that explains
         // nothing from its best point is not searched again: that is where
         // most of the runs would go.

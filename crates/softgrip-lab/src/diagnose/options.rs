@@ -14,9 +14,8 @@ pub struct DiagnoseOptions {
     /// every fit that moves the parameter (the baseline's, each
     /// candidate's, the pair's) searches only there. E measured as the
     /// thesis did (the initial slope of a compression test, its section
-    /// V.B) is a small-strain modulus: a fit that needs 3.6 times it (as
-    /// the suite's strain-stiffening-strong once did) is absorbing physics
-    /// the model lacks.
+    /// V.B) is a small-strain modulus: a fit that needs several times it is
+    /// absorbing physics the model lacks.
     pub bounds: Vec<(String, f64, f64)>,
     /// Simulations at most for the baseline fit ...
     pub max_evaluations: usize,

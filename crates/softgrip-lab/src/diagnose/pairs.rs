@@ -126,8 +126,7 @@ pub(super) fn fit_pair(
     // not the fixed bottom the better one was fitted on), and also from both
     // effects at their own optima, with either one's modulus. (The pair can
     // still end worse than the better one alone when the two are not nested:
-    // a table under the object is no fixed bottom at any friction, as on
-    // control-3.)
+    // a table under the object is no fixed bottom at any friction.)
     let at = |f: &ModelFit, name: &str| f.params.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
     let starts: Vec<Vec<f64>> = [hf, rf]
         .iter()
@@ -209,8 +208,8 @@ pub(super) fn judge_pair(
 /// at all (leaving it out lowers BIC) says that one only mimicked the
 /// other: the tie that called for the pair is gone, and the other faces
 /// the test a candidate alone in its round faces, Vuong's z against the
-/// model without it. (Where both effects stand for one form error, as on
-/// the suite's control-2, leaving either out costs something.)
+/// model without it. (Where both effects stand for one form error, leaving
+/// either out costs something.)
 pub fn pair_verdict(
     without: &[PairNeed; 2],
     lone: [Option<f64>; 2],
@@ -257,12 +256,11 @@ mod tests {
         }
     }
 
-    /// The pair's verdicts, with the suite's figures (docs/results/diagnosis-history.md): two
-    /// effects both needed are both named, or with one place left the one needed more; a pair
-    /// that needs neither names none when leaving either out costs something (control-2: +4 and
-    /// +1, one form error seen by both), and when it does not need one at all (leaving table
-    /// friction out of heterogeneous-stiffness-weak's pair lowers BIC by 3) the other is named
-    /// only if it passes a lone candidate's Vuong test.
+    /// The pair's verdicts on constructed figures: two effects both needed are both named, or
+    /// with one place left the one needed more; a pair that needs neither names none when
+    /// leaving either out costs something (+4 and +1: one form error seen by both), and when it
+    /// does not need one at all (leaving one out lowers BIC by 3) the other is named only if it
+    /// passes a lone candidate's Vuong test.
     #[test]
     fn a_pair_that_does_not_need_one_judges_the_other_alone() {
         let both = [need(200.0, 0.76, 5.5), need(144.0, 0.65, 3.7)];

@@ -62,9 +62,8 @@ impl Diagnosis {
     /// NRMSE over all markers (fingers included) before and after, of
     /// the part of the residual the noise does not account for
     /// ([`rms_beyond_noise`] over the object's extent): the model's own
-    /// error, which a recording's NRMSE cannot show below its noise. On
-    /// the concealed suite it follows the error against the noise-free
-    /// truth, which a lab does not have.
+    /// error, which a recording's NRMSE cannot show below its noise. Where
+    /// the noise-free truth is known it follows the error against it.
     pub fn nrmse_all_beyond_noise(&self) -> (f64, f64) {
         let one = |f: &ModelFit| {
             let e = &f.errors;
@@ -357,9 +356,8 @@ mod tests {
             "{pair_named}"
         );
         assert!(pair_named.ends_with("NRMSE (all markers) 0.0358 -> 0.0193"));
-        // Named through the pair though it scored better alone
-        // (heterogeneous-stiffness-weak's figures): the runner-up, and no
-        // claim that Vuong's test told them apart.
+        // Named through the pair though it scored better alone: the
+        // runner-up, and no claim that Vuong's test told them apart.
         let tied_better = evidence(
             tried("heterogeneous-stiffness", -27.0, 0.20, 1.2),
             tried("table-friction", -12.0, 0.11, -1.2),
