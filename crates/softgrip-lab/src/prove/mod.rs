@@ -12,8 +12,8 @@ mod suite;
 
 pub use report::report;
 pub use suite::{
-    Case, NOISE, QUASI_STATIC_DT, case, cases, nominal, nominal_plate, seeded, synthesis,
-    thesis_markers, truth_base, with_truth_edge, write_case,
+    Case, DEVELOPMENT_SEED, E_ERROR, NOISE, QUASI_STATIC_DT, SCORED_SEEDS, case, cases, nominal,
+    nominal_plate, seeded, synthesis, thesis_markers, truth_base, with_truth_edge, write_case,
 };
 
 use std::path::{Path, PathBuf};
@@ -41,6 +41,8 @@ pub struct ProveOptions {
 /// One case's outcome.
 #[derive(Debug, Clone)]
 pub struct Outcome {
+    /// The proof's seed the case was drawn under.
+    pub seed: u64,
     pub case: Case,
     pub diagnosis: Result<Diagnosis, LabError>,
     pub seconds: f64,
@@ -181,21 +183,23 @@ pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -
     options
 }
 
-/// Runs the cases whose names contain `filter` (all for ""), writing the
-/// recordings under `dir`; `progress` gets (case index, cases, name).
+/// Runs the cases whose names contain `filter` (all for "") under the proof's `seed`, writing
+/// the recordings under `dir/seed-SEED`; `progress` gets (case index, cases, name).
 pub fn run(
     dir: &Path,
+    seed: u64,
     filter: &str,
     options: &DiagnoseOptions,
     prove: &ProveOptions,
     progress: &dyn Fn(usize, usize, &str),
 ) -> Vec<Outcome> {
-    let chosen = seeded(filter);
+    let chosen = seeded(seed, filter);
+    let dir = dir.join(format!("seed-{seed}"));
     let total = chosen.len();
     chosen
         .into_iter()
         .enumerate()
-        .map(|(i, (seed, case))| {
+        .map(|(i, (noise_seed, case))| {
             progress(i, total, &case.name);
             let case = match prove.truth_edge_length {
                 Some(h) => with_truth_edge(case, h),
@@ -204,7 +208,7 @@ pub fn run(
             let started = std::time::Instant::now();
             let case_dir: PathBuf = dir.join(&case.name);
             let options = options_for(&case, options, prove.e_measured_within);
-            let recording = write_case(&case, &case_dir, seed);
+            let recording = write_case(&case, &case_dir, noise_seed);
             let diagnosis = recording
                 .as_ref()
                 .map_err(Clone::clone)
@@ -225,6 +229,7 @@ pub fn run(
                 .ok()
                 .and_then(|rec| truth_error(&case.truth_scene, &rec).ok());
             Outcome {
+                seed,
                 case,
                 diagnosis,
                 seconds,

@@ -32,7 +32,7 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
     };
     let _ = writeln!(
         s,
-        "Made by `softgrip prove` ({}). Each recording is made by softgrip from a scene the diagnosis is not given ({truth_edge} and 1 ms steps instead of its 4 mm and 2 ms, E 10 % higher, the spring limits at 0.2), with 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane section (as the thesis's camera saw it) and the finger; the diagnosis gets the nominal scene (the thesis light guide with a sphere; a flat plate for the finger-friction cases and their control) and the recording{}, and is not told what is hidden.\n",
+        "Made by `softgrip prove` ({}). Each recording is made by softgrip from a scene the diagnosis is not given ({truth_edge} and 1 ms steps instead of its 4 mm and 2 ms, E drawn log-uniformly in 0.8-1.25 times the nominal, the spring limits at 0.2; each effect's strength, and a region's place, drawn from the seed within its range), with 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane section (as the thesis's camera saw it) and the finger; the diagnosis gets the nominal scene (the thesis light guide with a sphere; a flat plate for the finger-friction cases and their control) and the recording{}, and is not told what is hidden.\n",
         softgrip_core::bench::machine_description(),
         match e_within {
             Some(f) => format!(
@@ -96,6 +96,14 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
 
 /// One row per case: the verdict, NRMSE before and after against the
 /// recording and the truth, the parameters recovered, the markers.
+/// A case by its name, its seed and, for a hidden region, its place.
+fn case_label(o: &Outcome) -> String {
+    match o.case.region {
+        Some(place) => format!("{} ({place}), seed {:x}", o.case.name, o.seed),
+        None => format!("{}, seed {:x}", o.case.name, o.seed),
+    }
+}
+
 fn write_table(s: &mut String, outcomes: &[Outcome]) {
     s.push_str("| case | hidden | named | right | NRMSE all before | after | after / before | the truth itself (/ before) | truth before | truth after | truth after / before | beyond the noise: before, after (after / before) | recovered (hidden) | moved most by the effect | called mismatched | finer mesh, half step: move / noise | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for o in outcomes {
@@ -168,7 +176,7 @@ fn write_table(s: &mut String, outcomes: &[Outcome]) {
                 let _ = writeln!(
                     s,
                     "| {} | {hidden} | {named} | {} | {:.5} | {:.5} | {:.2} | {itself} | {truth} | {beyond} | {} | {} | {} | {discretisation} | {:.0} |",
-                    o.case.name,
+                    case_label(o),
                     if o.right() { "yes" } else { "NO" },
                     d.baseline.errors.nrmse_all,
                     d.final_fit.errors.nrmse_all,
@@ -183,7 +191,8 @@ fn write_table(s: &mut String, outcomes: &[Outcome]) {
                 let _ = writeln!(
                     s,
                     "| {} | {hidden} | failed: {e} | NO | | | | | | | | | | | | | {:.0} |",
-                    o.case.name, o.seconds
+                    case_label(o),
+                    o.seconds
                 );
             }
         }
@@ -234,7 +243,7 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
     s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect, or against the model without it when its round has no other, is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it); when leaving one out lowers BIC, the pair does not need it at all, and the other is judged as a lone candidate: by Vuong's z against the model without it.\n\n");
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
-        let mut line = format!("- **{}**: ", o.case.name);
+        let mut line = format!("- **{}**: ", case_label(o));
         if !d.pinned.is_empty() {
             let _ = write!(
                 line,

@@ -30,7 +30,62 @@ pub struct Case {
     pub mode: Mode,
     /// Quasi-static loads, N (7 loads, 8 samples: up and back down).
     pub loads: Vec<f64>,
+    /// The seed of its noise, drawn from the proof's seed.
+    pub noise_seed: u64,
+    /// Where a hidden region lies (the diagnosis's names: "left half", ...).
+    pub region: Option<&'static str>,
 }
+
+/// The seed developed on: tests and by-hand runs use it (and any other but the scored ones).
+pub const DEVELOPMENT_SEED: u64 = 1;
+
+/// The seeds `softgrip prove` scores by default, drawn once (2026-11-28) and never run while
+/// the diagnosis was developed: its score on them is a score on data it has not seen.
+pub const SCORED_SEEDS: [u64; 3] = [
+    0x5eed_2f71_09c4_a1d3,
+    0x9b3e_77a0_4d12_c865,
+    0x26c1_e8f5_b09a_7314,
+];
+
+/// A case's draws: SplitMix64 from the proof's seed and the case's name, so that a case is the
+/// same whatever else is run.
+struct Draws(u64);
+
+impl Draws {
+    fn new(seed: u64, name: &str) -> Draws {
+        // FNV-1a of the name, mixed into the seed.
+        let h = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+        });
+        Draws(seed ^ h)
+    }
+
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [lo, hi).
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * ((self.next() >> 11) as f64 / (1u64 << 53) as f64)
+    }
+
+    /// Log-uniform in [lo, hi).
+    fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.uniform(lo.ln(), hi.ln()).exp()
+    }
+
+    fn pick<T: Copy>(&mut self, of: &[T]) -> T {
+        of[(self.next() % of.len() as u64) as usize]
+    }
+}
+
+/// The range of the truth's E over the nominal's, drawn log-uniformly for every case: a lab's
+/// nominal E is a datasheet's or a compression test's, off by up to a quarter.
+pub const E_ERROR: (f64, f64) = (0.8, 1.25);
 
 /// The scene the diagnosis is given: the thesis cuboid through a light
 /// guide, lattice model, the lab's 4 mm edges, 2 ms steps (time series only: loads are solved
@@ -73,48 +128,60 @@ pub const TRUTH_EDGE: f64 = 0.003;
 /// compare` on a table case: RMSE 0.241 mm against 0.238).
 pub const QUASI_STATIC_DT: f64 = 2e-3;
 
-/// The truth's concealment: 1 ms steps, 3 mm edges, E 10 % higher, the spring limits
-/// elsewhere.
+/// The truth's concealment: 1 ms steps, 3 mm edges, the spring limits elsewhere (E is drawn
+/// per case).
 fn conceal(mut s: Scene) -> Scene {
     s.simulation.dt = 1e-3;
     s.object.edge_length = TRUTH_EDGE;
-    s.object.young_modulus *= 1.1;
     s.model.tau_s = Some(0.2);
     s.model.tau_c = Some(0.2);
     s
 }
 
-/// The truth before any effect is hidden in it.
+/// The truth before any effect is hidden in it, at the nominal E.
 pub fn truth_base() -> Scene {
     conceal(nominal())
 }
 
-/// The suite. The truth differs from the nominal scene everywhere the
-/// diagnosis may not look: 3 mm edges instead of 4, 1 ms steps instead
-/// of 2, E 10 % higher, the spring limits elsewhere.
-pub fn cases() -> Vec<Case> {
-    let base = truth_base();
-    let right_half = |e: f64| Region {
-        region: AaBox {
-            min: DVec3::new(0.0, -1.0, -1.0),
-            max: DVec3::new(1.0, 1.0, 1.0),
-        },
-        young_modulus: e,
-        density: base.object.density,
+/// The half of the cuboid a hidden region fills, as the diagnosis's candidates name them.
+fn half(name: &str) -> AaBox {
+    let (lo, hi) = (DVec3::splat(-1.0), DVec3::splat(1.0));
+    let (min, max) = match name {
+        "left half" => (lo, DVec3::new(0.0, 1.0, 1.0)),
+        "right half" => (DVec3::new(0.0, -1.0, -1.0), hi),
+        "bottom half" => (lo, DVec3::new(1.0, 1.0, 0.01)),
+        _ => (DVec3::new(-1.0, -1.0, 0.01), hi),
     };
+    AaBox { min, max }
+}
+
+/// The suite under the proof's `seed`. The truth differs from the nominal scene everywhere the
+/// diagnosis may not look: 3 mm edges instead of 4, 1 ms steps instead of 2, E drawn in
+/// [`E_ERROR`] of the nominal, the spring limits elsewhere. Each effect's strength (and a
+/// region's place) is drawn from the seed within its stated range, weak and strong.
+pub fn cases(seed: u64) -> Vec<Case> {
+    let base = truth_base();
     let plate_base = conceal(nominal_plate());
-    let case_on = |plate: bool,
-                   name: &str,
-                   effects: Vec<&'static str>,
-                   truth: Vec<(&'static str, f64)>,
-                   mode: Mode,
-                   f: &dyn Fn(&mut Scene)| {
+    // `hide` hides the case's effects in the truth (its E already drawn), with the case's own
+    // draws, and returns the hidden values by the diagnosis's names.
+    type Hide<'a> = &'a dyn Fn(&mut Scene, &mut Draws) -> Vec<(&'static str, f64)>;
+    let case_on = |plate: bool, name: &str, effects: Vec<&'static str>, mode: Mode, hide: Hide| {
         let base = if plate { &plate_base } else { &base };
+        let mut draws = Draws::new(seed, name);
         let mut s = base.clone();
-        f(&mut s);
+        s.object.young_modulus *= draws.log_uniform(E_ERROR.0, E_ERROR.1);
+        let truth = hide(&mut s, &mut draws);
         let mut plain = base.clone();
         plain.object.young_modulus = s.object.young_modulus;
+        let region = s.regions.first().map(|r| {
+            ["left half", "right half", "bottom half", "top half"]
+                .into_iter()
+                .find(|h| half(h) == r.region)
+                .unwrap_or("a region")
+        });
         Case {
+            noise_seed: draws.next() >> 1,
+            region,
             name: name.to_string(),
             effects,
             truth,
@@ -130,102 +197,114 @@ pub fn cases() -> Vec<Case> {
                 .collect(),
         }
     };
-    let case =
-        |name: &str,
-         effects: Vec<&'static str>,
-         truth: Vec<(&'static str, f64)>,
-         mode: Mode,
-         f: &dyn Fn(&mut Scene)| case_on(false, name, effects, truth, mode, f);
+    let case = |name: &str, effects: Vec<&'static str>, mode: Mode, hide: Hide| {
+        case_on(false, name, effects, mode, hide)
+    };
     let qs = Mode::QuasiStatic;
-    let e = base.object.young_modulus;
+    let none: Hide = &|_, _| vec![];
     let mut out = Vec::new();
-    for (k, young) in [(1, 1.0), (2, 0.9), (3, 1.2)] {
-        out.push(case(
-            &format!("control-{k}"),
-            vec![],
-            vec![],
-            qs,
-            &|s: &mut Scene| s.object.young_modulus *= young,
-        ));
+    for k in 1..=3 {
+        out.push(case(&format!("control-{k}"), vec![], qs, none));
     }
-    for (strength, mu) in [("weak", 0.2), ("strong", 0.05)] {
+    // Each effect at two strengths: (name, low, high) of its drawn range.
+    for (strength, lo, hi) in [("weak", 0.15, 0.3), ("strong", 0.03, 0.1)] {
         out.push(case(
             &format!("table-friction-{strength}"),
             vec!["table-friction"],
-            vec![("table_friction", mu)],
             qs,
-            &|s: &mut Scene| {
+            &|s, d| {
+                let mu = d.uniform(lo, hi);
                 s.support.kind = SupportKind::Table;
                 s.support.friction = mu;
+                vec![("table_friction", mu)]
             },
         ));
     }
-    for (strength, beta) in [("weak", 5000.0), ("strong", 10000.0)] {
+    for (strength, lo, hi) in [("weak", 3000.0, 6000.0), ("strong", 8000.0, 12000.0)] {
         out.push(case(
             &format!("strain-stiffening-{strength}"),
             vec!["strain-stiffening"],
-            vec![("stiffening", beta)],
             qs,
-            &|s: &mut Scene| s.model.stiffening = beta,
-        ));
-    }
-    for (strength, g) in [("weak", 0.6), ("strong", 0.8)] {
-        out.push(case(
-            &format!("viscoelastic-creep-{strength}"),
-            vec!["viscoelastic-creep"],
-            vec![("prony_g", g), ("prony_tau", 0.5)],
-            Mode::TimeSeries,
-            &|s: &mut Scene| {
-                s.model.prony_g = g;
-                s.model.prony_tau = 0.5;
+            &|s, d| {
+                let beta = d.uniform(lo, hi);
+                s.model.stiffening = beta;
+                vec![("stiffening", beta)]
             },
         ));
     }
-    out.push(case_on(
-        true,
-        "control-plate",
-        vec![],
-        vec![],
-        qs,
-        &|_: &mut Scene| {},
-    ));
-    for (strength, mu) in [("weak", 0.1), ("strong", 0.0)] {
+    for (strength, lo, hi) in [("weak", 0.5, 0.65), ("strong", 0.75, 0.85)] {
+        out.push(case(
+            &format!("viscoelastic-creep-{strength}"),
+            vec!["viscoelastic-creep"],
+            Mode::TimeSeries,
+            &|s, d| {
+                let (g, tau) = (d.uniform(lo, hi), d.log_uniform(0.3, 0.8));
+                s.model.prony_g = g;
+                s.model.prony_tau = tau;
+                vec![("prony_g", g), ("prony_tau", tau)]
+            },
+        ));
+    }
+    out.push(case_on(true, "control-plate", vec![], qs, none));
+    for (strength, lo, hi) in [("weak", 0.05, 0.15), ("strong", 0.0, 0.02)] {
         out.push(case_on(
             true,
             &format!("finger-friction-{strength}"),
             vec!["finger-friction"],
-            vec![("friction", mu)],
             qs,
-            &|s: &mut Scene| s.fingers[0].friction = mu,
+            &|s, d| {
+                let mu = d.uniform(lo, hi);
+                s.fingers[0].friction = mu;
+                vec![("friction", mu)]
+            },
         ));
     }
-    for (strength, ratio) in [("weak", 1.0 / 3.0), ("strong", 0.1)] {
+    // A softer or a stiffer half, any of four.
+    for (strength, lo, hi) in [("weak", 2.0, 3.5), ("strong", 5.0, 10.0)] {
         out.push(case(
             &format!("heterogeneous-stiffness-{strength}"),
             vec!["heterogeneous-stiffness"],
-            vec![("region_young_modulus", ratio * e)],
             qs,
-            &|s: &mut Scene| s.regions.push(right_half(ratio * e)),
+            &|s, d| {
+                let place = d.pick(&["left half", "right half", "bottom half", "top half"]);
+                let ratio = d.uniform(lo, hi);
+                let ratio = if d.next() % 2 == 0 {
+                    ratio
+                } else {
+                    1.0 / ratio
+                };
+                let e = ratio * s.object.young_modulus;
+                s.regions.push(Region {
+                    region: half(place),
+                    young_modulus: e,
+                    density: s.object.density,
+                });
+                vec![("region_young_modulus", e)]
+            },
         ));
     }
-    for (strength, f) in [("weak", 2.0), ("strong", 3.0)] {
+    for (strength, lo, hi) in [("weak", 1.5, 2.5), ("strong", 2.5, 3.5)] {
         out.push(case(
             &format!("load-loss-{strength}"),
             vec!["load-loss"],
-            vec![("guide_friction", f)],
             qs,
-            &|s: &mut Scene| s.fingers[0].guide_friction = f,
+            &|s, d| {
+                let f = d.uniform(lo, hi);
+                s.fingers[0].guide_friction = f;
+                vec![("guide_friction", f)]
+            },
         ));
     }
     out.push(case(
         "table-friction+load-loss",
         vec!["table-friction", "load-loss"],
-        vec![("table_friction", 0.1), ("guide_friction", 1.0)],
         qs,
-        &|s: &mut Scene| {
+        &|s, d| {
+            let (mu, f) = (d.uniform(0.05, 0.15), d.uniform(0.7, 1.3));
             s.support.kind = SupportKind::Table;
-            s.support.friction = 0.1;
-            s.fingers[0].guide_friction = 1.0;
+            s.support.friction = mu;
+            s.fingers[0].guide_friction = f;
+            vec![("table_friction", mu), ("guide_friction", f)]
         },
     ));
     out
@@ -303,20 +382,18 @@ pub fn with_truth_edge(mut case: Case, edge: f64) -> Case {
     case
 }
 
-/// The case called `name`.
-pub fn case(name: &str) -> Option<Case> {
-    cases().into_iter().find(|c| c.name == name)
+/// The case called `name` under the proof's `seed`.
+pub fn case(seed: u64, name: &str) -> Option<Case> {
+    cases(seed).into_iter().find(|c| c.name == name)
 }
 
-/// The cases whose names contain `filter` (all for ""), each with its
-/// noise seed: by its place in the whole suite, so that `--only` (and
-/// `softgrip bench --diagnosis`) make the very recording the full run
-/// makes.
-pub fn seeded(filter: &str) -> Vec<(u64, Case)> {
-    cases()
+/// The cases whose names contain `filter` (all for ""), each with its noise seed (drawn from
+/// `seed` and its name, so that `--only` and `softgrip bench --diagnosis` make the very
+/// recording the full run makes).
+pub fn seeded(seed: u64, filter: &str) -> Vec<(u64, Case)> {
+    cases(seed)
         .into_iter()
-        .enumerate()
-        .filter(|(_, c)| c.name.contains(filter))
-        .map(|(i, c)| (100 + i as u64, c))
+        .filter(|c| c.name.contains(filter))
+        .map(|c| (c.noise_seed, c))
         .collect()
 }

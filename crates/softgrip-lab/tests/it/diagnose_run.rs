@@ -24,7 +24,7 @@ fn small_budget(per_param: usize) -> DiagnoseOptions {
 #[ignore = "slow: a whole diagnosis"]
 fn a_diagnosis_writes_the_specs_json_and_its_report() {
     let dir = support::temp_dir("diag");
-    let case = prove::case("load-loss-strong").expect("case");
+    let case = prove::case(prove::DEVELOPMENT_SEED, "load-loss-strong").expect("case");
     let mut rec = prove::write_case(&case, &dir.join("rec"), 5).expect("recording");
     // The nominal scene on a coarser mesh: the same diagnosis, faster.
     rec.scene.object.edge_length = 0.008;
@@ -172,7 +172,7 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
 /// in a directory of its own.
 fn coarse_table_friction(tag: &str) -> (std::path::PathBuf, softgrip_lab::recording::Recording) {
     let dir = support::temp_dir(&format!("diag-{tag}"));
-    let case = prove::case("table-friction-strong").expect("case");
+    let case = prove::case(prove::DEVELOPMENT_SEED, "table-friction-strong").expect("case");
     let mut rec = prove::write_case(&case, &dir.join("rec"), 3).expect("recording");
     rec.scene.object.edge_length = 0.008;
     (dir, rec)

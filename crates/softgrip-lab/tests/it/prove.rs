@@ -9,7 +9,7 @@ use crate::support;
 
 #[test]
 fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
-    let cases = prove::cases();
+    let cases = prove::cases(prove::DEVELOPMENT_SEED);
     let count = |effect: &str| cases.iter().filter(|c| c.effects == vec![effect]).count();
     // Every effect of the catalogue but damping, which is offered for time
     // series only.
@@ -42,7 +42,10 @@ fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
 #[ignore = "slow: proof cases, each a diagnosis"]
 fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
     let dir = support::temp_dir("prove-moved");
-    for c in prove::cases().iter().filter(|c| c.effects.len() == 1) {
+    for c in prove::cases(prove::DEVELOPMENT_SEED)
+        .iter()
+        .filter(|c| c.effects.len() == 1)
+    {
         let moved = prove::moved_by_effect(c, &dir.join(&c.name)).expect("simulated");
         let (marker, most) = moved.first().cloned().expect("markers");
         assert!(
@@ -59,7 +62,7 @@ fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
 #[test]
 fn a_case_is_written_as_the_thesis_experiment_saw_it() {
     let dir = support::temp_dir("prove");
-    let case = prove::case("load-loss-strong").expect("case");
+    let case = prove::case(prove::DEVELOPMENT_SEED, "load-loss-strong").expect("case");
     let rec = prove::write_case(&case, &dir, 1).expect("written");
     assert_eq!(rec.markers.len(), 8);
     assert_eq!(rec.samples.len(), 8);
@@ -93,7 +96,7 @@ fn a_case_is_written_as_the_thesis_experiment_saw_it() {
 fn the_candidates_search_ranges_cover_every_hidden_value() {
     use softgrip_lab::recording::Mode;
     let template = support::thesis_7_loads();
-    for c in prove::cases() {
+    for c in prove::cases(prove::DEVELOPMENT_SEED) {
         let mut rec = template.clone();
         rec.mode = c.mode;
         for (s, load) in rec.samples.iter_mut().zip(&c.loads) {
@@ -133,7 +136,7 @@ fn the_candidates_search_ranges_cover_every_hidden_value() {
 #[test]
 fn the_measured_range_of_e_holds_every_truths_e() {
     use softgrip_lab::diagnose::DiagnoseOptions;
-    for c in prove::cases() {
+    for c in prove::cases(prove::DEVELOPMENT_SEED) {
         let plain = prove::options_for(&c, &DiagnoseOptions::default(), None);
         assert!(plain.bounds.is_empty(), "not told unless asked");
         let options = prove::options_for(&c, &DiagnoseOptions::default(), Some(2.0));
@@ -165,7 +168,7 @@ fn the_measured_range_of_e_holds_every_truths_e() {
 /// the diagnosis gets stay as the suite has them.
 #[test]
 fn the_truths_edge_length_moves_only_the_truths_mesh() {
-    for c in prove::cases() {
+    for c in prove::cases(prove::DEVELOPMENT_SEED) {
         let moved = prove::with_truth_edge(c.clone(), 0.005);
         assert_eq!(moved.truth_scene.object.edge_length, 0.005, "{}", c.name);
         assert_eq!(moved.plain_scene.object.edge_length, 0.005, "{}", c.name);
@@ -194,13 +197,13 @@ fn the_truths_edge_length_moves_only_the_truths_mesh() {
 /// the selection.
 #[test]
 fn a_case_has_its_seed_whatever_else_is_run() {
-    let all = prove::seeded("");
-    assert_eq!(all.len(), prove::cases().len());
+    let all = prove::seeded(prove::DEVELOPMENT_SEED, "");
+    assert_eq!(all.len(), prove::cases(prove::DEVELOPMENT_SEED).len());
     let mut seeds: Vec<u64> = all.iter().map(|(s, _)| *s).collect();
     seeds.dedup();
     assert_eq!(seeds.len(), all.len(), "one seed per case");
     for (seed, case) in &all {
-        let alone = prove::seeded(&case.name);
+        let alone = prove::seeded(prove::DEVELOPMENT_SEED, &case.name);
         let mine = alone
             .iter()
             .find(|(_, c)| c.name == case.name)
@@ -208,7 +211,7 @@ fn a_case_has_its_seed_whatever_else_is_run() {
         assert_eq!(mine.0, *seed, "{}", case.name);
     }
     // A selection of several keeps each one's seed.
-    let some = prove::seeded("load-loss");
+    let some = prove::seeded(prove::DEVELOPMENT_SEED, "load-loss");
     assert!(some.len() >= 3);
     for (seed, case) in &some {
         assert!(all.iter().any(|(s, c)| s == seed && c.name == case.name));
@@ -224,7 +227,7 @@ fn a_case_has_its_seed_whatever_else_is_run() {
 #[ignore = "slow: proof cases, each a diagnosis"]
 fn the_truth_scores_zero_against_its_noise_free_recording() {
     let dir = support::temp_dir("prove-truth");
-    let case = prove::case("load-loss-strong").expect("the case");
+    let case = prove::case(prove::DEVELOPMENT_SEED, "load-loss-strong").expect("the case");
     let clean = prove::noise_free(&case, &dir).expect("simulated");
     let truth = prove::truth_error(&case.truth_scene, &clean).expect("replayed");
     let nominal = prove::truth_error(&case.nominal, &clean).expect("replayed");
@@ -253,4 +256,72 @@ fn the_truth_scores_zero_against_its_noise_free_recording() {
         "nominal {nominal_noisy} against the noisy recording, {nominal} against the clean, noise {floor}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `prove --seed S`: the same seed draws the same suite; another seed draws another (noise,
+/// the truth's E, each strength); every draw within its stated range, E within
+/// `prove::E_ERROR` of the nominal; a region's place named. Over development seeds only.
+#[test]
+fn the_suite_is_drawn_from_its_seed() {
+    let toml = |cases: &[prove::Case]| -> Vec<String> {
+        cases.iter().map(|c| c.truth_scene.to_toml()).collect()
+    };
+    let one = prove::cases(prove::DEVELOPMENT_SEED);
+    assert_eq!(toml(&one), toml(&prove::cases(prove::DEVELOPMENT_SEED)));
+    let mut places = std::collections::BTreeSet::new();
+    for seed in 2..40 {
+        let other = prove::cases(seed);
+        assert_eq!(
+            other.iter().map(|c| &c.name).collect::<Vec<_>>(),
+            one.iter().map(|c| &c.name).collect::<Vec<_>>()
+        );
+        for (a, b) in one.iter().zip(&other) {
+            assert_ne!(a.noise_seed, b.noise_seed, "{}", a.name);
+            assert_ne!(
+                a.truth_scene.to_toml(),
+                b.truth_scene.to_toml(),
+                "{}",
+                a.name
+            );
+        }
+        for c in &other {
+            let ratio = c.truth_scene.object.young_modulus / c.nominal.object.young_modulus;
+            let (lo, hi) = prove::E_ERROR;
+            assert!((lo..hi).contains(&ratio), "{}: E x{ratio}", c.name);
+            for (name, v) in &c.truth {
+                let (lo, hi) = match (c.name.as_str(), *name) {
+                    ("table-friction-weak", _) => (0.15, 0.3),
+                    ("table-friction-strong", _) => (0.03, 0.1),
+                    ("strain-stiffening-weak", _) => (3000.0, 6000.0),
+                    ("strain-stiffening-strong", _) => (8000.0, 12000.0),
+                    ("viscoelastic-creep-weak", "prony_g") => (0.5, 0.65),
+                    ("viscoelastic-creep-strong", "prony_g") => (0.75, 0.85),
+                    (_, "prony_tau") => (0.3, 0.8),
+                    ("finger-friction-weak", _) => (0.05, 0.15),
+                    ("finger-friction-strong", _) => (0.0, 0.02),
+                    ("load-loss-weak", _) => (1.5, 2.5),
+                    ("load-loss-strong", _) => (2.5, 3.5),
+                    ("table-friction+load-loss", "table_friction") => (0.05, 0.15),
+                    ("table-friction+load-loss", _) => (0.7, 1.3),
+                    ("heterogeneous-stiffness-weak", _) | ("heterogeneous-stiffness-strong", _) => {
+                        let r = v / c.truth_scene.object.young_modulus;
+                        let r = r.max(1.0 / r);
+                        let (lo, hi) = if c.name.ends_with("weak") {
+                            (2.0, 3.5)
+                        } else {
+                            (5.0, 10.0)
+                        };
+                        assert!((lo..hi).contains(&r), "{}: ratio {r}", c.name);
+                        places.insert(c.region.expect("a region's place"));
+                        continue;
+                    }
+                    other => panic!("no stated range for {other:?}"),
+                };
+                assert!((lo..hi).contains(v), "{}: {name} = {v}", c.name);
+            }
+        }
+    }
+    assert_eq!(places.len(), 4, "every half drawn: {places:?}");
+    // The scored seeds are none of those developed on.
+    assert!(prove::SCORED_SEEDS.iter().all(|s| *s >= 40));
 }
