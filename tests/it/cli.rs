@@ -755,7 +755,7 @@ fn help_texts_agree_with_the_docs_and_the_program() {
     }
 
     // `prove --help` counts the suite's controls right.
-    let controls = softgrip_lab::prove::seeded("")
+    let controls = softgrip_lab::prove::seeded(softgrip_lab::prove::DEVELOPMENT_SEED, "")
         .iter()
         .filter(|(_, c)| c.name.starts_with("control"))
         .count();
