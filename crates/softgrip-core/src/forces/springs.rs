@@ -172,7 +172,7 @@ pub fn relax(model: &Model, state: &mut State) {
         return;
     }
     if model.fem.is_some() {
-        return super::viscosity::relax_elements(model, state);
+        return; // the elements' arms: `viscosity::relax_elements`
     }
     if state.maxwell.len() != model.springs.len() {
         state.maxwell = vec![0.0; model.springs.len()];

@@ -304,6 +304,7 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     lap(&mut mark, &mut times.solve);
     let projection = project_spring_limits(model, state, &mut s.projection);
     forces::springs::relax(model, state);
+    forces::viscosity::relax_elements(model, state);
     lap(&mut mark, &mut times.projection);
 
     state.time += model.dt;
