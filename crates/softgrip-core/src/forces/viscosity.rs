@@ -1,3 +1,6 @@
+//! The material's viscous terms: the neo-Hookean elements' Prony arms ([`accumulate_arms`],
+//! viscoelastic creep) and Rayleigh damping.
+//!
 //! Rayleigh damping, `D = a M + b K` (`[model] rayleigh_mass` a, `rayleigh_stiffness` b,
 //! softgrip): material damping that lets a mode of angular frequency w ring at the ratio
 //! `zeta = a / (2 w) + b w / 2`, where the springs' dampers (`damping_ratio`) damp each spring's
@@ -331,8 +334,8 @@ mod tests {
         m.to_cols_array().iter().fold(0.0, |a, x| a.max(x.abs()))
     }
 
-    #[test]
-    fn element_viscosity_is_the_gradient_of_its_dissipation_and_spares_rigid_motion() {
+    /// One neo-Hookean element (E 60 kPa, nu 0.45) and its six edges, and a deformed state of it.
+    fn one_element() -> (Model, Vec<DVec3>) {
         let rest = vec![
             DVec3::ZERO,
             DVec3::new(0.01, 0.0, 0.0),
@@ -340,43 +343,57 @@ mod tests {
             DVec3::new(0.002, 0.001, 0.009),
         ];
         let tets = vec![[0u32, 1, 2, 3]];
+        let edges: Vec<(u32, u32, f64, f64)> = TET_EDGES
+            .iter()
+            .map(|&[a, b]| (a as u32, b as u32, 0.0, 0.0))
+            .collect();
         let mut model = Model::from_particles(
             rest.clone(),
             vec![1e-3; 4],
             vec![false; 4],
-            &[
-                (0, 1, 0.0, 0.0),
-                (0, 2, 0.0, 0.0),
-                (0, 3, 0.0, 0.0),
-                (1, 2, 0.0, 0.0),
-                (1, 3, 0.0, 0.0),
-                (2, 3, 0.0, 0.0),
-            ],
+            &edges,
             DVec3::ZERO,
             1e-3,
         );
-        let fem = FemModel::new(&rest, &tets, &[60e3], 0.45);
-        let (mu, grads) = (fem.mu[0], fem.gradients[0]);
-        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
         let slots = TET_EDGES.map(|[a, b]| {
             (model.springs.iter())
                 .position(|s| (s.i, s.j) == (a as u32, b as u32))
                 .expect("every edge has a spring") as u32
         });
+        model.fem = Some(FemModel::new(&rest, &tets, &[60e3], 0.45));
         model.tets = tets;
-        model.rest_volume = vec![v0];
+        model.rest_volume = vec![0.01 * 0.012 * 0.009 / 6.0];
         model.tet_springs = vec![slots];
-        model.fem = Some(fem);
-        let b = 2e-3;
-        model.rayleigh_stiffness = b;
-        let eta = 2.0 * mu * b;
-
         let deformed = vec![
             DVec3::new(0.0001, -0.0002, 0.0),
             DVec3::new(0.0112, 0.0004, 0.0002),
             DVec3::new(0.0003, 0.0117, -0.0005),
             DVec3::new(0.0025, 0.0006, 0.0093),
         ];
+        (model, deformed)
+    }
+
+    /// Block (a, b) of the one element's system matrix.
+    fn block_of(model: &Model, system: &System, a: usize, b: usize) -> DMat3 {
+        if a == b {
+            return system.diag[a];
+        }
+        let edge = TET_EDGES
+            .iter()
+            .position(|e| *e == [a.min(b), a.max(b)])
+            .expect("an edge");
+        let off = system.off[model.tet_springs[0][edge] as usize];
+        if a < b { off } else { off.transpose() }
+    }
+
+    #[test]
+    fn element_viscosity_is_the_gradient_of_its_dissipation_and_spares_rigid_motion() {
+        let (mut model, deformed) = one_element();
+        let fem = model.fem.as_ref().expect("an element");
+        let (mu, grads, v0) = (fem.mu[0], fem.gradients[0], model.rest_volume[0]);
+        let b = 2e-3;
+        model.rayleigh_stiffness = b;
+        let eta = 2.0 * mu * b;
         let velocities = vec![
             DVec3::new(0.1, -0.2, 0.05),
             DVec3::new(-0.3, 0.1, 0.2),
@@ -405,20 +422,7 @@ mod tests {
         };
         let (force, system) = assemble(&deformed, &velocities);
         // Block (a, b) of Dp from the system (dt = 1, no mass).
-        let block = |a: usize, bb: usize| -> DMat3 {
-            if a == bb {
-                return system.diag[a];
-            }
-            let slot = model.tet_springs[0][TET_EDGES
-                .iter()
-                .position(|e| *e == [a.min(bb), a.max(bb)])
-                .unwrap()] as usize;
-            if a < bb {
-                system.off[slot]
-            } else {
-                system.off[slot].transpose()
-            }
-        };
+        let block = |a: usize, bb: usize| block_of(&model, &system, a, bb);
         let h = 1e-6;
         for a in 0..4 {
             for k in 0..3 {
@@ -471,7 +475,7 @@ mod tests {
             "{force:?}"
         );
         // At rest: b times the shear part of the linear stiffness.
-        let (_, system) = assemble(&rest, &velocities);
+        let (_, system) = assemble(&model.rest_positions, &velocities);
         let c = v0 * mu * b;
         for a in 0..4 {
             let expected =
@@ -485,46 +489,12 @@ mod tests {
     /// blocks are the force's exact derivative.
     #[test]
     fn an_element_arm_is_the_gradient_of_its_energy() {
-        let rest = vec![
-            DVec3::ZERO,
-            DVec3::new(0.01, 0.0, 0.0),
-            DVec3::new(0.0, 0.012, 0.0),
-            DVec3::new(0.002, 0.001, 0.009),
-        ];
-        let tets = vec![[0u32, 1, 2, 3]];
-        let edges: Vec<(u32, u32, f64, f64)> = TET_EDGES
-            .iter()
-            .map(|&[a, b]| (a as u32, b as u32, 0.0, 0.0))
-            .collect();
-        let mut model = Model::from_particles(
-            rest.clone(),
-            vec![1e-3; 4],
-            vec![false; 4],
-            &edges,
-            DVec3::ZERO,
-            1e-3,
-        );
-        let fem = FemModel::new(&rest, &tets, &[60e3], 0.45);
-        let grads = fem.gradients[0];
-        let v0 = 0.01 * 0.012 * 0.009 / 6.0;
-        let slots = TET_EDGES.map(|[a, b]| {
-            (model.springs.iter())
-                .position(|s| (s.i, s.j) == (a as u32, b as u32))
-                .expect("every edge has a spring") as u32
-        });
-        model.tets = tets;
-        model.rest_volume = vec![v0];
-        model.tet_springs = vec![slots];
+        let (mut model, deformed) = one_element();
+        let fem = model.fem.as_ref().expect("an element");
+        let (grads, v0) = (fem.gradients[0], model.rest_volume[0]);
+        let c = v0 * fem.mu[0] * 0.4 / 0.6 / (1.0 + 1e-3 / 0.05);
         model.spring_law.prony_g = 0.4;
         model.spring_law.prony_tau = 0.05;
-        let c = v0 * fem.mu[0] * 0.4 / 0.6 / (1.0 + 1e-3 / 0.05);
-        model.fem = Some(fem);
-        let deformed = vec![
-            DVec3::new(0.0001, -0.0002, 0.0),
-            DVec3::new(0.0112, 0.0004, 0.0002),
-            DVec3::new(0.0003, 0.0117, -0.0005),
-            DVec3::new(0.0025, 0.0006, 0.0093),
-        ];
         let strain = |x: &[DVec3]| {
             green_strain(super::super::fem::deformation_gradient(
                 &grads,
@@ -567,19 +537,7 @@ mod tests {
         let held = pack(strain(&deformed));
         let (force, system) = assemble(&deformed, &held);
         assert!(force.iter().all(|f| f.length() < 1e-12), "{force:?}");
-        let block = |a: usize, b: usize| -> DMat3 {
-            if a == b {
-                return system.diag[a];
-            }
-            let slot = (0..6)
-                .find(|&m| {
-                    let [p, q] = TET_EDGES[m];
-                    (p, q) == (a.min(b), a.max(b))
-                })
-                .expect("an edge");
-            let off = system.off[slots[slot] as usize];
-            if a < b { off } else { off.transpose() }
-        };
+        let block = |a: usize, b: usize| block_of(&model, &system, a, b);
         for b in 0..4 {
             for k in 0..3 {
                 let along = |t: f64| {
