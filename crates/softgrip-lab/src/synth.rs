@@ -102,6 +102,42 @@ fn write(path: &Path, text: &str) -> Result<(), SynthError> {
 /// and `samples.csv` into `dir` (created if needed); returns the
 /// recording as read back.
 pub fn synthesize(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recording, SynthError> {
+    let placeholder = prepare(scene, spec, dir)?;
+    let run = replay(&placeholder, scene, ReplayOptions::default(), |_| {})?;
+    write_samples(&placeholder, spec, &run.residuals, dir)
+}
+
+/// As [`synthesize`] into `dir`, and the same samples without noise into `clean_dir`, from one
+/// simulation: (the recording, its noise-free twin).
+pub fn synthesize_with_clean(
+    scene: &Scene,
+    spec: &Synthesis,
+    dir: &Path,
+    clean_dir: &Path,
+) -> Result<(Recording, Recording), SynthError> {
+    let clean_spec = Synthesis {
+        noise: 0.0,
+        ..spec.clone()
+    };
+    let placeholder = prepare(scene, spec, dir)?;
+    prepare(scene, &clean_spec, clean_dir)?;
+    let run = replay(&placeholder, scene, ReplayOptions::default(), |_| {})?;
+    Ok((
+        write_samples(&placeholder, spec, &run.residuals, dir)?,
+        write_samples(&placeholder, &clean_spec, &run.residuals, clean_dir)?,
+    ))
+}
+
+fn row_start(time: Option<f64>, load: f64) -> String {
+    match time {
+        Some(t) => format!("{t:?},{load:?}"),
+        None => format!(",{load:?}"),
+    }
+}
+
+/// Writes the scene, the recording's header and placeholder samples into `dir`, and reads the
+/// recording back for replaying.
+fn prepare(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recording, SynthError> {
     std::fs::create_dir_all(dir).map_err(|source| SynthError::Write {
         path: dir.to_path_buf(),
         source,
@@ -139,10 +175,6 @@ pub fn synthesize(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recordi
         .map(|(n, _)| n.as_str())
         .chain(spec.finger.then_some("finger"))
         .collect();
-    let row_start = |time: Option<f64>, load: f64| match time {
-        Some(t) => format!("{t:?},{load:?}"),
-        None => format!(",{load:?}"),
-    };
     // Placeholder positions, so that the recording reads and replays.
     let mut rows = String::from("time,load,marker,x,y,z\n");
     for &(time, load) in &spec.samples {
@@ -150,13 +182,21 @@ pub fn synthesize(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recordi
             let _ = writeln!(rows, "{},{name},0,0,0", row_start(time, load));
         }
     }
-    let samples_path = dir.join("samples.csv");
-    write(&samples_path, &rows)?;
-    let placeholder = Recording::load(&dir.join("recording.toml"))?;
-    let run = replay(&placeholder, scene, ReplayOptions::default(), |_| {})?;
+    write(&dir.join("samples.csv"), &rows)?;
+    Ok(Recording::load(&dir.join("recording.toml"))?)
+}
+
+/// Writes the simulated positions `residuals` of `placeholder`'s samples, with `spec`'s noise,
+/// as `dir`'s samples, and reads the recording back.
+fn write_samples(
+    placeholder: &Recording,
+    spec: &Synthesis,
+    residuals: &[crate::compare::Residual],
+    dir: &Path,
+) -> Result<Recording, SynthError> {
     let mut noise = Gaussian::new(spec.seed);
     let mut rows = String::from("time,load,marker,x,y,z\n");
-    for r in &run.residuals {
+    for r in residuals {
         let (time, load) = spec.samples[r.sample];
         let name = placeholder.marker_name(r.marker);
         let _ = write!(rows, "{},{name}", row_start(time, load));
@@ -169,7 +209,7 @@ pub fn synthesize(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recordi
         }
         rows.push('\n');
     }
-    write(&samples_path, &rows)?;
+    write(&dir.join("samples.csv"), &rows)?;
     Ok(Recording::load(&dir.join("recording.toml"))?)
 }
 

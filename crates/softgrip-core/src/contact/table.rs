@@ -80,6 +80,10 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
         let limit = mu * normal;
         let xt = x * TANGENT;
         let vt = v * TANGENT;
+        if model.quasi_static {
+            return_mapping(c, k, limit, xt, vt, c_n, p, force, system, &vel);
+            continue;
+        }
         let speed = vt.length();
         match c.mode {
             TableMode::Free => {
@@ -162,6 +166,77 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
                 );
             }
             TableMode::Free => unreachable!("set above"),
+        }
+    }
+}
+
+/// A contact in a static solve: the stick spring to an anchor held over the whole load increment,
+/// its force projected onto the Coulomb disc `|f| <= mu F_n` (the return mapping of
+/// elastoplasticity, as FE codes treat friction: Wriggers, Computational Contact Mechanics, ch. 5),
+/// with the projection's consistent tangent. The answer depends on the increment's end, not on
+/// the path Newton takes to it; [`commit`] moves the anchors of the contacts that slid.
+#[allow(clippy::too_many_arguments)]
+fn return_mapping(
+    c: &mut TableContact,
+    k: f64,
+    limit: f64,
+    xt: DVec3,
+    vt: DVec3,
+    c_n: f64,
+    p: usize,
+    force: &mut [DVec3],
+    system: &mut System,
+    vel: &dyn Fn(usize) -> DVec3,
+) {
+    if c.mode == TableMode::Free {
+        // Landed in this increment: tied where it lands.
+        c.anchor = xt;
+    }
+    c.last_speed = 0.0;
+    let tangent = DMat3::from_diagonal(TANGENT);
+    let d = xt - c.anchor;
+    let trial = k * d.length();
+    // The dashpot acts on the pseudo velocity, zero at the answer: it only damps the iteration.
+    let damper = -c_n * vt;
+    if trial <= limit {
+        c.mode = TableMode::Stick;
+        c.tangential_force = -k * d;
+        force[p] += c.tangential_force + damper;
+        system.add_diag(p, tangent * k, tangent * c_n, &vel);
+    } else {
+        let n = d / d.length();
+        c.mode = TableMode::Slip;
+        c.direction = n;
+        c.tangential_force = -limit * n;
+        force[p] += c.tangential_force + damper;
+        // d(limit n)/dx = (limit / |d|) (I_t - n n^T): the disc's edge turns with the slip.
+        let along = crate::solver::system::outer(n, n);
+        system.add_diag(
+            p,
+            (tangent - along) * (limit / d.length()),
+            tangent * c_n,
+            &vel,
+        );
+    }
+}
+
+/// After a static solve: each contact that slid in the increment has its anchor dragged to where
+/// the Coulomb limit holds it, so that the next increment starts from the friction this one ended
+/// with (and a time step from here sticks with the same force).
+pub fn commit(model: &Model, state: &mut State) {
+    let Some(table) = &model.table else {
+        return;
+    };
+    let k = table.stiffness;
+    for (c, &p) in state.table.iter_mut().zip(&table.particles) {
+        let x = state.positions[p as usize];
+        if c.mode == TableMode::Free || x.z >= 0.0 {
+            continue;
+        }
+        let limit = table.friction * k * (-x.z);
+        let d = x * TANGENT - c.anchor;
+        if k * d.length() > limit {
+            c.anchor = x * TANGENT - d / d.length() * (limit / k);
         }
     }
 }

@@ -77,6 +77,9 @@ pub struct Model {
     /// Springs' Jacobians with their negative transverse terms (the static solver's Newton
     /// tangent); false in time steps, whose matrix must stay positive definite.
     pub exact_tangent: bool,
+    /// The steps are a static solver's Newton iterations, not time: the table's friction is a
+    /// return mapping to anchors held over the load increment (`crate::contact::table`).
+    pub quasi_static: bool,
     pub cg_tolerance: f64,
     /// CG's tolerance is relative to the right-hand side or to this share of `dt` times the
     /// loads, whichever is larger ([`REST_REFERENCE`] in time steps;
@@ -605,6 +608,7 @@ impl Model {
             dt: scene.simulation.dt,
             guide_rest_speed: GUIDE_REST_SPEED,
             exact_tangent: false,
+            quasi_static: false,
             cg_tolerance: scene.simulation.cg_tolerance,
             cg_reference: REST_REFERENCE,
             cg_max_iterations: scene.simulation.cg_max_iterations,
@@ -687,6 +691,7 @@ impl Model {
             dt,
             guide_rest_speed: GUIDE_REST_SPEED,
             exact_tangent: false,
+            quasi_static: false,
             cg_tolerance: 1e-12,
             cg_reference: REST_REFERENCE,
             cg_max_iterations: 1000,

@@ -29,4 +29,5 @@ mod spring_limits;
 mod spring_oscillator;
 mod support;
 mod surface_meshes;
+mod table_friction;
 mod volume_alpha;

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use crate::diagnose::{self, DiagnoseOptions, Diagnosis};
 use crate::error::LabError;
 use crate::recording::Recording;
-use crate::synth::synthesize;
+use crate::synth::{synthesize, synthesize_with_clean};
 use softgrip_core::scene::Scene;
 
 /// How `softgrip prove` is run: by default, as the suite stands.
@@ -103,6 +103,52 @@ pub fn noise_free(c: &Case, dir: &Path) -> Result<Recording, LabError> {
     let clean = dir.join("noise-free");
     synthesize(&c.truth_scene, &synthesis(c, 1, 0.0), &clean)?;
     Ok(Recording::load(&clean.join("recording.toml"))?)
+}
+
+/// Writes case `c`'s recording into `dir` (as [`write_case`]) and its noise-free twin into
+/// `dir/noise-free` from one simulation of the truth: (recording, noise-free).
+pub fn write_case_with_clean(
+    c: &Case,
+    dir: &Path,
+    seed: u64,
+) -> Result<(Recording, Recording), LabError> {
+    let (_, clean) = synthesize_with_clean(
+        &c.truth_scene,
+        &synthesis(c, seed, suite::NOISE),
+        dir,
+        &dir.join("noise-free"),
+    )?;
+    Ok((suite::with_nominal_scene(c, dir)?, clean))
+}
+
+/// NRMSE all of the noise-free recording `clean` against its noisy twin `noisy` (the same
+/// samples): the truth itself against the recording, the noise's floor (see
+/// [`Outcome::noise_floor`]), without simulating the truth again.
+pub fn noise_floor(noisy: &Recording, clean: &Recording) -> Result<f64, LabError> {
+    let extent = softgrip_core::Model::mesh_of(&clean.scene)
+        .map_err(|e| LabError::Input(format!("the truth's mesh: {e}")))
+        .map(|m| {
+            let (lo, hi) = m.bounds();
+            (hi - lo).max_element()
+        })?;
+    let residuals: Vec<crate::compare::Residual> = noisy
+        .samples
+        .iter()
+        .zip(&clean.samples)
+        .enumerate()
+        .flat_map(|(sample, (n, c))| {
+            n.observations
+                .iter()
+                .zip(&c.observations)
+                .map(move |(o, t)| crate::compare::Residual {
+                    sample,
+                    marker: o.marker,
+                    simulated: glam::DVec3::from_array(t.position.map(|v| v.unwrap_or(0.0))),
+                    recorded: o.position,
+                })
+        })
+        .collect();
+    Ok(crate::compare::errors(&residuals, extent).nrmse_all)
 }
 
 /// How far `c`'s hidden effects move each marker: the noise-free
@@ -208,26 +254,25 @@ pub fn run(
             let started = std::time::Instant::now();
             let case_dir: PathBuf = dir.join(&case.name);
             let options = options_for(&case, options, prove.e_measured_within);
-            let recording = write_case(&case, &case_dir, noise_seed);
-            let diagnosis = recording
+            let written = write_case_with_clean(&case, &case_dir, noise_seed);
+            let diagnosis = written
                 .as_ref()
                 .map_err(Clone::clone)
-                .and_then(|rec| diagnose::diagnose(rec, &options, &|_, _, _| {}));
+                .and_then(|(rec, _)| diagnose::diagnose(rec, &options, &|_, _, _| {}));
             let seconds = started.elapsed().as_secs_f64();
             // Not timed: what only the proof can measure, against the truth.
-            let clean = noise_free(&case, &case_dir);
+            let clean = written.as_ref().ok().map(|(_, clean)| clean);
             let moved = clean
-                .as_ref()
-                .ok()
                 .and_then(|r| moved_in(&case, r).ok())
                 .unwrap_or_default();
-            let truth_errors = match (&diagnosis, &clean) {
-                (Ok(d), Ok(r)) => truth_errors(d, r).ok(),
+            let truth_errors = match (&diagnosis, clean) {
+                (Ok(d), Some(r)) => truth_errors(d, r).ok(),
                 _ => None,
             };
-            let noise_floor = recording
+            let noise_floor = written
+                .as_ref()
                 .ok()
-                .and_then(|rec| truth_error(&case.truth_scene, &rec).ok());
+                .and_then(|(rec, clean)| noise_floor(rec, clean).ok());
             Outcome {
                 seed,
                 case,

@@ -228,14 +228,20 @@ fn a_case_has_its_seed_whatever_else_is_run() {
 fn the_truth_scores_zero_against_its_noise_free_recording() {
     let dir = support::temp_dir("prove-truth");
     let case = prove::case(prove::DEVELOPMENT_SEED, "load-loss-strong").expect("the case");
-    let clean = prove::noise_free(&case, &dir).expect("simulated");
+    let (noisy, clean) =
+        prove::write_case_with_clean(&case, &dir.join("noisy"), 1).expect("written");
     let truth = prove::truth_error(&case.truth_scene, &clean).expect("replayed");
     let nominal = prove::truth_error(&case.nominal, &clean).expect("replayed");
     assert!(truth < 1e-9, "the truth against itself: {truth}");
     // Load loss moves the finger by about 0.9 mm: far above zero.
     assert!(nominal > 1e-3, "the nominal scene: {nominal}");
-    let noisy = prove::write_case(&case, &dir.join("noisy"), 1).expect("written");
-    let floor = prove::truth_error(&case.truth_scene, &noisy).expect("replayed");
+    // The floor from the recording's noise-free twin is the truth replayed against it.
+    let floor = prove::noise_floor(&noisy, &clean).expect("the same samples");
+    let replayed = prove::truth_error(&case.truth_scene, &noisy).expect("replayed");
+    assert!(
+        (floor - replayed).abs() < 1e-9 * replayed,
+        "floor {floor} from the twin, {replayed} by replaying the truth"
+    );
     let nominal_noisy = prove::truth_error(&case.nominal, &noisy).expect("replayed");
     println!(
         "NRMSE all: truth {truth:e}, nominal {nominal:.5}, against the noisy recording: truth {floor:.5}, nominal {nominal_noisy:.5}"
