@@ -40,6 +40,10 @@ pub struct Args {
     /// parameters) where the fitted parameters have them, instead of finite differences.
     #[arg(long)]
     sensitivities: bool,
+    /// The model to start from instead of the scene's: `lattice` (the thesis's springs) or
+    /// `continuum` (neo-Hookean tetrahedra with nodal pressures, locking-free)
+    #[arg(long, value_parser = ["lattice", "continuum"])]
+    model: Option<String>,
     /// Also write the spec's JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -70,6 +74,10 @@ pub fn run(args: Args) -> Result<()> {
         max_evaluations,
         workers,
         sensitivities: args.sensitivities,
+        model: args.model.as_deref().map(|m| match m {
+            "continuum" => diagnose::BaselineModel::Continuum,
+            _ => diagnose::BaselineModel::Lattice,
+        }),
         ..DiagnoseOptions::default()
     };
     let bar = progress_bar(1, "fits");
@@ -145,7 +153,16 @@ pub fn run(args: Args) -> Result<()> {
     }
     if !d.effects.is_empty() {
         println!("effects: {}", d.effects.join(" + "));
-        println!("fitted: {}", params(&d.fitted_params()));
+        let with_errors: Vec<String> = d
+            .fitted_params()
+            .iter()
+            .map(|(n, v)| match d.standard_error(n) {
+                Some(e) if e.is_finite() => format!("{n} {v:.4e} +/- {e:.1e}"),
+                Some(_) => format!("{n} {v:.4e} (not determined by the data)"),
+                None => format!("{n} {v:.4e}"),
+            })
+            .collect();
+        println!("fitted: {}", with_errors.join(", "));
         let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
         println!(
             "NRMSE {:.4} -> {:.4}; over all markers {:.4} -> {:.4}; over all markers beyond the noise {:.4} -> {:.4}{}",

@@ -300,6 +300,7 @@ impl Simulation {
     pub fn equilibrium(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
         let report = self.equilibrium_guided(options)?;
         crate::contact::table::commit(&self.model, &mut self.state);
+        crate::contact::commit(&mut self.state);
         Ok(report)
     }
 

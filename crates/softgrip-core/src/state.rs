@@ -87,6 +87,9 @@ pub struct ContactMemory {
     /// that a linearisation at a sliding equilibrium stays on the sliding branch
     /// (`crate::sensitivity`). Steps never set it.
     pub sliding: bool,
+    /// In a static solve, how far the anchor is to be dragged when the solve ends
+    /// (`crate::contact::commit`): it stays put over the load increment.
+    pub pending: DVec3,
 }
 
 /// A boundary particle pressed against a facet of the same object

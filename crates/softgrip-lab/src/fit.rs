@@ -796,7 +796,11 @@ fn evidence(
 /// Standard errors and correlations from Jacobian columns (`None`: not
 /// available) and the noise variance: `sigma2 (J^T J)^-1`, leaving out the
 /// columns that are missing or zero (infinite error).
-fn covariance(columns: &[Option<Vec<f64>>], m: usize, sigma2: f64) -> (Vec<f64>, Vec<Vec<f64>>) {
+pub(crate) fn covariance(
+    columns: &[Option<Vec<f64>>],
+    m: usize,
+    sigma2: f64,
+) -> (Vec<f64>, Vec<Vec<f64>>) {
     let p = columns.len();
     let norms: Vec<f64> = columns
         .iter()

@@ -117,6 +117,14 @@ pub fn finger_bounds(model: &Model, k: usize, centre: DVec3) -> (DVec3, DVec3) {
         .unwrap_or((centre, centre))
 }
 
+/// After a static solve: each finger contact's anchor is dragged by what slid in the increment.
+pub fn commit(state: &mut State) {
+    for m in state.contact_memory.values_mut() {
+        m.anchor_offset += m.pending;
+        m.pending = DVec3::ZERO;
+    }
+}
+
 /// Adds the contact forces of every finger and records the contacts.
 pub fn accumulate(
     model: &Model,
@@ -173,6 +181,7 @@ pub fn accumulate(
                 anchor_weights: w,
                 anchor_offset: g.point - centre,
                 sliding: false,
+                pending: DVec3::ZERO,
             });
             scratch.touched.push(key);
 
@@ -196,10 +205,25 @@ pub fn accumulate(
             } else {
                 limit_drift(&params, normal.force, raw_drift)
             };
-            memory.anchor_offset += anchor_moved;
             let v_t = projector * v_rel; // eq. 33
-            let slip_speed = anchor_moved.length() / model.dt;
-            let tangential = stick_slip_force(&params, normal.force, drift, v_t, slip_speed);
+            let tangential = if model.quasi_static {
+                // A static solve's iterations are no time: the anchor is held over the load
+                // increment and the force is the stick spring on the drift projected onto the
+                // friction cone (a return mapping, as for the table), with the projection's
+                // tangent; the anchor is dragged when the solve ends (`commit`).
+                memory.pending = anchor_moved;
+                let mut t = stick_slip_force(&params, normal.force, drift, v_t, 0.0);
+                let raw = raw_drift.length();
+                if anchor_moved != DVec3::ZERO && raw > 0.0 {
+                    t.stiffness *= drift.length() / raw;
+                }
+                t
+            } else {
+                memory.anchor_offset += anchor_moved;
+                memory.pending = DVec3::ZERO;
+                let slip_speed = anchor_moved.length() / model.dt;
+                stick_slip_force(&params, normal.force, drift, v_t, slip_speed)
+            };
 
             // Nodal forces (eq. 37-39) and the reaction on the finger.
             let total = normal.force * g.normal + tangential.force;

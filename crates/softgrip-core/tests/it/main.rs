@@ -27,7 +27,7 @@ mod solver_tolerance;
 mod spring_laws;
 mod spring_limits;
 mod spring_oscillator;
+mod static_friction;
 mod support;
 mod surface_meshes;
-mod table_friction;
 mod volume_alpha;

@@ -21,6 +21,7 @@ mod output;
 mod pairs;
 mod search;
 mod statistics;
+mod uncertainty;
 mod verdict;
 
 pub use baseline::{baseline_params, pinned_at_bounds};
@@ -33,7 +34,7 @@ pub use noise::{
     weighted_residuals, weighted_rss,
 };
 pub use nominal::{carries_the_loads, implied_bulk_modulus};
-pub use options::{DiagnoseOptions, Progress, check_bounds, parse_bound};
+pub use options::{BaselineModel, DiagnoseOptions, Progress, check_bounds, parse_bound};
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
 pub use statistics::{
@@ -54,6 +55,11 @@ pub fn diagnose(
     options: &DiagnoseOptions,
     progress: Progress,
 ) -> Result<Diagnosis, LabError> {
+    let remodelled = options.model.map(|m| Recording {
+        scene: m.apply(&recording.scene),
+        ..recording.clone()
+    });
+    let recording = remodelled.as_ref().unwrap_or(recording);
     let (repaired, model_finding) = nominal::carries_the_loads(recording)?;
     let recording = repaired.as_ref().unwrap_or(recording);
     let base_params = baseline::search_params(&recording.scene, options)?;
@@ -100,6 +106,12 @@ pub fn diagnose(
             .unwrap_or_default();
         evidence = format!("{f} {first}{}", rest.as_str());
     }
+    fits.starting("the final model's standard errors");
+    let standard_errors = if found.effects.is_empty() {
+        Vec::new()
+    } else {
+        uncertainty::standard_errors(recording, &noise, &found.current, options.workers)
+    };
     fits.done = fits.planned;
     fits.starting("done");
     let simulations = first.evaluations + baseline.evaluations + found.simulations();
@@ -111,6 +123,7 @@ pub fn diagnose(
         effects: found.effects,
         unexplained: found.unexplained,
         final_fit: found.current,
+        standard_errors,
         remaining,
         evidence,
         pair: found.pair,

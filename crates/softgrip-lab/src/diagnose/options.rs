@@ -4,6 +4,7 @@
 use crate::error::LabError;
 use crate::fit::FitParam;
 use crate::params;
+use softgrip_core::scene::{BulkPressure, Elasticity, Scene};
 
 /// How a diagnosis runs.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +31,63 @@ pub struct DiagnoseOptions {
     /// Levenberg-Marquardt's Jacobian from the equilibria's sensitivities (one replay, however
     /// many parameters) where the fitted parameters have them; finite differences elsewhere.
     pub sensitivities: bool,
+    /// The baseline's model, in place of the scene's (`None`: the scene's own): the thesis's
+    /// lattice or the continuum (`BaselineModel`).
+    pub model: Option<BaselineModel>,
+}
+
+/// The models a diagnosis can start from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BaselineModel {
+    /// The thesis's spring lattice, with the bulk term its E and nu imply where the scene has none.
+    Lattice,
+    /// Neo-Hookean tetrahedra with nodal pressures (locking-free; `docs/design/neo-hookean.md`).
+    Continuum,
+}
+
+impl BaselineModel {
+    pub fn name(self) -> &'static str {
+        match self {
+            BaselineModel::Lattice => "lattice",
+            BaselineModel::Continuum => "continuum",
+        }
+    }
+
+    /// `scene` with this model: the other model's own keys reset (the spring limits and the
+    /// springs' stiffening law for the continuum; the elements' stiffening terms for the lattice).
+    pub fn apply(self, scene: &Scene) -> Scene {
+        let mut s = scene.clone();
+        let m = &mut s.model;
+        let now = m.elasticity;
+        match self {
+            BaselineModel::Continuum => {
+                m.elasticity = Elasticity::NeoHookean;
+                m.bulk_pressure = BulkPressure::Nodal;
+                m.compression_ratio = 1.0;
+                if now != Elasticity::NeoHookean {
+                    m.tau_s = None;
+                    m.tau_c = None;
+                    m.stiffening = 0.0;
+                }
+            }
+            BaselineModel::Lattice => {
+                m.elasticity = Elasticity::Springs;
+                m.bulk_pressure = BulkPressure::Element;
+                if now != Elasticity::Springs {
+                    m.stiffening = 0.0;
+                    m.stiffening_cubic = 0.0;
+                    m.softening = 0.0;
+                }
+                if m.bulk_modulus == 0.0 {
+                    m.bulk_modulus = super::nominal::implied_bulk_modulus(
+                        s.object.young_modulus,
+                        s.object.poisson_ratio,
+                    );
+                }
+            }
+        }
+        s
+    }
 }
 
 impl Default for DiagnoseOptions {
@@ -42,6 +100,7 @@ impl Default for DiagnoseOptions {
             workers: 0,
             max_effects: 2,
             sensitivities: false,
+            model: None,
         }
     }
 }

@@ -102,6 +102,15 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                     .map(|(k, v)| (k, serde_json::json!(v)))
                     .collect(),
             ),
+            "standard_errors": serde_json::Value::Object(
+                d.fitted_params()
+                    .into_iter()
+                    .filter_map(|(k, _)| {
+                        let e = d.standard_error(&k)?;
+                        Some((k, serde_json::json!(e.is_finite().then_some(e))))
+                    })
+                    .collect(),
+            ),
             "nrmse_before": d.baseline.errors.nrmse,
             "nrmse_after": d.final_fit.errors.nrmse,
             "nrmse_all_before": d.baseline.errors.nrmse_all,

@@ -24,6 +24,9 @@ pub struct Diagnosis {
     pub effects: Vec<&'static str>,
     pub unexplained: bool,
     pub final_fit: ModelFit,
+    /// The standard error of each of the final fit's parameters (its order), from the noise
+    /// (`uncertainty`); empty when no effect was named.
+    pub standard_errors: Vec<f64>,
     /// Location of what is left after the effects.
     pub remaining: Location,
     pub evidence: String,
@@ -110,6 +113,13 @@ impl Diagnosis {
                 Some((n, v))
             })
             .collect()
+    }
+
+    /// The standard error of fitted parameter `name` (the final fit's; `None` where it is not
+    /// one of the final fit's parameters).
+    pub fn standard_error(&self, name: &str) -> Option<f64> {
+        let i = self.final_fit.params.iter().position(|(n, _)| n == name)?;
+        self.standard_errors.get(i).copied()
     }
 }
 

@@ -18,7 +18,7 @@ pub use suite::{
 
 use std::path::{Path, PathBuf};
 
-use crate::diagnose::{self, DiagnoseOptions, Diagnosis};
+use crate::diagnose::{self, BaselineModel, DiagnoseOptions, Diagnosis};
 use crate::error::LabError;
 use crate::recording::Recording;
 use crate::synth::{synthesize, synthesize_with_clean};
@@ -43,6 +43,8 @@ pub struct ProveOptions {
 pub struct Outcome {
     /// The proof's seed the case was drawn under.
     pub seed: u64,
+    /// The model the diagnosis started from.
+    pub model: BaselineModel,
     pub case: Case,
     pub diagnosis: Result<Diagnosis, LabError>,
     pub seconds: f64,
@@ -230,11 +232,13 @@ pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -
 }
 
 /// Runs the cases whose names contain `filter` (all for "") under the proof's `seed`, writing
-/// the recordings under `dir/seed-SEED`; `progress` gets (case index, cases, name).
+/// the recordings under `dir/seed-SEED` and diagnosing each from every one of `models`;
+/// `progress` gets (case index, cases, name).
 pub fn run(
     dir: &Path,
     seed: u64,
     filter: &str,
+    models: &[BaselineModel],
     options: &DiagnoseOptions,
     prove: &ProveOptions,
     progress: &dyn Fn(usize, usize, &str),
@@ -242,46 +246,50 @@ pub fn run(
     let chosen = seeded(seed, filter);
     let dir = dir.join(format!("seed-{seed}"));
     let total = chosen.len();
-    chosen
-        .into_iter()
-        .enumerate()
-        .map(|(i, (noise_seed, case))| {
-            progress(i, total, &case.name);
-            let case = match prove.truth_edge_length {
-                Some(h) => with_truth_edge(case, h),
-                None => case,
+    let mut out = Vec::new();
+    for (i, (noise_seed, case)) in chosen.into_iter().enumerate() {
+        progress(i, total, &case.name);
+        let case = match prove.truth_edge_length {
+            Some(h) => with_truth_edge(case, h),
+            None => case,
+        };
+        let case_dir: PathBuf = dir.join(&case.name);
+        let written = write_case_with_clean(&case, &case_dir, noise_seed);
+        // What only the proof can measure, against the truth: not timed.
+        let clean = written.as_ref().ok().map(|(_, clean)| clean);
+        let moved = clean
+            .and_then(|r| moved_in(&case, r).ok())
+            .unwrap_or_default();
+        let noise_floor = written
+            .as_ref()
+            .ok()
+            .and_then(|(rec, clean)| noise_floor(rec, clean).ok());
+        for &model in models {
+            let options = DiagnoseOptions {
+                model: Some(model),
+                ..options_for(&case, options, prove.e_measured_within)
             };
             let started = std::time::Instant::now();
-            let case_dir: PathBuf = dir.join(&case.name);
-            let options = options_for(&case, options, prove.e_measured_within);
-            let written = write_case_with_clean(&case, &case_dir, noise_seed);
             let diagnosis = written
                 .as_ref()
                 .map_err(Clone::clone)
                 .and_then(|(rec, _)| diagnose::diagnose(rec, &options, &|_, _, _| {}));
             let seconds = started.elapsed().as_secs_f64();
-            // Not timed: what only the proof can measure, against the truth.
-            let clean = written.as_ref().ok().map(|(_, clean)| clean);
-            let moved = clean
-                .and_then(|r| moved_in(&case, r).ok())
-                .unwrap_or_default();
             let truth_errors = match (&diagnosis, clean) {
                 (Ok(d), Some(r)) => truth_errors(d, r).ok(),
                 _ => None,
             };
-            let noise_floor = written
-                .as_ref()
-                .ok()
-                .and_then(|(rec, clean)| noise_floor(rec, clean).ok());
-            Outcome {
+            out.push(Outcome {
                 seed,
-                case,
+                model,
+                case: case.clone(),
                 diagnosis,
                 seconds,
-                moved,
+                moved: moved.clone(),
                 truth_errors,
                 noise_floor,
-            }
-        })
-        .collect()
+            });
+        }
+    }
+    out
 }

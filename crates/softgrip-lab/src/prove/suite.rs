@@ -10,7 +10,7 @@ use glam::DVec3;
 use crate::error::LabError;
 use crate::recording::{Mode, Recording, Start};
 use crate::synth::{Synthesis, synthesize};
-use softgrip_core::scene::{AaBox, Region, Scene, SupportKind};
+use softgrip_core::scene::{AaBox, BulkPressure, Elasticity, Region, Scene, SupportKind};
 
 /// One recording of the suite.
 #[derive(Debug, Clone)]
@@ -28,7 +28,13 @@ pub struct Case {
     /// difference.
     pub plain_scene: Scene,
     pub mode: Mode,
-    /// Quasi-static loads, N (7 loads, 8 samples: up and back down).
+    /// Where a time series starts: at rest (the load stepped on) or in equilibrium under its first
+    /// sample's load.
+    pub start: Start,
+    /// The markers on the object's mid-plane contour, seen by the side camera.
+    pub markers: Vec<(String, DVec3)>,
+    /// Quasi-static loads, N (7 loads, 8 samples: up and back down); a time series' two levels
+    /// are the 4th and 6th (`synthesis`).
     pub loads: Vec<f64>,
     /// The seed of its noise, drawn from the proof's seed.
     pub noise_seed: u64,
@@ -116,25 +122,108 @@ pub fn nominal_plate() -> Scene {
     )
 }
 
+/// The experiments the suite's recordings come from: each has a control.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Experiment {
+    /// The thesis cuboid, bottom bonded, under the sphere through a light guide.
+    Sphere,
+    /// The same under a flat plate.
+    Plate,
+    /// The same cuboid loose on a table (friction 0.5 as the lab writes it).
+    Table,
+    /// A 40 mm cylinder, 20 mm high, bonded, under the sphere.
+    Cylinder,
+    /// The cuboid in a three times stiffer silicone, under three times the loads.
+    Stiff,
+}
+
+/// The nominal table's friction: what a lab writes for silicone on a plate.
+pub const NOMINAL_TABLE_FRICTION: f64 = 0.5;
+
+/// The scene the diagnosis is given for `experiment`.
+pub fn nominal_of(experiment: Experiment) -> Scene {
+    match experiment {
+        Experiment::Sphere => nominal(),
+        Experiment::Plate => nominal_plate(),
+        Experiment::Table => {
+            let mut s = nominal();
+            s.support.kind = SupportKind::Table;
+            s.support.friction = NOMINAL_TABLE_FRICTION;
+            s
+        }
+        Experiment::Cylinder => {
+            let mut s = nominal();
+            s.object.shape = softgrip_core::scene::Shape::Cylinder {
+                radius: 0.02,
+                height: 0.02,
+            };
+            s
+        }
+        Experiment::Stiff => {
+            let mut s = nominal();
+            s.object.young_modulus *= STIFF;
+            if s.model.bulk_modulus > 0.0 {
+                s.model.bulk_modulus *= STIFF;
+            }
+            s
+        }
+    }
+}
+
+/// The stiffer silicone's modulus over the thesis's (and its loads').
+const STIFF: f64 = 3.0;
+
+/// Eight points on the mid-plane (y = 0) contour of `scene`'s object, as the thesis's Fig. 12
+/// placed them on the cuboid: bottom corners, side mid-heights and four along the top, two in the
+/// finger's dent.
+pub fn contour_markers(scene: &Scene) -> Vec<(String, DVec3)> {
+    let (lo, hi) = softgrip_core::Model::mesh_of(scene)
+        .map(|m| m.bounds())
+        .unwrap_or((
+            DVec3::new(-0.025, -0.025, 0.0),
+            DVec3::new(0.025, 0.025, 0.02),
+        ));
+    let (w, h) = (0.5 * (hi.x - lo.x), hi.z - lo.z);
+    let (cx, z0) = (0.5 * (hi.x + lo.x), lo.z);
+    [
+        (-1.0, 0.0),
+        (-1.0, 0.5),
+        (-0.6, 1.0),
+        (-0.2, 1.0),
+        (0.2, 1.0),
+        (0.6, 1.0),
+        (1.0, 0.5),
+        (1.0, 0.0),
+    ]
+    .iter()
+    .enumerate()
+    .map(|(i, (x, z))| (format!("p{i}"), DVec3::new(cx + x * w, 0.0, z0 + z * h)))
+    .collect()
+}
+
 /// The nominal scenes' edge length (m): the lab's own mesh of the thesis cuboid. It was 5 mm while
 /// every load was settled by time steps (36 minutes for the suite).
 pub const NOMINAL_EDGE: f64 = 0.004;
 
-/// The truths' edge length (m): finer than the diagnosis's, as a lab's data are.
-pub const TRUTH_EDGE: f64 = 0.003;
+/// The truths' edge length (m): half the diagnosis's, as a lab's data are finer than its model.
+pub const TRUTH_EDGE: f64 = 0.002;
 
 /// The nominal scenes' time step: the loads are steps to rest, which 2 ms
 /// reach as 1 ms do, in fewer steps (compared by hand with `softgrip
 /// compare` on a table case: RMSE 0.241 mm against 0.238).
 pub const QUASI_STATIC_DT: f64 = 2e-3;
 
-/// The truth's concealment: 1 ms steps, 3 mm edges, the spring limits elsewhere (E is drawn
-/// per case).
+/// The truth's concealment: another model, a continuum (neo-Hookean tetrahedra with nodal
+/// pressures, locking-free and checked against NGSolve: `docs/results/accuracy.md`) on a mesh of
+/// half the diagnosis's edge, 1 ms steps, no spring limits (E is drawn per case). What separates
+/// it from the diagnosis's lattice is form error, as between a lab's specimen and its model.
 fn conceal(mut s: Scene) -> Scene {
     s.simulation.dt = 1e-3;
     s.object.edge_length = TRUTH_EDGE;
-    s.model.tau_s = Some(0.2);
-    s.model.tau_c = Some(0.2);
+    s.model.elasticity = Elasticity::NeoHookean;
+    s.model.bulk_pressure = BulkPressure::Nodal;
+    s.model.tau_s = None;
+    s.model.tau_c = None;
     s
 }
 
@@ -156,17 +245,21 @@ fn half(name: &str) -> AaBox {
 }
 
 /// The suite under the proof's `seed`. The truth differs from the nominal scene everywhere the
-/// diagnosis may not look: 3 mm edges instead of 4, 1 ms steps instead of 2, E drawn in
-/// [`E_ERROR`] of the nominal, the spring limits elsewhere. Each effect's strength (and a
-/// region's place) is drawn from the seed within its stated range, weak and strong.
+/// diagnosis may not look: another model (a continuum) on 2 mm edges instead of the lattice's 4,
+/// 1 ms steps instead of 2, E drawn in [`E_ERROR`] of the nominal. Each effect's strength (and a
+/// region's place) is drawn from the seed within its stated range, weak and strong; each
+/// experiment and kind of recording has a control.
 pub fn cases(seed: u64) -> Vec<Case> {
-    let base = truth_base();
-    let plate_base = conceal(nominal_plate());
     // `hide` hides the case's effects in the truth (its E already drawn), with the case's own
     // draws, and returns the hidden values by the diagnosis's names.
     type Hide<'a> = &'a dyn Fn(&mut Scene, &mut Draws) -> Vec<(&'static str, f64)>;
-    let case_on = |plate: bool, name: &str, effects: Vec<&'static str>, mode: Mode, hide: Hide| {
-        let base = if plate { &plate_base } else { &base };
+    let case_on = |experiment: Experiment,
+                   name: &str,
+                   effects: Vec<&'static str>,
+                   (mode, start): (Mode, Start),
+                   hide: Hide| {
+        let nominal = nominal_of(experiment);
+        let base = conceal(nominal.clone());
         let mut draws = Draws::new(seed, name);
         let mut s = base.clone();
         s.object.young_modulus *= draws.log_uniform(E_ERROR.0, E_ERROR.1);
@@ -179,34 +272,60 @@ pub fn cases(seed: u64) -> Vec<Case> {
                 .find(|h| half(h) == r.region)
                 .unwrap_or("a region")
         });
+        // The plate spreads its load: three times the sphere's for a like strain (20 % at the
+        // top); the stiffer silicone takes three times the loads.
+        let scale = match experiment {
+            Experiment::Plate => 10.0 / 3.0,
+            Experiment::Stiff => STIFF,
+            _ => 1.0,
+        };
         Case {
             noise_seed: draws.next() >> 1,
             region,
             name: name.to_string(),
             effects,
             truth,
-            nominal: if plate { nominal_plate() } else { nominal() },
+            markers: contour_markers(&nominal),
+            nominal,
             truth_scene: s,
             plain_scene: plain,
             mode,
-            // The plate spreads its load: three times the sphere's for a
-            // like strain (20 % at the top).
+            start,
             loads: [1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 4.5, 1.5]
                 .iter()
-                .map(|l| if plate { l * 10.0 / 3.0 } else { *l })
+                .map(|l| l * scale)
                 .collect(),
         }
     };
-    let case = |name: &str, effects: Vec<&'static str>, mode: Mode, hide: Hide| {
-        case_on(false, name, effects, mode, hide)
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(Experiment::Sphere, name, effects, kind, hide)
     };
-    let qs = Mode::QuasiStatic;
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let from_rest = (Mode::TimeSeries, Start::Rest);
+    let from_equilibrium = (Mode::TimeSeries, Start::Equilibrium);
     let none: Hide = &|_, _| vec![];
     let mut out = Vec::new();
-    for k in 1..=3 {
+    // Controls: every experiment and kind of recording, nothing hidden.
+    for k in 1..=2 {
         out.push(case(&format!("control-{k}"), vec![], qs, none));
     }
-    // Each effect at two strengths: (name, low, high) of its drawn range.
+    out.push(case("control-time-series", vec![], from_rest, none));
+    out.push(case(
+        "control-time-series-from-equilibrium",
+        vec![],
+        from_equilibrium,
+        none,
+    ));
+    for (experiment, name) in [
+        (Experiment::Plate, "control-plate"),
+        (Experiment::Table, "control-table"),
+        (Experiment::Cylinder, "control-cylinder"),
+        (Experiment::Stiff, "control-stiff-silicone"),
+    ] {
+        out.push(case_on(experiment, name, vec![], qs, none));
+    }
+    // Each effect at two strengths: (name, low, high) of its drawn range. Table friction on a
+    // scene whose nominal bottom is bonded: a lower friction lets it spread more (stronger).
     for (strength, lo, hi) in [("weak", 0.15, 0.3), ("strong", 0.03, 0.1)] {
         out.push(case(
             &format!("table-friction-{strength}"),
@@ -220,7 +339,10 @@ pub fn cases(seed: u64) -> Vec<Case> {
             },
         ));
     }
-    for (strength, lo, hi) in [("weak", 3000.0, 6000.0), ("strong", 8000.0, 12000.0)] {
+    // Yeoh's second-order term on the continuum's isochoric invariant (`docs/design/neo-hookean.md`):
+    // the shear modulus times 1 + beta e^2 at a uniaxial strain e. On the 2 mm truth beta 5 moves
+    // the top markers 0.24 mm, twice the noise; 20 moves them 0.57 mm.
+    for (strength, lo, hi) in [("weak", 5.0, 8.0), ("strong", 12.0, 20.0)] {
         out.push(case(
             &format!("strain-stiffening-{strength}"),
             vec!["strain-stiffening"],
@@ -236,7 +358,7 @@ pub fn cases(seed: u64) -> Vec<Case> {
         out.push(case(
             &format!("viscoelastic-creep-{strength}"),
             vec!["viscoelastic-creep"],
-            Mode::TimeSeries,
+            from_rest,
             &|s, d| {
                 let (g, tau) = (d.uniform(lo, hi), d.log_uniform(0.3, 0.8));
                 s.model.prony_g = g;
@@ -245,10 +367,10 @@ pub fn cases(seed: u64) -> Vec<Case> {
             },
         ));
     }
-    out.push(case_on(true, "control-plate", vec![], qs, none));
+    // The nominal finger's friction is 0.5: less lets the top face spread under the plate.
     for (strength, lo, hi) in [("weak", 0.05, 0.15), ("strong", 0.0, 0.02)] {
         out.push(case_on(
-            true,
+            Experiment::Plate,
             &format!("finger-friction-{strength}"),
             vec!["finger-friction"],
             qs,
@@ -357,21 +479,25 @@ pub const NOISE: f64 = 1e-4;
 /// What case `c`'s recording samples, with `noise`.
 pub fn synthesis(c: &Case, seed: u64, noise: f64) -> Synthesis {
     let samples: Vec<(Option<f64>, f64)> = match c.mode {
-        // Loading to 9 N and back: 7 loads, 8 samples.
+        // Loading to the 6th load and back: 7 loads, 8 samples.
         Mode::QuasiStatic => c.loads.iter().map(|l| (None, *l)).collect(),
-        // 5 N stepped on, held 1.5 s, then 9 N held 1.5 s: 0.25 s apart.
-        Mode::TimeSeries => (0..12)
-            .map(|k| {
-                let t = 0.25 * (k + 1) as f64;
-                (Some(t), if t <= 1.5 { 5.0 } else { 9.0 })
-            })
-            .collect(),
+        // The 4th load (5 N on the sphere's scale) stepped on (or held from equilibrium), held
+        // 1.5 s, then the 6th held 1.5 s: 0.25 s apart.
+        Mode::TimeSeries => {
+            let scale = c.loads[5] / 9.0;
+            (0..12)
+                .map(|k| {
+                    let t = 0.25 * (k + 1) as f64;
+                    (Some(t), scale * if t <= 1.5 { 5.0 } else { 9.0 })
+                })
+                .collect()
+        }
     };
     Synthesis {
         mode: c.mode,
-        start: Start::Rest,
+        start: c.start,
         samples,
-        markers: thesis_markers(),
+        markers: c.markers.clone(),
         finger: true,
         axes: [true, false, true],
         noise,

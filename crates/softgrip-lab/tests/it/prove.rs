@@ -298,8 +298,8 @@ fn the_suite_is_drawn_from_its_seed() {
                 let (lo, hi) = match (c.name.as_str(), *name) {
                     ("table-friction-weak", _) => (0.15, 0.3),
                     ("table-friction-strong", _) => (0.03, 0.1),
-                    ("strain-stiffening-weak", _) => (3000.0, 6000.0),
-                    ("strain-stiffening-strong", _) => (8000.0, 12000.0),
+                    ("strain-stiffening-weak", _) => (5.0, 8.0),
+                    ("strain-stiffening-strong", _) => (12.0, 20.0),
                     ("viscoelastic-creep-weak", "prony_g") => (0.5, 0.65),
                     ("viscoelastic-creep-strong", "prony_g") => (0.75, 0.85),
                     (_, "prony_tau") => (0.3, 0.8),

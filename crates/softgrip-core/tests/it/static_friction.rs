@@ -1,6 +1,7 @@
-//! The table's Coulomb friction in static solves (a return mapping, `contact::table`): a block
-//! pressed onto the table and pushed sideways stays where the push is below mu times the press,
-//! with every contact inside its friction cone, and finds no rest where the push exceeds it.
+//! Coulomb friction in static solves (a return mapping: `contact::table`, `contact::commit`): a block
+//! pressed onto the table, or a plate pressed onto a block, and pushed sideways stays where the
+//! push is below mu times the press (every table contact inside its friction cone) and finds no
+//! rest where the push exceeds it.
 
 use softgrip_core::contact::table::total_force;
 use softgrip_core::equilibrium::StaticOptions;
@@ -65,5 +66,51 @@ fn a_push_beyond_the_friction_limit_has_no_rest() {
     assert!(
         matches!(result, Err(SimError::NoEquilibrium { .. })),
         "a push of 1.5 x mu times the press slides for ever, yet: {result:?}"
+    );
+}
+
+/// A weightless neo-Hookean block, bonded at the bottom, under a plate with friction [`MU`]
+/// pressed down by [`PRESS`] N and pushed along x by `push` N.
+fn sheared_under_a_plate(push: f64) -> softgrip_core::Simulation {
+    let more = format!(
+        r#"young_modulus = 5e4
+poisson_ratio = 0.45
+
+[model]
+elasticity = "neo-hookean"
+
+[support]
+kind = "fixed-bottom"
+
+[[finger]]
+shape = "plate"
+size = [0.06, 0.06]
+position = [0.0, 0.0, 0.01]
+free_axes = "xz"
+control = "force"
+force = [{push}, 0.0, -{PRESS}]
+mass = 0.0
+friction = {MU}
+"#
+    );
+    let text = cuboid_scene(WEIGHTLESS, [0.03, 0.02, 0.01], 0.004, &more);
+    simulation(&text, "sheared_under_a_plate.toml")
+}
+
+#[test]
+fn a_finger_holds_by_friction_below_its_limit_and_slides_beyond() {
+    let mut held = sheared_under_a_plate(0.5 * MU * PRESS);
+    held.equilibrium(StaticOptions::default())
+        .unwrap_or_else(|e| panic!("friction holds half its limit: {e}"));
+    let f = held.state.fingers[0].contact_force;
+    assert!(
+        (f.x + 0.5 * MU * PRESS).abs() < 0.01 * PRESS && (f.z - PRESS).abs() < 0.01 * PRESS,
+        "the object pushes back on the plate with {f}"
+    );
+    let mut sliding = sheared_under_a_plate(1.5 * MU * PRESS);
+    let result = sliding.equilibrium(StaticOptions::default());
+    assert!(
+        matches!(result, Err(SimError::NoEquilibrium { .. })),
+        "a push of 1.5 x mu times the press slides the plate for ever, yet: {result:?}"
     );
 }
