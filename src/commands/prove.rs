@@ -10,7 +10,7 @@ use anyhow::{Context, Result};
 use super::progress::{progress_bar, show_stages};
 
 /// The diagnosis's proof on concealed data: make the suite of
-/// recordings (each effect at two strengths, four controls, one with
+/// recordings from a continuum (each effect at two strengths, eight controls, one with
 /// two effects), diagnose each blind and write DIAGNOSIS.md.
 #[derive(clap::Args)]
 pub struct Args {

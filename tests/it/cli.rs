@@ -759,7 +759,9 @@ fn help_texts_agree_with_the_docs_and_the_program() {
         .iter()
         .filter(|(_, c)| c.name.starts_with("control"))
         .count();
-    let words = ["none", "one", "two", "three", "four", "five", "six"];
+    let words = [
+        "none", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+    ];
     let help = stdout(&softgrip(&["prove", "--help"]));
     assert!(
         help.contains(&format!("{} controls", words[controls])),

@@ -2,7 +2,7 @@
 //! evidence names its effect.
 
 use super::model_fit::ModelFit;
-use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z};
+use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, vuong_threshold};
 use crate::error::LabError;
 
 /// A candidate tried.
@@ -26,6 +26,11 @@ pub struct Hypothesis {
     /// E's range given, two load losses took a wrong table friction in
     /// round 2 that way).
     pub against_model: bool,
+    /// Candidates of its effect in its round (the four halves of a region): it must beat its
+    /// rival by [`vuong_threshold`] of them.
+    pub variants: usize,
+    /// Wall-clock seconds its fit took (reported, never decided on).
+    pub seconds: f64,
 }
 
 impl Hypothesis {
@@ -55,7 +60,7 @@ pub fn accepted(h: &Hypothesis) -> bool {
         && h.explained >= MIN_EXPLAINED
         // Against the best other effect or, with none fitted in its
         // round, against the model without it.
-        && h.vuong.is_some_and(|z| z >= VUONG_Z)
+        && h.vuong.is_some_and(|z| z >= vuong_threshold(h.variants))
 }
 
 #[cfg(test)]
@@ -101,6 +106,8 @@ pub(crate) mod tests {
             round: 0,
             vuong: Some(vuong),
             against_model: false,
+            variants: 1,
+            seconds: 0.0,
         }
     }
 }

@@ -106,16 +106,8 @@ pub fn diagnose(
             .unwrap_or_default();
         evidence = format!("{f} {first}{}", rest.as_str());
     }
-    fits.starting("the final model's standard errors");
-    let standard_errors = if found.effects.is_empty() {
-        Vec::new()
-    } else {
-        uncertainty::standard_errors(recording, &noise, &found.current, options.workers)
-    };
-    fits.done = fits.planned;
-    fits.starting("done");
     let simulations = first.evaluations + baseline.evaluations + found.simulations();
-    Ok(Diagnosis {
+    let mut d = Diagnosis {
         baseline,
         noise,
         location,
@@ -123,7 +115,7 @@ pub fn diagnose(
         effects: found.effects,
         unexplained: found.unexplained,
         final_fit: found.current,
-        standard_errors,
+        standard_errors: Vec::new(),
         remaining,
         evidence,
         pair: found.pair,
@@ -132,5 +124,24 @@ pub fn diagnose(
         pinned,
         discretisation,
         model_finding,
-    })
+    };
+    let alternatives: Vec<String> = d
+        .alternatives()
+        .iter()
+        .map(|h| format!("{} (z {})", effect_label(h.effect, &h.variant), h.z_text()))
+        .collect();
+    if !alternatives.is_empty() {
+        d.evidence.push_str(&format!(
+            " Readings that fit about as well (Vuong's test does not find them worse than the best, z above -{VUONG_Z}): {}.",
+            alternatives.join(", ")
+        ));
+    }
+    fits.starting("the final model's standard errors");
+    if !d.effects.is_empty() {
+        d.standard_errors =
+            uncertainty::standard_errors(recording, &d.noise, &d.final_fit, options.workers);
+    }
+    fits.done = fits.planned;
+    fits.starting("done");
+    Ok(d)
 }

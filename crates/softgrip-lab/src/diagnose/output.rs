@@ -102,6 +102,12 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                     .map(|(k, v)| (k, serde_json::json!(v)))
                     .collect(),
             ),
+            "alternatives": d.alternatives().iter().map(|h| serde_json::json!({
+                "effect": h.effect,
+                "variant": h.variant,
+                "vuong_z": h.vuong,
+                "explained": h.explained,
+            })).collect::<Vec<_>>(),
             "standard_errors": serde_json::Value::Object(
                 d.fitted_params()
                     .into_iter()

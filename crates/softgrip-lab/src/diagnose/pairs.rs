@@ -8,7 +8,7 @@ use super::hypothesis::{Hypothesis, accepted};
 use super::model_fit::{FitTask, ModelFit, Search, check_cancel, fit_model};
 use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
-use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z, vuong, vuong_by_sample};
+use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, vuong, vuong_by_sample, vuong_threshold};
 use crate::error::LabError;
 use crate::params;
 use crate::recording::Recording;
@@ -59,10 +59,12 @@ pub struct PairNeed {
     pub vuong_by_sample: Option<f64>,
     /// Named: BIC, share and z all pass the thresholds used for one effect.
     pub needed: bool,
+    /// The z the effect left out must reach: [`vuong_threshold`] of its variants.
+    pub threshold: f64,
 }
 
 impl PairNeed {
-    fn new(pair: &ModelFit, without: &ModelFit, noise: &Noise) -> Self {
+    fn new(pair: &ModelFit, without: &ModelFit, noise: &Noise, threshold: f64) -> Self {
         let p = weighted_residuals(&pair.replay.residuals, noise);
         let w = weighted_residuals(&without.replay.residuals, noise);
         let z = vuong(&p, &w);
@@ -79,7 +81,8 @@ impl PairNeed {
             ),
             needed: bic > BIC_THRESHOLD
                 && explained >= MIN_EXPLAINED
-                && z.is_some_and(|z| z >= VUONG_Z),
+                && z.is_some_and(|z| z >= threshold),
+            threshold,
         }
     }
 }
@@ -172,8 +175,8 @@ pub(super) fn fit_pair(
             (rival.effect, rival.variant.clone()),
         ],
         without: [
-            PairNeed::new(&pair, rf, noise),
-            PairNeed::new(&pair, hf, noise),
+            PairNeed::new(&pair, rf, noise, vuong_threshold(best.variants)),
+            PairNeed::new(&pair, hf, noise, vuong_threshold(rival.variants)),
         ],
         fit: pair,
         alone: None,
@@ -228,7 +231,7 @@ pub fn pair_verdict(
             let Some(i) = (0..2).find(|&i| without[1 - i].bic < 0.0) else {
                 return (needed, None);
             };
-            let named = lone[i].is_some_and(|z| z >= VUONG_Z);
+            let named = lone[i].is_some_and(|z| z >= without[i].threshold);
             let verdict = match (i, named) {
                 (0, true) => (true, false),
                 (1, true) => (false, true),
@@ -242,6 +245,7 @@ pub fn pair_verdict(
 
 #[cfg(test)]
 mod tests {
+    use super::super::statistics::VUONG_Z;
     use super::*;
 
     /// What leaving one effect out of a pair costs, with the thresholds'
@@ -253,6 +257,7 @@ mod tests {
             vuong: Some(z),
             vuong_by_sample: None,
             needed: bic > BIC_THRESHOLD && explained >= MIN_EXPLAINED && z >= VUONG_Z,
+            threshold: VUONG_Z,
         }
     }
 

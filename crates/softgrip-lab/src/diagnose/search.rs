@@ -75,6 +75,11 @@ pub(super) fn explain(
             let h = fit_candidate(recording, noise, options, &found.current, c, round, fits)?;
             found.hypotheses.push(h);
         }
+        let round_fits = &mut found.hypotheses[start..];
+        let effects: Vec<&'static str> = round_fits.iter().map(|h| h.effect).collect();
+        for h in round_fits.iter_mut() {
+            h.variants = effects.iter().filter(|e| **e == h.effect).count();
+        }
         compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
         let Some(b) = best_of(&found.hypotheses, start) else {
             break;
@@ -150,6 +155,7 @@ fn fit_candidate(
     fits: &mut FitCount,
 ) -> Result<Hypothesis, LabError> {
     fits.starting(c.effect);
+    let started = std::time::Instant::now();
     let k = current.k + own_params(&c.params); // the modulus is refitted, not added
     let budget = options.candidate_evaluations_per_param * c.params.len();
     let fit = fit_model(
@@ -183,6 +189,8 @@ fn fit_candidate(
         round,
         vuong: None,
         against_model: false,
+        variants: 1,
+        seconds: started.elapsed().as_secs_f64(),
     })
 }
 

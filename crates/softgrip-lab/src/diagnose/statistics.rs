@@ -19,6 +19,35 @@ pub const MIN_EXPLAINED: f64 = 0.1;
 /// ... and Vuong's statistic against the best other effect must reach this.
 pub const VUONG_Z: f64 = 2.0;
 
+/// Standard normal upper tail `P(Z > z)` for `z >= 0` (Abramowitz and Stegun 26.2.17, error
+/// below 7.5e-8).
+fn upper_tail(z: f64) -> f64 {
+    let t = 1.0 / (1.0 + 0.231_641_9 * z);
+    let poly = t
+        * (0.319_381_530
+            + t * (-0.356_563_782
+                + t * (1.781_477_937 + t * (-1.821_255_978 + t * 1.330_274_429))));
+    (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt() * poly
+}
+
+/// Vuong's threshold for an effect chosen as the best of `variants` forms or places (the four
+/// halves a region may fill): [`VUONG_Z`]'s one-sided level divided among them (Bonferroni), so
+/// that the best of four halves is no likelier to be named by chance than a lone candidate. 2.0
+/// for one, 2.26 for two, 2.53 for four.
+pub fn vuong_threshold(variants: usize) -> f64 {
+    let level = upper_tail(VUONG_Z) / variants.max(1) as f64;
+    let (mut lo, mut hi) = (VUONG_Z, 10.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if upper_tail(mid) > level {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    if variants <= 1 { VUONG_Z } else { hi }
+}
+
 /// A mismatch no candidate explains is "unexplained" when the baseline's
 /// RMS residual is more than this many times the noise; below, the
 /// verdict is "none": a residual within a few noise levels that no
@@ -121,5 +150,27 @@ pub(super) fn spearman(a: &[f64], b: &[f64]) -> f64 {
         0.0
     } else {
         cov / (va * vb).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod threshold_tests {
+    use super::*;
+
+    /// The tail against tabulated values (P(Z > 1.96) = 0.025, P(Z > 2.576) = 0.005), and the
+    /// threshold's level divided among the variants.
+    #[test]
+    fn the_threshold_divides_the_level_among_the_variants() {
+        assert!((upper_tail(1.959_964) - 0.025).abs() < 1e-6);
+        assert!((upper_tail(2.575_829) - 0.005).abs() < 1e-6);
+        assert_eq!(vuong_threshold(1), VUONG_Z);
+        for k in [2, 4, 8] {
+            let z = vuong_threshold(k);
+            assert!(
+                (upper_tail(z) * k as f64 - upper_tail(VUONG_Z)).abs() < 1e-9,
+                "{k}: {z}"
+            );
+        }
+        assert!((vuong_threshold(4) - 2.53).abs() < 0.01);
     }
 }

@@ -89,6 +89,46 @@ impl Diagnosis {
         }
     }
 
+    /// Other readings that fit about as well as the one named (or, with none named, as the best
+    /// candidate): in the round that decided, another effect that passes BIC and the share and
+    /// that Vuong's test does not find worse (z above -2 against the best other effect). A lab
+    /// should weigh them before acting on the verdict.
+    pub fn alternatives(&self) -> Vec<&Hypothesis> {
+        let round = self
+            .hypotheses
+            .iter()
+            .filter(|h| self.named(h))
+            .map(|h| h.round)
+            .max()
+            .unwrap_or(0);
+        let best = self
+            .hypotheses
+            .iter()
+            .filter(|h| h.round == round && h.fit.is_ok())
+            .min_by(|a, b| a.score.total_cmp(&b.score));
+        let lead = best.map(|b| b.effect);
+        let mut out: Vec<&Hypothesis> = self
+            .hypotheses
+            .iter()
+            .filter(|h| h.round == round && h.fit.is_ok())
+            .filter(|h| {
+                !self.effects.contains(&h.effect)
+                    && Some(h.effect) != lead.filter(|_| !self.effects.is_empty())
+            })
+            .filter(|h| h.score < -BIC_THRESHOLD && h.explained >= MIN_EXPLAINED)
+            .filter(|h| h.vuong.is_some_and(|z| z > -VUONG_Z))
+            .collect();
+        // One per effect: its best variant.
+        out.sort_by(|a, b| a.score.total_cmp(&b.score));
+        let mut seen: Vec<&str> = Vec::new();
+        out.retain(|h| {
+            let first = !seen.contains(&h.effect);
+            seen.push(h.effect);
+            first
+        });
+        out
+    }
+
     /// The final model's fitted parameters: the last fit's and those of
     /// every effect named before it (an earlier effect's parameters stay
     /// where its fit left them, and are read from the final scene).

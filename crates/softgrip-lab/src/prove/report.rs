@@ -359,7 +359,7 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
             .map(|h| {
                 let name = diagnose::effect_label(h.effect, &h.variant);
                 format!(
-                    "r{} {name} {:+.0} / {:.0} %{}",
+                    "r{} {name} {:+.0} / {:.0} %{} ({:.0} s)",
                     h.round + 1,
                     h.score,
                     100.0 * h.explained,
@@ -368,7 +368,8 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
                             format!(" / z {z:+.1} against {}", h.rival_text()),
                         Some(z) => format!(" / z {z:+.1}"),
                         None => String::new(),
-                    }
+                    },
+                    h.seconds
                 )
             })
             .collect();

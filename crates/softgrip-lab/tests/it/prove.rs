@@ -1,7 +1,7 @@
 //! The concealed suite of `softgrip prove`: what it hides and how it
 //! hides it.
 
-use softgrip_lab::diagnose;
+use softgrip_lab::diagnose::{self, BaselineModel};
 use softgrip_lab::prove;
 use softgrip_lab::recording::MarkerRef;
 
@@ -9,7 +9,61 @@ use crate::support;
 
 #[test]
 fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
+    use softgrip_core::scene::{Elasticity, Shape, SupportKind};
+    use softgrip_lab::recording::{Mode, Start};
     let cases = prove::cases(prove::DEVELOPMENT_SEED);
+    // A control for every kind of recording and experiment: a time series must not give creep
+    // away by its type, nor a plate friction, nor a table its friction.
+    let nominal_e = prove::nominal().object.young_modulus;
+    type Kind<'a> = &'a dyn Fn(&prove::Case) -> bool;
+    let kinds: [(&str, Kind); 7] = [
+        ("quasi-static, bonded", &|c| {
+            c.mode == Mode::QuasiStatic && c.nominal.support.kind == SupportKind::FixedBottom
+        }),
+        ("quasi-static on a table", &|c| {
+            c.mode == Mode::QuasiStatic && c.nominal.support.kind == SupportKind::Table
+        }),
+        ("time series from rest", &|c| {
+            c.mode == Mode::TimeSeries && c.start == Start::Rest
+        }),
+        ("time series from equilibrium", &|c| {
+            c.mode == Mode::TimeSeries && c.start == Start::Equilibrium
+        }),
+        ("a plate", &|c| {
+            matches!(
+                c.nominal.fingers[0].shape,
+                softgrip_core::scene::FingerShape::Plate { .. }
+            )
+        }),
+        ("a cylinder", &|c| {
+            matches!(c.nominal.object.shape, Shape::Cylinder { .. })
+        }),
+        ("a stiffer silicone", &|c| {
+            c.nominal.object.young_modulus > 2.0 * nominal_e
+        }),
+    ];
+    for (what, kind) in kinds {
+        assert!(
+            cases.iter().any(|c| c.effects.is_empty() && kind(c)),
+            "no control {what}"
+        );
+    }
+    // The truths come from another model: the continuum, on half the diagnosis's edge.
+    for c in &cases {
+        assert_eq!(
+            c.truth_scene.model.elasticity,
+            Elasticity::NeoHookean,
+            "{}",
+            c.name
+        );
+        assert_eq!(
+            c.nominal.model.elasticity,
+            Elasticity::Springs,
+            "{}",
+            c.name
+        );
+        assert!(2.0 * c.truth_scene.object.edge_length <= c.nominal.object.edge_length);
+    }
     let count = |effect: &str| cases.iter().filter(|c| c.effects == vec![effect]).count();
     // Every effect of the catalogue but damping, which is offered for time
     // series only.
@@ -36,15 +90,18 @@ fn the_suite_hides_each_effect_at_two_strengths_with_controls() {
     }
 }
 
-/// Every hidden effect moves some marker by more than the noise (0.1 mm),
-/// or the suite would ask the impossible.
+/// Every hidden effect at its weak strength moves some marker by more than twice the noise
+/// (0.1 mm), or the suite would ask the impossible. Quasi-static cases only: a creep's time series
+/// at 2 mm takes 80 s a simulation, and creep moves the finger by 2 mm, twenty times the noise
+/// (measured; `softgrip prove` reports every case's figure).
 #[test]
-#[ignore = "slow: proof cases, each a diagnosis"]
-fn every_hidden_effect_moves_a_marker_beyond_the_noise() {
+#[ignore = "slow: the truths at 2 mm"]
+fn every_weak_hidden_effect_moves_a_marker_beyond_the_noise() {
+    use softgrip_lab::recording::Mode;
     let dir = support::temp_dir("prove-moved");
     for c in prove::cases(prove::DEVELOPMENT_SEED)
         .iter()
-        .filter(|c| c.effects.len() == 1)
+        .filter(|c| c.effects.len() == 1 && c.name.ends_with("weak") && c.mode == Mode::QuasiStatic)
     {
         let moved = prove::moved_by_effect(c, &dir.join(&c.name)).expect("simulated");
         let (marker, most) = moved.first().cloned().expect("markers");
@@ -107,11 +164,19 @@ fn the_candidates_search_ranges_cover_every_hidden_value() {
                 s.load = 9.0;
             }
         }
-        for scale in [0.8, 1.25] {
-            let mut scene = c.nominal.clone();
+        for (scale, model) in [0.8, 1.25]
+            .into_iter()
+            .flat_map(|s| [(s, BaselineModel::Lattice), (s, BaselineModel::Continuum)])
+        {
+            let mut scene = model.apply(&c.nominal);
             scene.object.young_modulus = c.truth_scene.object.young_modulus * scale;
             let catalogue = diagnose::catalogue(&rec, &scene);
-            for (name, value) in &c.truth {
+            // The lattice's stiffening is another law than the truth's (Yeoh's): not compared.
+            for (name, value) in c
+                .truth
+                .iter()
+                .filter(|(n, _)| model == BaselineModel::Continuum || *n != "stiffening")
+            {
                 let covered = catalogue
                     .iter()
                     .filter(|k| c.effects.contains(&k.effect))
@@ -122,8 +187,10 @@ fn the_candidates_search_ranges_cover_every_hidden_value() {
                     });
                 assert!(
                     covered,
-                    "{}: {name} = {value} lies outside the range of every candidate for {:?} (modulus x{scale})",
-                    c.name, c.effects
+                    "{}: {name} = {value} lies outside the range of every candidate for {:?} (modulus x{scale}, {})",
+                    c.name,
+                    c.effects,
+                    model.name()
                 );
             }
         }
