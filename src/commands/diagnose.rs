@@ -145,7 +145,7 @@ pub fn run(args: Args) -> Result<()> {
     if d.model_finding.is_some() {
         // The finding leads the evidence; the verdict is of the model that carries the loads.
         println!(
-            "verdict: {} (of the scene's model given what it lacked to have an equilibrium)",
+            "verdict: {} (of the model and samples the finding at the start of the evidence names)",
             d.verdict()
         );
     } else {

@@ -79,8 +79,33 @@ pub fn carries_the_loads(
         );
         return Ok((Some(with), Some(finding)));
     }
+    // No repair carries it: the samples before the first load the model cannot carry are still
+    // evidence, and a verdict on them beats none (a lab's last levels can lie past where the
+    // model holds, as the Ecoflex compressions' 67 % strain does).
+    let first = recording
+        .samples
+        .iter()
+        .position(|s| (s.load - load).abs() <= 1e-6 * load.abs().max(1.0));
+    if let Some(k) = first.filter(|&k| k >= MIN_SAMPLES) {
+        let mut before = recording.clone();
+        before.samples.truncate(k);
+        if replay(&before, &before.scene, options, |_| {}).is_ok() {
+            let finding = format!(
+                "The scene's model finds no equilibrium at {load:.2} N (sample {} of {}, near ({:.1}, {:.1}, {:.1}) mm); the diagnosis below is of the {k} samples before it.",
+                k + 1,
+                recording.samples.len(),
+                1e3 * near[0],
+                1e3 * near[1],
+                1e3 * near[2],
+            );
+            return Ok((Some(before), Some(finding)));
+        }
+    }
     Err(failure)
 }
+
+/// The fewest samples a diagnosis is run on when the model carries no more of a recording.
+const MIN_SAMPLES: usize = 4;
 
 /// The bulk modulus of an isotropic material, K = E / (3 (1 - 2 nu)), with nu held below 0.5
 /// (where K is infinite) at 0.499.

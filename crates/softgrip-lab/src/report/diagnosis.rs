@@ -27,7 +27,7 @@ pub fn diagnosis(
         d.effects.join(" + ")
     };
     let model = if d.model_finding.is_some() {
-        " (of the scene's model given what it lacked to have an equilibrium)"
+        " (of the model and samples the finding at the start of the evidence names)"
     } else {
         ""
     };

@@ -43,3 +43,36 @@ fn a_scene_that_carries_its_loads_is_left_alone() {
     let (repaired, finding) = carries_the_loads(&rec).expect("carried");
     assert!(repaired.is_none() && finding.is_none(), "{finding:?}");
 }
+
+/// A compression whose last levels lie past where the model holds (the Ecoflex 00-10 specimen to
+/// 67 % strain, whose scene finds no rest at its 8th level): the samples before it are diagnosed,
+/// and the finding says which load, which sample and how many are kept.
+#[test]
+#[ignore = "slow: replays of a 10-level compression to 67 % strain (12 s in debug)"]
+fn levels_the_model_cannot_reach_are_a_finding_and_the_rest_is_diagnosed() {
+    let path = crate::support::asset(
+        "assets/recordings/ecoflex_compression/EF10_0T_A1/diagnosis/recording.toml",
+    );
+    let rec = softgrip_lab::recording::Recording::load(&path).expect("recording");
+    let (kept, finding) = carries_the_loads(&rec).expect("a finding, not an error");
+    let (kept, finding) = (kept.expect("the samples kept"), finding.expect("a finding"));
+    let k = kept.samples.len();
+    assert!(
+        (4..rec.samples.len()).contains(&k),
+        "{k} of {} samples kept",
+        rec.samples.len()
+    );
+    assert_eq!(
+        kept.samples[..],
+        rec.samples[..k],
+        "the first samples, as recorded"
+    );
+    assert!(
+        finding.contains(&format!("sample {} of {}", k + 1, rec.samples.len()))
+            && finding.contains(&format!("the {k} samples before it")),
+        "{finding}"
+    );
+    // The load it names is the first one the model cannot carry.
+    let load = rec.samples[k].load;
+    assert!(finding.contains(&format!("{load:.2} N")), "{finding}");
+}
