@@ -82,10 +82,18 @@ pub fn carries_the_loads(
     // No repair carries it: the samples before the first load the model cannot carry are still
     // evidence, and a verdict on them beats none (a lab's last levels can lie past where the
     // model holds, as the Ecoflex compressions' 67 % strain does).
-    let first = recording
-        .samples
-        .iter()
-        .position(|s| (s.load - load).abs() <= 1e-6 * load.abs().max(1.0));
+    // The sample being reached when it failed: the first whose step from the one before passes
+    // through the load it failed at (the solver halves a step before it gives up).
+    let tol = 1e-6 * load.abs().max(1.0);
+    let first = (0..recording.samples.len()).find(|&i| {
+        let from = if i == 0 {
+            0.0
+        } else {
+            recording.samples[i - 1].load.abs()
+        };
+        let to = recording.samples[i].load.abs();
+        (from.min(to) - tol..=from.max(to) + tol).contains(&load.abs())
+    });
     if let Some(k) = first.filter(|&k| k >= MIN_SAMPLES) {
         let mut before = recording.clone();
         before.samples.truncate(k);
