@@ -74,10 +74,10 @@ pub fn run(args: Args) -> Result<()> {
         max_evaluations,
         workers,
         sensitivities: args.sensitivities,
-        model: args.model.as_deref().map(|m| match m {
-            "continuum" => diagnose::BaselineModel::Continuum,
-            _ => diagnose::BaselineModel::Lattice,
-        }),
+        model: args
+            .model
+            .as_deref()
+            .and_then(diagnose::BaselineModel::from_name),
         ..DiagnoseOptions::default()
     };
     let bar = progress_bar(1, "fits");

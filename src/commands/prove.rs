@@ -72,13 +72,10 @@ pub fn run(args: Args) -> Result<()> {
     let mut models: Vec<BaselineModel> = args
         .model
         .iter()
-        .map(|m| match m.as_str() {
-            "continuum" => BaselineModel::Continuum,
-            _ => BaselineModel::Lattice,
-        })
+        .filter_map(|m| BaselineModel::from_name(m))
         .collect();
     if models.is_empty() {
-        models = vec![BaselineModel::Lattice, BaselineModel::Continuum];
+        models = BaselineModel::ALL.to_vec();
     }
     models.dedup();
     let mut outcomes = Vec::new();

@@ -12,17 +12,32 @@ use crate::support::{WEIGHTLESS, cuboid_scene, simulation};
 const MU: f64 = 0.4;
 const PRESS: f64 = 2.0;
 
-/// A weightless neo-Hookean 30 x 20 x 10 mm block on a table with friction [`MU`], its top face pressed down
-/// by [`PRESS`] N and pushed along x by `push` N.
-fn pushed_block(push: f64) -> softgrip_core::Simulation {
+/// A weightless neo-Hookean 30 x 20 x 10 mm block at 4 mm edges with the scene tables `rest`
+/// (support, loads, fingers).
+fn block(rest: &str, name: &str) -> softgrip_core::Simulation {
     let more = format!(
-        r#"young_modulus = 5e4
-poisson_ratio = 0.45
+        "young_modulus = 5e4\npoisson_ratio = 0.45\n\n[model]\nelasticity = \"neo-hookean\"\n\n{rest}"
+    );
+    simulation(
+        &cuboid_scene(WEIGHTLESS, [0.03, 0.02, 0.01], 0.004, &more),
+        name,
+    )
+}
 
-[model]
-elasticity = "neo-hookean"
+/// A static solve that must find no rest: something slides for ever.
+fn assert_slides(mut sim: softgrip_core::Simulation, what: &str) {
+    let result = sim.equilibrium(StaticOptions::default());
+    assert!(
+        matches!(result, Err(SimError::NoEquilibrium { .. })),
+        "{what} slides for ever, yet: {result:?}"
+    );
+}
 
-[support]
+/// The block on a table with friction [`MU`], its top face pressed down by [`PRESS`] N and pushed
+/// along x by `push` N.
+fn pushed_block(push: f64) -> softgrip_core::Simulation {
+    let rest = format!(
+        r#"[support]
 kind = "table"
 friction = {MU}
 
@@ -32,8 +47,7 @@ max = [0.02, 0.02, 0.011]
 force = [{push}, 0.0, -{PRESS}]
 "#
     );
-    let text = cuboid_scene(WEIGHTLESS, [0.03, 0.02, 0.01], 0.004, &more);
-    simulation(&text, "pushed_block.toml")
+    block(&rest, "pushed_block.toml")
 }
 
 #[test]
@@ -61,25 +75,17 @@ fn a_push_below_the_friction_limit_is_held() {
 
 #[test]
 fn a_push_beyond_the_friction_limit_has_no_rest() {
-    let mut sim = pushed_block(1.5 * MU * PRESS);
-    let result = sim.equilibrium(StaticOptions::default());
-    assert!(
-        matches!(result, Err(SimError::NoEquilibrium { .. })),
-        "a push of 1.5 x mu times the press slides for ever, yet: {result:?}"
+    assert_slides(
+        pushed_block(1.5 * MU * PRESS),
+        "a block pushed by 1.5 x mu times the press",
     );
 }
 
-/// A weightless neo-Hookean block, bonded at the bottom, under a plate with friction [`MU`]
-/// pressed down by [`PRESS`] N and pushed along x by `push` N.
+/// The block bonded at the bottom under a plate with friction [`MU`], pressed down by [`PRESS`]
+/// N and pushed along x by `push` N.
 fn sheared_under_a_plate(push: f64) -> softgrip_core::Simulation {
-    let more = format!(
-        r#"young_modulus = 5e4
-poisson_ratio = 0.45
-
-[model]
-elasticity = "neo-hookean"
-
-[support]
+    let rest = format!(
+        r#"[support]
 kind = "fixed-bottom"
 
 [[finger]]
@@ -93,8 +99,7 @@ mass = 0.0
 friction = {MU}
 "#
     );
-    let text = cuboid_scene(WEIGHTLESS, [0.03, 0.02, 0.01], 0.004, &more);
-    simulation(&text, "sheared_under_a_plate.toml")
+    block(&rest, "sheared_under_a_plate.toml")
 }
 
 #[test]
@@ -107,10 +112,8 @@ fn a_finger_holds_by_friction_below_its_limit_and_slides_beyond() {
         (f.x + 0.5 * MU * PRESS).abs() < 0.01 * PRESS && (f.z - PRESS).abs() < 0.01 * PRESS,
         "the object pushes back on the plate with {f}"
     );
-    let mut sliding = sheared_under_a_plate(1.5 * MU * PRESS);
-    let result = sliding.equilibrium(StaticOptions::default());
-    assert!(
-        matches!(result, Err(SimError::NoEquilibrium { .. })),
-        "a push of 1.5 x mu times the press slides the plate for ever, yet: {result:?}"
+    assert_slides(
+        sheared_under_a_plate(1.5 * MU * PRESS),
+        "a plate pushed by 1.5 x mu times the press",
     );
 }

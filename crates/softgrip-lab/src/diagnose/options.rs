@@ -39,18 +39,27 @@ pub struct DiagnoseOptions {
 /// The models a diagnosis can start from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BaselineModel {
-    /// The thesis's spring lattice, with the bulk term its E and nu imply where the scene has none.
+    /// The thesis's spring lattice (without a bulk term it may carry no load: the diagnosis then
+    /// gives it the one E and nu imply, as a finding, `nominal::carries_the_loads`).
     Lattice,
     /// Neo-Hookean tetrahedra with nodal pressures (locking-free; `docs/design/neo-hookean.md`).
     Continuum,
 }
 
 impl BaselineModel {
+    /// Both, as `--model` names them.
+    pub const ALL: [BaselineModel; 2] = [BaselineModel::Lattice, BaselineModel::Continuum];
+
     pub fn name(self) -> &'static str {
         match self {
             BaselineModel::Lattice => "lattice",
             BaselineModel::Continuum => "continuum",
         }
+    }
+
+    /// The model `--model NAME` names.
+    pub fn from_name(name: &str) -> Option<BaselineModel> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
     }
 
     /// `scene` with this model: the other model's own keys reset (the spring limits and the
@@ -77,12 +86,6 @@ impl BaselineModel {
                     m.stiffening = 0.0;
                     m.stiffening_cubic = 0.0;
                     m.softening = 0.0;
-                }
-                if m.bulk_modulus == 0.0 {
-                    m.bulk_modulus = super::nominal::implied_bulk_modulus(
-                        s.object.young_modulus,
-                        s.object.poisson_ratio,
-                    );
                 }
             }
         }

@@ -13,7 +13,7 @@ mod suite;
 pub use report::report;
 pub use suite::{
     Case, DEVELOPMENT_SEED, E_ERROR, NOISE, QUASI_STATIC_DT, SCORED_SEEDS, case, cases, nominal,
-    nominal_plate, seeded, synthesis, thesis_markers, truth_base, with_truth_edge, write_case,
+    nominal_plate, seeded, synthesis, thesis_markers, with_truth_edge, write_case,
 };
 
 use std::path::{Path, PathBuf};

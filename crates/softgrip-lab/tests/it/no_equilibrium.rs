@@ -6,6 +6,16 @@ use softgrip_lab::params;
 
 use crate::support::thesis_7_loads;
 
+/// The load (N) a finding says the model has no equilibrium at.
+fn load_in(finding: &str) -> f64 {
+    finding
+        .split("no equilibrium at ")
+        .nth(1)
+        .and_then(|t| t.split(" N").next())
+        .and_then(|t| t.parse().ok())
+        .expect("the load in the finding")
+}
+
 #[test]
 #[ignore = "slow: three replays to 9.73 N on the 4 mm cuboid, one creeping for 5 s (2 min in debug)"]
 fn a_lattice_without_the_bulk_term_is_a_finding_with_the_load_and_where() {
@@ -17,12 +27,7 @@ fn a_lattice_without_the_bulk_term_is_a_finding_with_the_load_and_where() {
     let (repaired, finding) = carries_the_loads(&rec).expect("a finding, not an error");
     let (repaired, finding) = (repaired.expect("a model"), finding.expect("a finding"));
     eprintln!("{finding}");
-    let load: f64 = finding
-        .split("no equilibrium at ")
-        .nth(1)
-        .and_then(|t| t.split(" N").next())
-        .and_then(|t| t.parse().ok())
-        .expect("the load in the finding");
+    let load = load_in(&finding);
     assert!((4.0..=8.0).contains(&load), "{load}");
     assert!(
         finding.contains("near (") && finding.contains("bulk_modulus"),
@@ -73,12 +78,7 @@ fn levels_the_model_cannot_reach_are_a_finding_and_the_rest_is_diagnosed() {
         "{finding}"
     );
     // The load it names lies on the way to the first sample the model cannot reach.
-    let load: f64 = finding
-        .split("no equilibrium at ")
-        .nth(1)
-        .and_then(|t| t.split(" N").next())
-        .and_then(|t| t.parse().ok())
-        .expect("the load in the finding");
+    let load = load_in(&finding);
     let (from, to) = (rec.samples[k - 1].load, rec.samples[k].load);
     assert!(
         from.min(to) - 0.01 <= load && load <= from.max(to) + 0.01,
