@@ -11,8 +11,8 @@ use super::args::{ReportArgs, WorkersArgs};
 use super::figures::write_json_line;
 use super::progress::{progress_bar, show_stages};
 
-/// Missing-physics diagnosis: fit the nominal model (E, alpha, tau_s,
-/// tau_c), locate what it still misses against the noise, fit a
+/// Missing-physics diagnosis: fit the model (by default the continuum's E;
+/// `--model scene` the scene's own: the lattice's E, alpha, tau_s, tau_c), locate what it still misses against the noise, fit a
 /// catalogue of candidate effects (table-friction, strain-stiffening,
 /// viscoelastic-creep, finger-friction, heterogeneous-stiffness,
 /// load-loss; damping for time series) and name the one(s) that
@@ -40,10 +40,11 @@ pub struct Args {
     /// parameters) where the fitted parameters have them, instead of finite differences.
     #[arg(long)]
     sensitivities: bool,
-    /// The model to start from instead of the scene's: `lattice` (the thesis's springs) or
-    /// `continuum` (neo-Hookean tetrahedra with nodal pressures, locking-free)
-    #[arg(long, value_parser = ["lattice", "continuum"])]
-    model: Option<String>,
+    /// The model to start from: `continuum` (neo-Hookean tetrahedra with nodal pressures,
+    /// locking-free: the least form error to mistake for physics), `lattice` (the thesis's
+    /// springs) or `scene` (the scene's own, as written)
+    #[arg(long, default_value = "continuum", value_parser = ["continuum", "lattice", "scene"])]
+    model: String,
     /// Also write the spec's JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -74,10 +75,7 @@ pub fn run(args: Args) -> Result<()> {
         max_evaluations,
         workers,
         sensitivities: args.sensitivities,
-        model: args
-            .model
-            .as_deref()
-            .and_then(diagnose::BaselineModel::from_name),
+        model: diagnose::BaselineModel::from_name(&args.model),
         ..DiagnoseOptions::default()
     };
     let bar = progress_bar(1, "fits");
@@ -91,7 +89,8 @@ pub fn run(args: Args) -> Result<()> {
             .join(", ")
     };
     println!(
-        "baseline: {}; NRMSE {:.4}, over all markers {:.4}",
+        "baseline ({}): {}; NRMSE {:.4}, over all markers {:.4}",
+        d.model(),
         params(&d.baseline.params),
         d.baseline.errors.nrmse,
         d.baseline.errors.nrmse_all

@@ -79,8 +79,34 @@ pub fn run(args: Args) -> Result<()> {
     }
     models.dedup();
     let mut outcomes = Vec::new();
-    for seed in seeds {
+    let seed_count = seeds.len();
+    for (k, seed) in seeds.into_iter().enumerate() {
         let bar = progress_bar(1, "recordings");
+        let before = outcomes.len();
+        // The report so far after each case, marked as such: a run of hours is read as it goes.
+        let mut partial = |so_far: &[softgrip_lab::prove::Outcome], cases: usize| {
+            let mut all = outcomes.clone();
+            all.extend_from_slice(so_far);
+            if let Some(o) = so_far.last() {
+                let verdict = match &o.diagnosis {
+                    Ok(d) => d.verdict(),
+                    Err(e) => format!("error: {e}"),
+                };
+                bar.println(format!(
+                    "seed {seed}, {}, {}: {verdict} ({:.0} s)",
+                    o.case.name,
+                    o.model.name(),
+                    o.seconds
+                ));
+            }
+            let text = format!(
+                "> Partial: seed {} of {seed_count}, {} of {cases} cases so far.\n\n{}",
+                k + 1,
+                (all.len() - before) / models.len().max(1),
+                softgrip_lab::prove::report(&all, options)
+            );
+            let _ = std::fs::write(report, text);
+        };
         outcomes.extend(softgrip_lab::prove::run(
             out,
             seed,
@@ -89,6 +115,7 @@ pub fn run(args: Args) -> Result<()> {
             &softgrip_lab::diagnose::DiagnoseOptions::default(),
             options,
             &show_stages(&bar),
+            &mut partial,
         ));
         bar.finish_and_clear();
     }

@@ -74,6 +74,9 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
         f(&mut s);
         s
     };
+    // Friction above 1 holds a silicone's bottom nearly as a bonded one, and its static solves
+    // cycle between stick and slip (on the 4 mm cuboid a replay took 0.7, 2.6, 6.3 and 26 s at
+    // mu 0.1, 0.5, 1 and 2): the search stops at 1.
     if scene.support.kind != SupportKind::None {
         out.push(Candidate {
             effect: "table-friction",
@@ -82,7 +85,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
                 s.support.kind = SupportKind::Table;
                 s.support.friction = 0.0;
             }),
-            params: with_modulus(vec![param("table_friction", 0.0, 2.0, false)]),
+            params: with_modulus(vec![param("table_friction", 0.0, 1.0, false)]),
             off: None,
         });
     }

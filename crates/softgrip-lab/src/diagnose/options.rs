@@ -32,7 +32,9 @@ pub struct DiagnoseOptions {
     /// many parameters) where the fitted parameters have them; finite differences elsewhere.
     pub sensitivities: bool,
     /// The baseline's model, in place of the scene's (`None`: the scene's own): the thesis's
-    /// lattice or the continuum (`BaselineModel`).
+    /// lattice or the continuum (`BaselineModel`). By default the continuum: its form error
+    /// against a converged FE code is a few per cent at 4 mm, the lattice's 35-50 %
+    /// (`docs/results/accuracy.md`), and a form error the noise test sees is read as physics.
     pub model: Option<BaselineModel>,
 }
 
@@ -103,7 +105,7 @@ impl Default for DiagnoseOptions {
             workers: 0,
             max_effects: 2,
             sensitivities: false,
-            model: None,
+            model: Some(BaselineModel::Continuum),
         }
     }
 }

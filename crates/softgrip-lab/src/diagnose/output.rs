@@ -70,6 +70,7 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
     serde_json::json!({
         "pair": pair,
         "baseline": {
+            "model": d.model(),
             "nrmse": d.baseline.errors.nrmse,
             "nrmse_all": d.baseline.errors.nrmse_all,
             "rmse_m": d.baseline.errors.rmse_m,

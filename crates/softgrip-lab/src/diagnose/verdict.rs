@@ -79,6 +79,15 @@ impl Diagnosis {
         (one(&self.baseline), one(&self.final_fit))
     }
 
+    /// The model the diagnosis fitted, as `--model` names it: "continuum" (neo-Hookean
+    /// elements) or "lattice" (the thesis's springs).
+    pub fn model(&self) -> &'static str {
+        match self.baseline.scene.model.elasticity {
+            softgrip_core::scene::Elasticity::NeoHookean => "continuum",
+            _ => "lattice",
+        }
+    }
+
     /// The spec's `verdict.effect`: the first effect found, "none" or
     /// "unexplained".
     pub fn verdict(&self) -> String {

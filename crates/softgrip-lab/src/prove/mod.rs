@@ -233,7 +233,9 @@ pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -
 
 /// Runs the cases whose names contain `filter` (all for "") under the proof's `seed`, writing
 /// the recordings under `dir/seed-SEED` and diagnosing each from every one of `models`;
-/// `progress` gets (case index, cases, name).
+/// `progress` gets (case index, cases, name), `done` the outcomes so far after each case (a
+/// run of hours leaves its report as it goes).
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     dir: &Path,
     seed: u64,
@@ -242,6 +244,7 @@ pub fn run(
     options: &DiagnoseOptions,
     prove: &ProveOptions,
     progress: &dyn Fn(usize, usize, &str),
+    done: &mut dyn FnMut(&[Outcome], usize),
 ) -> Vec<Outcome> {
     let chosen = seeded(seed, filter);
     let dir = dir.join(format!("seed-{seed}"));
@@ -290,6 +293,7 @@ pub fn run(
                 noise_floor,
             });
         }
+        done(&out, total);
     }
     out
 }
