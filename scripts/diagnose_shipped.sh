@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Diagnoses every shipped recording (assets/recordings/**/recording.toml) and prints one row per
 # recording: its verdict, or the error, and the seconds it took. Usage:
-#   scripts/diagnose_shipped.sh [extra diagnose options, e.g. --model continuum] > table.md
+#   scripts/diagnose_shipped.sh [extra diagnose options, e.g. --model lattice] > table.md
+# ONLY=ecoflex runs those whose path contains it.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 bin=${SOFTGRIP:-target/release/softgrip}
@@ -9,7 +10,7 @@ out=${OUT:-target/diagnose-shipped}
 mkdir -p "$out"
 echo "| recording | verdict | effects | alternatives | seconds |"
 echo "|---|---|---|---|---|"
-find assets/recordings -name recording.toml | sort | while read -r rec; do
+find assets/recordings -name recording.toml | sort | grep -- "${ONLY:-}" | while read -r rec; do
   name=$(dirname "${rec#assets/recordings/}" | tr / _)
   start=$(date +%s)
   if "$bin" diagnose "$rec" --no-report --json "$out/$name.json" "$@" > "$out/$name.txt" 2>&1; then

@@ -8,7 +8,7 @@ use anyhow::Result;
 use softgrip_lab::recording::Recording;
 
 use super::args::{ReportArgs, SettleArgs, SettleMode};
-use super::figures::{describe, errors_json_for, print_ringing, ringing_json, write_json, wrote};
+use super::figures::{describe, print_ringing, write_json, wrote};
 use super::progress::progress_bar;
 
 /// Simulate a lab recording and measure the error as the thesis does
@@ -107,21 +107,7 @@ pub fn run(args: Args) -> Result<()> {
         wrote(&softgrip_lab::report::compare(&dir, &recording, &run)?);
     }
     if let Some(json) = json {
-        let o = &recording.scene.object;
-        let m = &recording.scene.model;
-        let mut value = errors_json_for(path, &e);
-        value["params"] = serde_json::json!({
-            "young_modulus": o.young_modulus,
-            "alpha": m.alpha,
-            "tau_s": m.tau_s,
-            "tau_c": m.tau_c,
-        });
-        if let Some(d) = &discretisation {
-            value["discretisation"] = d.to_json();
-        }
-        if let Some(r) = ringing_json(&recording, &[("simulated", &run)]) {
-            value["ringing"] = r;
-        }
+        let value = softgrip_lab::json::compare(path, &recording, &run, discretisation.as_ref());
         write_json(json, &value)?;
     }
     Ok(())

@@ -4,7 +4,6 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use softgrip_lab::compare::Errors;
 use softgrip_lab::recording::Recording;
 use softgrip_lab::replay::Replay;
 use softgrip_lab::report::Written;
@@ -50,24 +49,6 @@ pub fn write_json_line(path: &Path, value: &serde_json::Value) -> Result<()> {
     Ok(())
 }
 
-/// The error figures against the recording at `path`, the JSON the
-/// compare, sweep and fit commands start from.
-pub fn errors_json_for(path: &Path, e: &Errors) -> serde_json::Value {
-    let mut value = errors_json(e);
-    value["recording"] = path.display().to_string().into();
-    value
-}
-
-pub fn errors_json(e: &Errors) -> serde_json::Value {
-    serde_json::json!({
-        "nrmse": e.nrmse,
-        "rmse_m": e.rmse_m,
-        "nrmse_all": e.nrmse_all,
-        "rmse_all_m": e.rmse_all_m,
-        "observations": e.count,
-    })
-}
-
 /// The recording's ringing (its most-moving marker axis) against each replay's on that axis,
 /// printed as a table; `None` (and nothing printed) for a quasi-static recording.
 pub fn print_ringing(recording: &Recording, replays: &[(&str, &Replay)]) -> Option<()> {
@@ -97,22 +78,4 @@ pub fn print_ringing(recording: &Recording, replays: &[(&str, &Replay)]) -> Opti
         }
     }
     Some(())
-}
-
-/// The ringing as JSON: the marker axis, the recording's and each replay's (under its label);
-/// `None` for a quasi-static recording.
-pub fn ringing_json(
-    recording: &Recording,
-    replays: &[(&str, &Replay)],
-) -> Option<serde_json::Value> {
-    use softgrip_lab::ringing;
-    let first = replays.first()?;
-    let mut value = ringing::compare(recording, &first.1.residuals)?.to_json(recording);
-    value.as_object_mut()?.remove("simulated");
-    for (label, replay) in replays {
-        if let Some(c) = ringing::compare(recording, &replay.residuals) {
-            value[*label] = c.to_json(recording)["simulated"].clone();
-        }
-    }
-    Some(value)
 }

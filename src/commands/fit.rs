@@ -9,9 +9,7 @@ use anyhow::{Context, Result};
 use softgrip_lab::recording::Recording;
 
 use super::args::{ReportArgs, WorkersArgs};
-use super::figures::{
-    describe, errors_json, errors_json_for, print_ringing, ringing_json, write_json, wrote,
-};
+use super::figures::{describe, print_ringing, write_json, wrote};
 use super::progress::simulations_bar;
 
 /// Fit scene parameters to a recording: NRMSE minimised by a bounded
@@ -128,26 +126,7 @@ pub fn run(args: Args) -> Result<()> {
         wrote(&softgrip_lab::report::fit(&dir, &recording, &result)?);
     }
     if let Some(json) = json {
-        let by_name = |values: &[f64]| by_name(&result.params, values);
-        let mut value = errors_json_for(path, &result.after);
-        value["params"] = by_name(&result.fitted);
-        value["start"] = by_name(&result.start);
-        value["standard_errors"] = by_name(&result.uncertainty.standard_errors);
-        value["identifiability"] = result
-            .params
-            .iter()
-            .zip(&result.sensitivity)
-            .map(|(p, s)| (p.param.name.to_string(), s.verdict.label().into()))
-            .collect::<serde_json::Map<_, _>>()
-            .into();
-        value["before"] = errors_json(&result.before);
-        value["noise_m"] = result.uncertainty.sigma_m.into();
-        value["simulations"] = result.trials.len().into();
-        value["converged"] = result.converged.into();
-        let replays = [("start", &result.start_replay), ("fitted", &result.replay)];
-        if let Some(r) = ringing_json(&recording, &replays) {
-            value["ringing"] = r;
-        }
+        let value = softgrip_lab::json::fit(path, &recording, &result);
         write_json(json, &value)?;
     }
     Ok(())
@@ -176,22 +155,6 @@ fn print_params(
             if at_bound[i] { " (at a bound)" } else { "" }
         );
     }
-}
-
-fn by_name(params: &[softgrip_lab::fit::FitParam], values: &[f64]) -> serde_json::Value {
-    params
-        .iter()
-        .zip(values)
-        .map(|(p, v)| {
-            let v = if v.is_finite() {
-                serde_json::Value::from(*v)
-            } else {
-                serde_json::Value::Null
-            };
-            (p.param.name.to_string(), v)
-        })
-        .collect::<serde_json::Map<_, _>>()
-        .into()
 }
 
 /// One set of parameters fitted to several recordings at once.
@@ -320,40 +283,8 @@ fn run_many(args: Args) -> Result<()> {
         wrote(&softgrip_lab::report::fit_many(&dir, &recordings, &result)?);
     }
     if let Some(json) = args.json.as_deref() {
-        let each: Vec<serde_json::Value> = paths
-            .iter()
-            .zip(&recordings)
-            .zip(&result.recordings)
-            .map(|((path, recording), part)| {
-                let mut v = errors_json_for(path, &part.after);
-                v["before"] = errors_json(&part.before);
-                v["mode"] = recording.mode.name().into();
-                let replays = [("start", &part.start_replay), ("fitted", &part.replay)];
-                if let Some(r) = ringing_json(recording, &replays) {
-                    v["ringing"] = r;
-                }
-                v
-            })
-            .collect();
-        let value = serde_json::json!({
-            "recordings": each,
-            "nrmse": result.after,
-            "before": { "nrmse": result.before },
-            "objective": "mean of the recordings' NRMSE",
-            "params": by_name(&result.params, &result.fitted),
-            "start": by_name(&result.params, &result.start),
-            "standard_errors": by_name(&result.params, &result.uncertainty.standard_errors),
-            "identifiability": result
-                .params
-                .iter()
-                .zip(&result.sensitivity)
-                .map(|(p, s)| (p.param.name.to_string(), s.verdict.label().into()))
-                .collect::<serde_json::Map<_, _>>(),
-            "noise_m": result.uncertainty.sigma_m,
-            "points": result.trials.len(),
-            "simulations": result.trials.len() * recordings.len(),
-            "converged": result.converged,
-        });
+        let paths: Vec<&std::path::Path> = paths.iter().map(|p| p.as_path()).collect();
+        let value = softgrip_lab::json::fit_many(&paths, &recordings, &result);
         write_json(json, &value)?;
     }
     Ok(())

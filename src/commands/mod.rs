@@ -18,6 +18,7 @@ mod figures;
 mod fit;
 mod grasp;
 mod load;
+mod merge;
 mod mesh;
 mod modulus;
 mod progress;
@@ -57,6 +58,7 @@ enum Command {
     Scene(scene::Args),
     Compare(compare::Args),
     Sweep(sweep::Args),
+    Merge(merge::Args),
     Synth(synth::Args),
     Fit(fit::Args),
     Modulus(modulus::Args),
@@ -85,6 +87,7 @@ pub fn main() -> ExitCode {
         Some(Command::Scene(args)) => scene::run(args),
         Some(Command::Compare(args)) => compare::run(args),
         Some(Command::Sweep(args)) => sweep::run(args),
+        Some(Command::Merge(args)) => merge::run(args),
         Some(Command::Synth(args)) => synth::run(args),
         Some(Command::Fit(args)) => fit::run(args),
         Some(Command::Modulus(args)) => modulus::run(args),

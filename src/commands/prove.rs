@@ -92,12 +92,18 @@ pub fn run(args: Args) -> Result<()> {
                     Ok(d) => d.verdict(),
                     Err(e) => format!("error: {e}"),
                 };
-                bar.println(format!(
+                let line = format!(
                     "seed {seed}, {}, {}: {verdict} ({:.0} s)",
                     o.case.name,
                     o.model.name(),
                     o.seconds
-                ));
+                );
+                // A hidden bar (no terminal: a log) prints nothing of its own.
+                if bar.is_hidden() {
+                    eprintln!("{line}");
+                } else {
+                    bar.println(line);
+                }
             }
             let text = format!(
                 "> Partial: seed {} of {seed_count}, {} of {cases} cases so far.\n\n{}",

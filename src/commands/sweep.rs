@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use softgrip_lab::recording::Recording;
 
 use super::args::{ReportArgs, WorkersArgs};
-use super::figures::{errors_json_for, write_json, wrote};
+use super::figures::{write_json, wrote};
 use super::progress::progress_bar;
 
 /// Sweep scene parameters over a grid against a recording (thesis Fig.
@@ -32,10 +32,21 @@ pub struct Args {
     json: Option<PathBuf>,
     #[command(flatten)]
     report: ReportArgs,
+    /// Run only shard I of N (0 <= I < N: every N-th grid point from the I-th) and write its
+    /// points to --part; `softgrip merge` of every shard's file gives this sweep's CSV and JSON.
+    /// On Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT.
+    #[arg(long, requires = "part", conflicts_with_all = ["csv", "json"])]
+    shard: Option<String>,
+    /// The shard's file (JSON), with --shard.
+    #[arg(long, requires = "shard")]
+    part: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> Result<()> {
     use softgrip_lab::sweep;
+    if let (Some(shard), Some(part)) = (&args.shard, &args.part) {
+        return run_shard(&args, shard, part);
+    }
     let (path, params) = (args.recording.as_path(), &args.params);
     let (csv, workers) = (args.csv.as_deref(), args.workers.workers);
     let (json, report) = (args.json.as_deref(), &args.report);
@@ -103,17 +114,37 @@ pub fn run(args: Args) -> Result<()> {
         )?);
     }
     if let Some(json) = json {
-        let mut value = errors_json_for(path, e);
-        value["params"] = axes
-            .iter()
-            .zip(&best.values)
-            .map(|(a, v)| (a.param.name.to_string(), serde_json::Value::from(*v)))
-            .collect::<serde_json::Map<_, _>>()
-            .into();
-        value["points"] = total.into();
-        value["failed"] = failed.into();
-        value["seconds"] = seconds.into();
+        let value = softgrip_lab::json::sweep(path, &axes, &points)
+            .ok_or_else(|| anyhow::anyhow!("no point of the sweep ran"))?;
         write_json(json, &value)?;
     }
     Ok(())
+}
+
+/// One shard of the sweep, written to its file.
+fn run_shard(args: &Args, shard: &str, part: &std::path::Path) -> Result<()> {
+    use softgrip_lab::shard;
+    let shard = shard::Shard::parse(shard)?;
+    let path = args.recording.as_path();
+    let axes = shard::parse_axes(&args.params)?;
+    let recording = Recording::load(path)?;
+    let total = softgrip_lab::sweep::grid(&axes).len();
+    let mine = shard.indices(total).len();
+    println!(
+        "{}: shard {} of {}: {mine} of {total} points",
+        path.display(),
+        shard.index,
+        shard.count
+    );
+    let bar = progress_bar(mine as u64, "grid points");
+    let value = shard::run_part(
+        path,
+        &recording,
+        &args.params,
+        shard,
+        args.workers.workers,
+        &|n| bar.set_position(n as u64),
+    )?;
+    bar.finish_and_clear();
+    write_json(part, &value)
 }

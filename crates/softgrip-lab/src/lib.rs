@@ -24,6 +24,7 @@ pub mod discretisation;
 pub mod error;
 pub mod fit;
 pub mod grasp;
+pub mod json;
 pub mod modulus;
 pub mod optimize;
 pub mod params;
@@ -34,6 +35,7 @@ pub mod replay;
 pub mod report;
 pub mod ringing;
 pub mod sensitivity;
+pub mod shard;
 pub mod sweep;
 pub mod synth;
 

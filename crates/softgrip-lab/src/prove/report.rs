@@ -127,7 +127,7 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
     let seeds: Vec<String> = seeds.iter().map(|s| format!("{s:#x}")).collect();
     let _ = writeln!(
         s,
-        "Made by `softgrip prove` on {}, seeds {}. Each recording is made by another model than the diagnosis's: a continuum (neo-Hookean tetrahedra with nodal pressures, checked against NGSolve) on {truth_edge}, 1 ms steps, E drawn log-uniformly in 0.8-1.25 times the nominal, each effect's strength (and a region's place) drawn from the seed within its stated range; 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane and the finger. The diagnosis gets the nominal scene as a lab writes it (4 mm, the thesis's lattice, or with `--model continuum` the continuum at 4 mm) and the recording{}, and is not told what is hidden.\n",
+        "Made by `softgrip prove` on {}, seeds {}. Each recording is made by another model than the diagnosis's: a continuum (neo-Hookean tetrahedra with nodal pressures, checked against NGSolve) on {truth_edge}, 1 ms steps, E drawn log-uniformly in 0.8-1.25 times the nominal, each effect's strength (and a region's place) drawn from the seed within its stated range; 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane and the finger. The diagnosis gets the nominal scene as a lab writes it (the thesis's lattice at 4 mm, fitted as the continuum, `diagnose`'s default, or as the lattice: column model) and the recording{}, and is not told what is hidden.\n",
         softgrip_core::bench::machine_description(),
         seeds.join(", "),
         match prove.e_measured_within {

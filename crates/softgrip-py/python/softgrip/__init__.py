@@ -1,0 +1,94 @@
+"""softgrip from Python: soft-object grasp simulation, lab recordings, fits and the diagnosis.
+
+    import softgrip
+    scene = softgrip.Scene.thesis()
+    scene["young_modulus"] = 60e3
+    sim = softgrip.Simulation(scene)
+    sim.run(0.5)
+    sim.positions            # (n, 3) numpy array, m
+
+    rec = softgrip.Recording.load("assets/recordings/synthetic/thesis_7_loads/recording.toml")
+    softgrip.compare(rec).nrmse
+    softgrip.diagnose(rec).verdict
+
+The figures are those of the CLI's ``--json`` (docs/formats.md); every result has
+``to_dict()`` and ``to_frame()``. Errors raise :class:`SoftgripError` with the CLI's messages.
+"""
+
+from __future__ import annotations
+
+from ._softgrip import Scene, Simulation, SoftgripError, __version__
+from . import _softgrip
+from .recording import Recording
+from .results import CompareResult, Diagnosis, FitResult, Result, SweepResult
+
+__all__ = [
+    "Scene",
+    "Simulation",
+    "Recording",
+    "SoftgripError",
+    "compare",
+    "fit",
+    "sweep",
+    "diagnose",
+    "Result",
+    "CompareResult",
+    "FitResult",
+    "SweepResult",
+    "Diagnosis",
+    "__version__",
+]
+
+
+def compare(recording: Recording, scene: Scene | None = None) -> CompareResult:
+    """The recording replayed on its own scene (or ``scene``): NRMSE and RMSE as
+    ``softgrip compare --json`` gives them."""
+    return CompareResult.from_json(_softgrip.compare(recording._inner, scene))
+
+
+def fit(
+    recording: Recording,
+    params: list[str],
+    max_evaluations: int = 400,
+    workers: int = 0,
+) -> FitResult:
+    """Fits ``params`` (``"young_modulus"`` or ``"young_modulus=30e3:120e3"``) of the
+    recording's scene to it, as ``softgrip fit --json``; ``workers`` threads (0: one per core)."""
+    return FitResult.from_json(
+        _softgrip.fit(recording._inner, list(params), max_evaluations, workers)
+    )
+
+
+def sweep(recording: Recording, params: list[str], workers: int = 0) -> SweepResult:
+    """Every point of a grid of one or two parameters (``"tau_c=0.01:0.25:25"``,
+    ``"alpha=1e5:1e8:7:log"``, ``"young_modulus=50e3,60e3"``) against the recording, as
+    ``softgrip sweep --csv --json``; ``workers`` threads (0: one per core). For a cluster:
+    :func:`softgrip.distributed.sweep`."""
+    csv, json_text = _softgrip.sweep(recording._inner, list(params), workers)
+    return SweepResult.from_outputs(csv, json_text)
+
+
+def diagnose(
+    recording: Recording,
+    model: str = "continuum",
+    max_effects: int = 2,
+    bounds: list[str] | None = None,
+    lock: list[str] | None = None,
+    workers: int = 0,
+    progress=None,
+) -> Diagnosis:
+    """What physics the model left out, as ``softgrip diagnose --json``: ``model`` is
+    "continuum" (default), "lattice" or "scene"; ``bounds`` like ``"young_modulus=30e3:120e3"``;
+    ``progress(done, planned, what)`` is called as each fit starts. Minutes of work: Ctrl-C
+    stops it."""
+    return Diagnosis.from_json(
+        _softgrip.diagnose(
+            recording._inner,
+            model,
+            max_effects,
+            list(bounds or []),
+            list(lock or []),
+            workers,
+            progress,
+        )
+    )
