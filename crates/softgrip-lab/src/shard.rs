@@ -121,6 +121,13 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
             "no shard to merge: give the files `sweep --shard` wrote",
         ));
     };
+    for (name, part) in parts {
+        if part["softgrip_sweep_part"].as_u64() != Some(PART_VERSION) {
+            return Err(LabError::input(format!(
+                "{name}: not a shard of `softgrip sweep --shard` (format {PART_VERSION}): give the files it wrote with --part"
+            )));
+        }
+    }
     let recording = first["recording"].as_str().unwrap_or_default().to_string();
     let specs: Vec<String> = first["params"]
         .as_array()
@@ -135,11 +142,6 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
     let mut slots: Vec<Option<SweepPoint>> = vec![None; total];
     for (name, part) in parts {
         let bad = |why: String| LabError::input(format!("{name}: {why}"));
-        if part["softgrip_sweep_part"].as_u64() != Some(PART_VERSION) {
-            return Err(bad(format!(
-                "not a shard of `softgrip sweep --shard` (format {PART_VERSION})"
-            )));
-        }
         if part["recording"].as_str() != Some(&recording) || part["params"] != first["params"] {
             return Err(bad(format!(
                 "another sweep than {}'s ({recording}, {}): merge the shards of one sweep",
@@ -212,6 +214,25 @@ mod tests {
             let e = Shard::parse(bad).expect_err(bad).to_string();
             assert!(e.contains("--shard") && e.contains("I/N"), "{bad}: {e}");
         }
+    }
+
+    /// A file that is no shard, and a grid point in no shard, are named, not merged.
+    #[test]
+    fn a_merge_names_what_is_wrong() {
+        let e = merge(&[("x.json".into(), json!({}))]).expect_err("no shard");
+        assert!(e.to_string().starts_with("x.json: not a shard"), "{e}");
+        let part = |i: usize| {
+            json!({"softgrip_sweep_part": PART_VERSION, "recording": "r.toml",
+                   "params": ["young_modulus=1e4:2e4:3"], "grid": 3,
+                   "points": [{"index": i, "values": [1e4], "error": "failed"}]})
+        };
+        let e = merge(&[("a".into(), part(0)), ("b".into(), part(2))]).expect_err("gap");
+        assert!(
+            e.to_string().contains("1 of the 3 points are in no shard"),
+            "{e}"
+        );
+        let e = merge(&[("a".into(), part(0)), ("b".into(), part(0))]).expect_err("twice");
+        assert!(e.to_string().contains("point 0 is in two shards"), "{e}");
     }
 
     /// A point's figures survive the file exactly, an error by its message.
