@@ -177,12 +177,15 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    fn with<R>(&self, f: impl FnOnce(&mut CoreSimulation) -> R) -> PyResult<R> {
-        let mut s = self
-            .inner
+    /// The simulation, for one call (a panic in softgrip, a bug, would leave it poisoned).
+    fn lock(&self) -> PyResult<std::sync::MutexGuard<'_, CoreSimulation>> {
+        self.inner
             .lock()
-            .map_err(|_| err("the simulation was left broken by an earlier error"))?;
-        Ok(f(&mut s))
+            .map_err(|_| err("the simulation was left broken by an earlier error"))
+    }
+
+    fn with<R>(&self, f: impl FnOnce(&mut CoreSimulation) -> R) -> PyResult<R> {
+        Ok(f(&mut *self.lock()?))
     }
 }
 
@@ -209,10 +212,7 @@ impl Simulation {
     /// `n` time steps of the scene's `dt`.
     #[pyo3(signature = (n = 1))]
     fn step(&self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let mut s = self
-            .inner
-            .lock()
-            .map_err(|_| err("the simulation is broken"))?;
+        let mut s = self.lock()?;
         let sim: &mut CoreSimulation = &mut s;
         cancellable(py, || {
             for _ in 0..n {
@@ -239,7 +239,7 @@ impl Simulation {
             )));
         }
         let this = slf.borrow();
-        let (dt, start) = this.with(|s| (s.model.dt, s.state.time))?;
+        let dt = this.with(|s| s.model.dt)?;
         let steps = (seconds / dt).round() as u64;
         let chunk = match &callback {
             Some(_) if every > 0.0 => ((every / dt).round() as u64).max(1),
@@ -259,7 +259,6 @@ impl Simulation {
                 cb.call1(py, (slf,))?;
             }
         }
-        let _ = start;
         Ok(())
     }
 
@@ -278,10 +277,7 @@ impl Simulation {
             max_seconds,
             give_up_after: None,
         };
-        let mut s = self
-            .inner
-            .lock()
-            .map_err(|_| err("the simulation is broken"))?;
+        let mut s = self.lock()?;
         let sim: &mut CoreSimulation = &mut s;
         let r =
             cancellable(py, || sim.settle(tol, |_| {}).map_err(|e| e.to_string()))?.map_err(err)?;
@@ -297,10 +293,7 @@ impl Simulation {
     /// present one in load steps; returns {"iterations", "residual"}.
     #[pyo3(signature = (load = None))]
     fn equilibrium<'py>(&self, py: Python<'py>, load: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
-        let mut s = self
-            .inner
-            .lock()
-            .map_err(|_| err("the simulation is broken"))?;
+        let mut s = self.lock()?;
         let from: Vec<glam::DVec3> = s.state.fingers.iter().map(|f| f.applied_force).collect();
         if let Some(load) = load {
             if !load.is_finite() {
