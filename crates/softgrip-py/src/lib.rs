@@ -216,6 +216,10 @@ impl Simulation {
         let sim: &mut CoreSimulation = &mut s;
         cancellable(py, || {
             for _ in 0..n {
+                // Ctrl-C (`cancellable`) ends the steps between two of them.
+                if softgrip_core::cancel::requested() {
+                    break;
+                }
                 sim.step().map_err(|e| e.to_string())?;
             }
             Ok::<_, String>(())

@@ -174,3 +174,29 @@ def test_diagnose_names_nothing_on_a_recording_of_its_own_model(shipped):
         softgrip.diagnose(rec, model="fem")
     with pytest.raises(SoftgripError, match="--bound"):
         softgrip.diagnose(rec, bounds=["young_modulus=1:"])
+
+
+def test_ctrl_c_stops_a_long_run(tmp_path):
+    """SIGINT during `run(1000)` raises KeyboardInterrupt at once, as in Python code."""
+    import signal
+    import sys
+
+    script = tmp_path / "long.py"
+    script.write_text(
+        # As an interactive Python does (a shell's background job starts with SIGINT ignored).
+        "import signal, softgrip\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "sim = softgrip.Simulation(softgrip.Scene.thesis())\n"
+        "print('ready', flush=True)\n"
+        "try:\n"
+        "    sim.run(1000.0)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted at', sim.time, flush=True)\n"
+    )
+    p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "ready"
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0 and out.startswith("interrupted at"), out
+    assert float(out.split()[-1]) < 1000.0
