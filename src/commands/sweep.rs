@@ -50,15 +50,7 @@ pub fn run(args: Args) -> Result<()> {
     let (path, params) = (args.recording.as_path(), &args.params);
     let (csv, workers) = (args.csv.as_deref(), args.workers.workers);
     let (json, report) = (args.json.as_deref(), &args.report);
-    anyhow::ensure!(
-        params.len() <= 2,
-        "{} --param given: a sweep is a curve (one) or a grid (two)",
-        params.len()
-    );
-    let axes = params
-        .iter()
-        .map(|p| softgrip_lab::params::parse_axis(p).map_err(anyhow::Error::msg))
-        .collect::<Result<Vec<_>>>()?;
+    let axes = softgrip_lab::shard::parse_axes(params)?;
     let recording = Recording::load(path)?;
     let total = sweep::grid(&axes).len();
     println!(
