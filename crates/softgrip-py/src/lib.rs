@@ -740,6 +740,13 @@ fn diagnose(
     pretty(&diagnose::to_json(&d, rec))
 }
 
+/// Lets this process's simulations use at most `n` cores in all (0: the machine's), for a
+/// process that is one of several on a machine (a Ray task with `num_cpus=1`).
+#[pyfunction]
+fn limit_cores(n: usize) {
+    softgrip_core::step::parallel::limit_cores(n);
+}
+
 #[pymodule]
 fn _softgrip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
@@ -751,6 +758,7 @@ fn _softgrip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep_part, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_merge, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(limit_cores, m)?)?;
     m.add("SoftgripError", m.py().get_type::<SoftgripError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -39,12 +39,29 @@ static HELPERS: AtomicUsize = AtomicUsize::new(0);
 /// run on their own threads, with the same results.
 static RUNNING: AtomicUsize = AtomicUsize::new(0);
 
-/// The cores this process may use, read once: `available_parallelism`
-/// reads the affinity mask and cgroup files, which a simulation looking
-/// every few steps must not do again.
+/// A cap on [`cores`] set by [`limit_cores`] (0 = none).
+static CORE_CAP: AtomicUsize = AtomicUsize::new(0);
+
+/// The cores this process may use: the machine's, read once
+/// (`available_parallelism` reads the affinity mask and cgroup files, which
+/// a simulation looking every few steps must not do again), or fewer after
+/// [`limit_cores`].
 pub fn cores() -> usize {
     static CORES: OnceLock<usize> = OnceLock::new();
-    *CORES.get_or_init(|| thread::available_parallelism().map_or(1, |n| n.get()))
+    let machine = *CORES.get_or_init(|| thread::available_parallelism().map_or(1, |n| n.get()));
+    match CORE_CAP.load(Ordering::Relaxed) {
+        0 => machine,
+        cap => cap.min(machine),
+    }
+}
+
+/// Lets this process's simulations use at most `n` cores in all (0 lifts the
+/// cap). For a process that is one of several on a machine, each given its
+/// share by a scheduler that does not pin it (a Ray task with `num_cpus=1`):
+/// without the cap each would start a helper on a core another one runs on,
+/// and the spin-waits of both would take turns. The results do not change.
+pub fn limit_cores(n: usize) {
+    CORE_CAP.store(n, Ordering::Relaxed);
 }
 
 /// Simulations with a work split alive in this process now (each one

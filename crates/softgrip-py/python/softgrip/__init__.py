@@ -17,7 +17,7 @@ The figures are those of the CLI's ``--json`` (docs/formats.md); every result ha
 
 from __future__ import annotations
 
-from ._softgrip import Scene, Simulation, SoftgripError, __version__
+from ._softgrip import Scene, Simulation, SoftgripError, __version__, limit_cores
 from . import _softgrip
 from .recording import Recording
 from .results import CompareResult, Diagnosis, FitResult, Result, SweepResult
@@ -31,6 +31,7 @@ __all__ = [
     "fit",
     "sweep",
     "diagnose",
+    "limit_cores",
     "Result",
     "CompareResult",
     "FitResult",

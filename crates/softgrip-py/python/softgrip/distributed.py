@@ -48,6 +48,9 @@ def sweep(
 
 
 def _part(path: str, params: list[str], index: int, count: int, name: str) -> str:
+    # One core, as the task asked Ray for: a second thread would spin on a core that
+    # another task of this machine runs on (benchmarks.md#python: +16 % on 2 cores).
+    _softgrip.limit_cores(1)
     return _softgrip.sweep_part(path, params, index, count, 1, name)
 
 
@@ -66,6 +69,7 @@ def diagnose(
 
 
 def _diagnose(path: str, options: dict) -> str:
+    _softgrip.limit_cores(1)
     return _softgrip.diagnose(
         _softgrip.Recording.load(path),
         options.get("model", "continuum"),
