@@ -128,3 +128,28 @@ pub fn non_negative(s: &str) -> Result<f64, String> {
         Err(format!("{s}: must be 0 or more"))
     }
 }
+
+/// A seed, decimal or hexadecimal with `0x` (as reports print them; `_` allowed).
+pub fn seed(s: &str) -> Result<u64, String> {
+    let t = s.trim().replace('_', "");
+    let parsed = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(hex) => u64::from_str_radix(hex, 16),
+        None => t.parse(),
+    };
+    parsed.map_err(|_| format!("{s}: give a whole number from 0 to 2^64-1, decimal or 0x-hex"))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn seeds_read_as_reports_print_them() {
+        assert_eq!(super::seed("0x9b3e77a04d12c865"), Ok(0x9b3e_77a0_4d12_c865));
+        assert_eq!(
+            super::seed("0x5eed_2f71_09c4_a1d3"),
+            Ok(0x5eed_2f71_09c4_a1d3)
+        );
+        assert_eq!(super::seed("17"), Ok(17));
+        assert!(super::seed("-1").is_err());
+        assert!(super::seed("0xg").is_err());
+    }
+}

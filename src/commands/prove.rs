@@ -21,10 +21,10 @@ pub struct Args {
     #[arg(long, default_value = "")]
     only: String,
     /// Draw the cases (noise, the truth's E error, each effect's strength, a region's place)
-    /// from this seed; repeat for several. Default: the three scored seeds, never used while
-    /// the diagnosis was developed (`softgrip_lab::prove::SCORED_SEEDS`); develop on others
-    /// (e.g. 1).
-    #[arg(long)]
+    /// from this seed (decimal or 0x-hex, as the report prints it); repeat for several.
+    /// Default: the three scored seeds, never used while the diagnosis was developed
+    /// (`softgrip_lab::prove::SCORED_SEEDS`); develop on others (e.g. 1).
+    #[arg(long, value_parser = super::args::seed)]
     seed: Vec<u64>,
     /// The report.
     #[arg(long, default_value = "DIAGNOSIS.md")]

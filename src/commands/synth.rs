@@ -27,7 +27,7 @@ pub struct Args {
     /// Standard deviation of the noise on each coordinate (m).
     #[arg(long, default_value_t = 1e-4, value_parser = super::args::non_negative)]
     noise: f64,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = super::args::seed, default_value_t = 1)]
     seed: u64,
     /// Directory for scene.toml, recording.toml and samples.csv.
     #[arg(long)]

@@ -71,6 +71,19 @@ def test_stepping_conserves_mass_and_moves_time_by_dt():
     assert set(sim.stats) >= {"cg_iterations", "energy", "volume_error", "contacts"}
 
 
+def test_limiting_cores_changes_no_bit():
+    two = Simulation(Scene.thesis(), threads=2)
+    two.step(50)
+    softgrip.limit_cores(1)
+    try:
+        capped = Simulation(Scene.thesis())
+        capped.step(50)
+    finally:
+        softgrip.limit_cores(0)
+    np.testing.assert_array_equal(capped.positions, two.positions)
+    assert not np.array_equal(two.positions, two.rest_positions)
+
+
 def test_run_calls_back_with_the_gil_and_the_steps_run_without_it():
     sim = Simulation(Scene.thesis())
     times = []

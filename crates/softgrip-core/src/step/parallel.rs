@@ -433,3 +433,19 @@ impl LinearOperator for SystemOperator<'_> {
         self.system.precondition_dot(r, z)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{cores, limit_cores};
+
+    #[test]
+    fn a_cap_lowers_the_cores_never_raises_them_and_lifts() {
+        let machine = cores();
+        limit_cores(1);
+        assert_eq!(cores(), 1);
+        limit_cores(machine + 5);
+        assert_eq!(cores(), machine);
+        limit_cores(0);
+        assert_eq!(cores(), machine);
+    }
+}
