@@ -1,0 +1,71 @@
+#!/usr/bin/env python3
+"""Issue 37's "after" measure against the model's own floor: each named effect case's
+after / the truth itself, over that of its experiment's controls of the same seed and model
+(the sphere's two quasi-static controls, averaged; the time series from rest; the plate). A
+control's ratio is the diagnosis model's form error against the finer truth with nothing hidden,
+so a case within 1.25 x of it is as close as the model gets. Reads the case tables of one or
+more DIAGNOSIS.md files (`softgrip prove`); prints a row per case and the share within 1.25 x.
+
+Usage: scripts/after_over_control.py DIAGNOSIS.md [...]"""
+
+import re
+import sys
+from collections import defaultdict
+
+# The controls each effect case is measured against (same experiment, same kind of recording).
+CONTROLS = {
+    "finger-friction": ["control-plate"],
+    "viscoelastic-creep": ["control-time-series"],
+}
+SPHERE = ["control-1", "control-2"]
+
+
+def rows(path):
+    for line in open(path):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 11 or not re.match(r"\d+\.\d+, \d+\.\d+$", cells[6]):
+            continue
+        name, seed = (cells[0].split(", seed ") + ["first"])[:2]
+        name = re.sub(r" \(.*\)$", "", name)
+        before, after = (float(x) for x in cells[6].split(","))
+        moved = re.search(r"(\d+\.\d+) mm", cells[5])
+        yield {
+            "case": name, "seed": seed, "model": cells[1], "named": cells[3],
+            "right": cells[4] == "yes", "after": after,
+            "moved": float(moved.group(1)) if moved else 0.0,
+        }
+
+
+def main() -> None:
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    table = [r for p in sys.argv[1:] for r in rows(p)]
+    control = defaultdict(dict)
+    for r in table:
+        if r["case"].startswith("control"):
+            control[(r["seed"], r["model"])][r["case"]] = r["after"]
+    within = counted = 0
+    print("| case | seed | model | after / truth | control's | ratio | within 1.25 x |")
+    print("|---|---|---|---|---|---|---|")
+    for r in table:
+        # Named right, above the noise (moves a marker by more than twice its 0.1 mm).
+        if r["case"].startswith("control") or r["named"] == "none" or r["moved"] <= 0.2:
+            continue
+        family = next((f for f in CONTROLS if r["case"].startswith(f)), None)
+        names = CONTROLS[family] if family else SPHERE
+        mine = [control[(r["seed"], r["model"])].get(n) for n in names]
+        if None in mine:
+            print(f"| {r['case']} | {r['seed']} | {r['model']} | {r['after']:.2f} | not run | | |")
+            continue
+        floor = sum(mine) / len(mine)
+        ok = r["after"] <= 1.25 * floor
+        within += ok
+        counted += 1
+        print(f"| {r['case']} | {r['seed']} | {r['model']} | {r['after']:.2f} | {floor:.2f} | "
+              f"{r['after'] / floor:.2f} | {'yes' if ok else 'no'} |")
+    if counted:
+        print(f"\nwithin 1.25 x the control's: {within} of {counted} ({100 * within / counted:.0f} %)")
+
+
+if __name__ == "__main__":
+    main()
