@@ -49,6 +49,9 @@ def ray_cluster(tmp_path_factory):
         ray_bin = shutil.which("ray") or "ray"
     port = "6388"
     temp = tmp_path_factory.mktemp("ray")
+    # One auth mode for the head and this client: Ray 2.59+ turns tokens on for local clusters,
+    # and a ~/.ray/auth_token left by an earlier `ray.init()` made them disagree.
+    os.environ["RAY_AUTH_MODE"] = "disabled"
     env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0")
     subprocess.run(
         [ray_bin, "start", "--head", "--node-ip-address=127.0.0.1", f"--port={port}",
