@@ -247,7 +247,8 @@ pub fn run(
     done: &mut dyn FnMut(&[Outcome], usize),
 ) -> Vec<Outcome> {
     let chosen = seeded(seed, filter);
-    let dir = dir.join(format!("seed-{seed}"));
+    // Named as the report prints the seed.
+    let dir = dir.join(format!("seed-{seed:016x}"));
     let total = chosen.len();
     let mut out = Vec::new();
     for (i, (noise_seed, case)) in chosen.into_iter().enumerate() {
