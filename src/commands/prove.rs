@@ -94,7 +94,7 @@ pub fn run(args: Args) -> Result<()> {
                     Err(e) => format!("error: {e}"),
                 };
                 let line = format!(
-                    "seed {seed}, {}, {}: {verdict} ({:.0} s)",
+                    "seed {seed:#x}, {}, {}: {verdict} ({:.0} s)",
                     o.case.name,
                     o.model.name(),
                     o.seconds
