@@ -26,9 +26,10 @@ pub struct Hypothesis {
     /// E's range given, two load losses took a wrong table friction in
     /// round 2 that way).
     pub against_model: bool,
-    /// Candidates of its effect in its round (the four halves of a region): it must beat its
-    /// rival by [`vuong_threshold`] of them.
-    pub variants: usize,
+    /// The independent tests its effect's candidates in its round (the four halves of a region,
+    /// two forms of stiffening) count as ([`super::statistics::effective_tests`]): it must beat its rival by
+    /// [`vuong_threshold`] of them.
+    pub tests: f64,
     /// Wall-clock seconds its fit took (reported, never decided on).
     pub seconds: f64,
 }
@@ -60,7 +61,7 @@ pub fn accepted(h: &Hypothesis) -> bool {
         && h.explained >= MIN_EXPLAINED
         // Against the best other effect or, with none fitted in its
         // round, against the model without it.
-        && h.vuong.is_some_and(|z| z >= vuong_threshold(h.variants))
+        && h.vuong.is_some_and(|z| z >= vuong_threshold(h.tests))
 }
 
 #[cfg(test)]
@@ -106,7 +107,7 @@ pub(crate) mod tests {
             round: 0,
             vuong: Some(vuong),
             against_model: false,
-            variants: 1,
+            tests: 1.0,
             seconds: 0.0,
         }
     }

@@ -1,6 +1,7 @@
 //! The diagnosis as the spec's JSON (`softgrip diagnose --json`).
 
 use super::model_fit::ModelFit;
+use super::statistics::vuong_threshold;
 use super::verdict::Diagnosis;
 use crate::recording::Recording;
 
@@ -25,6 +26,8 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                 "score": h.score,
                 "explained": h.explained,
                 "vuong_z": h.vuong,
+                "vuong_z_needed": vuong_threshold(h.tests),
+                "tests": h.tests,
                 "round": h.round,
             });
             if !h.variant.is_empty() {

@@ -59,7 +59,7 @@ pub struct PairNeed {
     pub vuong_by_sample: Option<f64>,
     /// Named: BIC, share and z all pass the thresholds used for one effect.
     pub needed: bool,
-    /// The z the effect left out must reach: [`vuong_threshold`] of its variants.
+    /// The z the effect left out must reach: [`vuong_threshold`] of its variants' tests.
     pub threshold: f64,
 }
 
@@ -175,8 +175,8 @@ pub(super) fn fit_pair(
             (rival.effect, rival.variant.clone()),
         ],
         without: [
-            PairNeed::new(&pair, rf, noise, vuong_threshold(best.variants)),
-            PairNeed::new(&pair, hf, noise, vuong_threshold(rival.variants)),
+            PairNeed::new(&pair, rf, noise, vuong_threshold(best.tests)),
+            PairNeed::new(&pair, hf, noise, vuong_threshold(rival.tests)),
         ],
         fit: pair,
         alone: None,

@@ -11,7 +11,7 @@ use super::model_fit::{FitTask, ModelFit, Search, check_cancel, fit_model};
 use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
 use super::pairs::{PairTest, fit_pair, judge_pair, tied_rival};
-use super::statistics::{PROMISING, UNEXPLAINED_RATIO, vuong};
+use super::statistics::{PROMISING, UNEXPLAINED_RATIO, effective_tests, vuong};
 use crate::error::LabError;
 use crate::recording::Recording;
 
@@ -74,11 +74,6 @@ pub(super) fn explain(
         for c in round_candidates {
             let h = fit_candidate(recording, noise, options, &found.current, c, round, fits)?;
             found.hypotheses.push(h);
-        }
-        let round_fits = &mut found.hypotheses[start..];
-        let effects: Vec<&'static str> = round_fits.iter().map(|h| h.effect).collect();
-        for h in round_fits.iter_mut() {
-            h.variants = effects.iter().filter(|e| **e == h.effect).count();
         }
         compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
         let Some(b) = best_of(&found.hypotheses, start) else {
@@ -189,13 +184,14 @@ fn fit_candidate(
         round,
         vuong: None,
         against_model: false,
-        variants: 1,
+        tests: 1.0,
         seconds: started.elapsed().as_secs_f64(),
     })
 }
 
 /// Each candidate of a round against the best-scoring fit of another
-/// effect in it, by Vuong's test.
+/// effect in it, by Vuong's test, and the independent tests its effect's
+/// candidates count as.
 fn compare_with_rivals(round: &mut [Hypothesis], current: &ModelFit, noise: &Noise) {
     let without = weighted_residuals(&current.replay.residuals, noise);
     let weighted: Vec<Option<Vec<f64>>> = round
@@ -207,22 +203,59 @@ fn compare_with_rivals(round: &mut [Hypothesis], current: &ModelFit, noise: &Noi
                 .map(|f| weighted_residuals(&f.replay.residuals, noise))
         })
         .collect();
-    for i in 0..weighted.len() {
-        let rival = (0..weighted.len())
-            .filter(|&j| round[j].effect != round[i].effect)
-            .filter(|&j| weighted[j].is_some())
-            .min_by(|&a, &b| round[a].score.total_cmp(&round[b].score));
-        let h = &mut round[i];
-        (h.vuong, h.against_model) = match (&weighted[i], rival.map(|j| &weighted[j])) {
-            (Some(this), Some(Some(other))) => (vuong(this, other), false),
-            // No other effect fitted this round: the same test against the
-            // model it was added to (nested, as in the pair test), so that
-            // form error a lone candidate absorbs is not named on BIC and the
-            // share alone.
-            (Some(this), None) => (vuong(this, &without), true),
-            _ => (None, false),
-        };
+    let effects: Vec<&str> = round.iter().map(|h| h.effect).collect();
+    let scores: Vec<f64> = round.iter().map(|h| h.score).collect();
+    let tested = rival_tests(&effects, &scores, &weighted, &without);
+    for (h, (z, against_model, tests)) in round.iter_mut().zip(tested) {
+        (h.vuong, h.against_model, h.tests) = (z, against_model, tests);
     }
+}
+
+/// For each candidate (its effect, BIC score and weighted residuals, None
+/// when its fit failed): Vuong's z against the best-scoring fitted candidate
+/// of another effect or, with none, against the model without it (`true`:
+/// nested, as in the pair test, so that form error a lone candidate absorbs
+/// is not named on BIC and the share alone); and the independent tests its
+/// effect's candidates count as, from their statistics against that rival.
+fn rival_tests(
+    effects: &[&str],
+    scores: &[f64],
+    weighted: &[Option<Vec<f64>>],
+    without: &[f64],
+) -> Vec<(Option<f64>, bool, f64)> {
+    let n = effects.len();
+    let against: Vec<(&[f64], bool)> = (0..n)
+        .map(|i| {
+            (0..n)
+                .filter(|&j| effects[j] != effects[i])
+                .filter_map(|j| weighted[j].as_deref().map(|w| (j, w)))
+                .min_by(|a, b| scores[a.0].total_cmp(&scores[b.0]))
+                .map_or((without, true), |(_, w)| (w, false))
+        })
+        .collect();
+    // The per-observation statistic each z is the mean of.
+    let statistic = |i: usize| -> Option<Vec<f64>> {
+        let (this, other) = (weighted[i].as_deref()?, against[i].0);
+        (other.len() == this.len())
+            .then(|| other.iter().zip(this).map(|(b, a)| b * b - a * a).collect())
+    };
+    (0..n)
+        .map(|i| {
+            let Some(this) = weighted[i].as_deref() else {
+                return (None, false, 1.0);
+            };
+            let family: Vec<Vec<f64>> = (0..n)
+                .filter(|&j| effects[j] == effects[i])
+                .filter_map(statistic)
+                .collect();
+            let (other, against_model) = against[i];
+            (
+                vuong(this, other),
+                against_model,
+                effective_tests(&family).max(1.0),
+            )
+        })
+        .collect()
 }
 
 /// The best-scoring candidate from index `start` on (the first of equals).
@@ -286,4 +319,97 @@ fn name_pair(
 /// residual more than UNEXPLAINED_RATIO times the noise.
 fn unexplained(location: &Location, effects: &[&'static str]) -> bool {
     effects.is_empty() && location.over_noise() > UNEXPLAINED_RATIO
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::statistics::vuong_threshold;
+    use super::*;
+
+    /// A pseudo-random sequence in [-1, 1): the tests' residuals.
+    fn wiggle(seed: u64, n: usize) -> Vec<f64> {
+        let mut x = seed.wrapping_mul(6_364_136_223_846_793_005) | 1;
+        (0..n)
+            .map(|_| {
+                x = x
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            })
+            .collect()
+    }
+
+    /// Two forms of one effect that leave nearly the same residual count as about one test and
+    /// face a threshold near 2; four places that leave unrelated residuals count as about four
+    /// (Bonferroni's 2.53); the z is Vuong's against the best other effect, or against the model
+    /// without it when the round has no other effect.
+    #[test]
+    fn forms_alike_count_as_one_test_places_apart_as_many() {
+        let n = 400;
+        let base = wiggle(1, n);
+        let near = |k: u64| -> Vec<f64> {
+            base.iter()
+                .zip(wiggle(k, n))
+                .map(|(b, w)| 0.8 * b + 0.02 * w)
+                .collect()
+        };
+        let rival: Vec<f64> = base
+            .iter()
+            .zip(wiggle(9, n))
+            .map(|(b, w)| b + 0.3 * w)
+            .collect();
+        let weighted = vec![Some(near(2)), Some(near(3)), Some(rival.clone())];
+        let out = rival_tests(
+            &["stiffening", "stiffening", "friction"],
+            &[-40.0, -35.0, -5.0],
+            &weighted,
+            &base,
+        );
+        let (z, against_model, tests) = out[0];
+        assert_eq!(z, vuong(weighted[0].as_deref().unwrap(), &rival));
+        assert!(!against_model);
+        assert!((1.0..1.1).contains(&tests), "{tests}");
+        assert!(vuong_threshold(tests) < 2.1);
+        // The rival alone in its effect: one test, against the best stiffening form.
+        assert_eq!(out[2].2, 1.0);
+        assert_eq!(out[2].0, vuong(&rival, weighted[0].as_deref().unwrap()));
+
+        // Four halves, each off the baseline in its own way.
+        let halves: Vec<Option<Vec<f64>>> = (0..4)
+            .map(|k| {
+                Some(
+                    base.iter()
+                        .zip(wiggle(20 + k, n))
+                        .map(|(b, w)| 0.5 * b + 0.5 * w)
+                        .collect(),
+                )
+            })
+            .collect();
+        let mut weighted = halves.clone();
+        weighted.push(Some(rival.clone()));
+        let effects = ["region", "region", "region", "region", "friction"];
+        let out = rival_tests(
+            &effects,
+            &[-30.0, -20.0, -10.0, -5.0, -1.0],
+            &weighted,
+            &base,
+        );
+        assert!(
+            out[..4].iter().all(|t| (3.0..=4.0).contains(&t.2)),
+            "{out:?}"
+        );
+
+        // A failed fit has no z and does not count; alone in the round, a candidate is tested
+        // against the model without it.
+        let out = rival_tests(
+            &["region", "region"],
+            &[-30.0, f64::INFINITY],
+            &[halves[0].clone(), None],
+            &base,
+        );
+        assert_eq!(out[1], (None, false, 1.0));
+        assert!(out[0].1);
+        assert_eq!(out[0].0, vuong(halves[0].as_deref().unwrap(), &base));
+        assert_eq!(out[0].2, 1.0);
+    }
 }

@@ -30,12 +30,16 @@ fn upper_tail(z: f64) -> f64 {
     (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt() * poly
 }
 
-/// Vuong's threshold for an effect chosen as the best of `variants` forms or places (the four
-/// halves a region may fill): [`VUONG_Z`]'s one-sided level divided among them (Bonferroni), so
-/// that the best of four halves is no likelier to be named by chance than a lone candidate. 2.0
-/// for one, 2.26 for two, 2.53 for four.
-pub fn vuong_threshold(variants: usize) -> f64 {
-    let level = upper_tail(VUONG_Z) / variants.max(1) as f64;
+/// Vuong's threshold for an effect chosen as the best of several forms or places (the four
+/// halves a region may fill), which count as `tests` independent tests ([`effective_tests`]):
+/// [`VUONG_Z`]'s one-sided level divided among them (Bonferroni), so that the best of four
+/// unrelated halves is no likelier to be named by chance than a lone candidate. 2.0 for one,
+/// 2.28 for two, 2.53 for four.
+pub fn vuong_threshold(tests: f64) -> f64 {
+    if tests <= 1.0 {
+        return VUONG_Z;
+    }
+    let level = upper_tail(VUONG_Z) / tests;
     let (mut lo, mut hi) = (VUONG_Z, 10.0);
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
@@ -45,7 +49,91 @@ pub fn vuong_threshold(variants: usize) -> f64 {
             hi = mid;
         }
     }
-    if variants <= 1 { VUONG_Z } else { hi }
+    hi
+}
+
+/// How many independent tests the Vuong tests of one effect's variants count as, from their
+/// per-observation statistics `d` (each `rival^2 - variant^2`): Galwey's effective number
+/// (Genet. Epidemiol. 33, 2009), `(sum sqrt(lambda))^2 / sum lambda` over the non-negative
+/// eigenvalues of the statistics' correlation matrix. Unrelated variants count as many tests,
+/// identical ones as one, and it moves smoothly between (two with correlation r: 1 + sqrt(1 -
+/// r^2)): two forms of stiffening that bend the same markers alike are nearly one test, and
+/// Bonferroni over both asks more than chance calls for.
+pub fn effective_tests(d: &[Vec<f64>]) -> f64 {
+    let k = d.len();
+    if k <= 1 {
+        return k as f64;
+    }
+    let centred: Vec<(Vec<f64>, f64)> = d
+        .iter()
+        .map(|v| {
+            let n = v.len().max(1) as f64;
+            let m = v.iter().sum::<f64>() / n;
+            let c: Vec<f64> = v.iter().map(|x| x - m).collect();
+            let norm = c.iter().map(|x| x * x).sum::<f64>().sqrt();
+            (c, norm)
+        })
+        .collect();
+    let mut r = vec![vec![0.0; k]; k];
+    for i in 0..k {
+        r[i][i] = 1.0;
+        for j in 0..i {
+            let ((a, na), (b, nb)) = (&centred[i], &centred[j]);
+            // Statistics of another length or without spread do not pair up: unrelated.
+            let c = if a.len() == b.len() && *na > 0.0 && *nb > 0.0 {
+                a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>() / (na * nb)
+            } else {
+                0.0
+            };
+            r[i][j] = c;
+            r[j][i] = c;
+        }
+    }
+    let l: Vec<f64> = symmetric_eigenvalues(r)
+        .into_iter()
+        .map(|l| l.max(0.0))
+        .collect();
+    let roots: f64 = l.iter().map(|x| x.sqrt()).sum();
+    // The trace is k; rounding aside.
+    roots * roots / l.iter().sum::<f64>().max(f64::MIN_POSITIVE)
+}
+
+/// Eigenvalues of a small symmetric matrix by cyclic Jacobi rotations.
+fn symmetric_eigenvalues(mut a: Vec<Vec<f64>>) -> Vec<f64> {
+    let k = a.len();
+    for _ in 0..100 {
+        let off: f64 = (0..k)
+            .flat_map(|i| (0..k).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| a[i][j] * a[i][j])
+            .sum();
+        if off < 1e-24 {
+            break;
+        }
+        for p in 0..k {
+            for q in p + 1..k {
+                if a[p][q].abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                // The rotation that zeroes a[p][q] (Numerical Recipes, 11.1).
+                let sign = if theta >= 0.0 { 1.0 } else { -1.0 };
+                let t = sign / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for row in a.iter_mut() {
+                    let (x, y) = (row[p], row[q]);
+                    row[p] = c * x - s * y;
+                    row[q] = s * x + c * y;
+                }
+                for j in 0..k {
+                    let (x, y) = (a[p][j], a[q][j]);
+                    a[p][j] = c * x - s * y;
+                    a[q][j] = s * x + c * y;
+                }
+            }
+        }
+    }
+    (0..k).map(|i| a[i][i]).collect()
 }
 
 /// A mismatch no candidate explains is "unexplained" when the baseline's
@@ -158,19 +246,75 @@ mod threshold_tests {
     use super::*;
 
     /// The tail against tabulated values (P(Z > 1.96) = 0.025, P(Z > 2.576) = 0.005), and the
-    /// threshold's level divided among the variants.
+    /// threshold's level divided among the tests.
     #[test]
-    fn the_threshold_divides_the_level_among_the_variants() {
+    fn the_threshold_divides_the_level_among_the_tests() {
         assert!((upper_tail(1.959_964) - 0.025).abs() < 1e-6);
         assert!((upper_tail(2.575_829) - 0.005).abs() < 1e-6);
-        assert_eq!(vuong_threshold(1), VUONG_Z);
-        for k in [2, 4, 8] {
+        assert_eq!(vuong_threshold(1.0), VUONG_Z);
+        assert_eq!(vuong_threshold(0.0), VUONG_Z);
+        for k in [1.3, 2.0, 4.0, 8.0] {
             let z = vuong_threshold(k);
             assert!(
-                (upper_tail(z) * k as f64 - upper_tail(VUONG_Z)).abs() < 1e-9,
+                (upper_tail(z) * k - upper_tail(VUONG_Z)).abs() < 1e-9,
                 "{k}: {z}"
             );
         }
-        assert!((vuong_threshold(4) - 2.53).abs() < 0.01);
+        assert!((vuong_threshold(2.0) - 2.28).abs() < 0.01);
+        assert!((vuong_threshold(4.0) - 2.53).abs() < 0.01);
+    }
+
+    /// Galwey's count: k unrelated statistics are k tests, k copies one, two with correlation r
+    /// count 1 + sqrt(1 - r^2) (eigenvalues 1 + r and 1 - r); a sign flip changes nothing.
+    #[test]
+    fn the_effective_tests_run_from_one_for_copies_to_k_for_unrelated() {
+        // +-1 by one bit of the index each: centred and uncorrelated.
+        let walsh = |i: usize| -> Vec<f64> {
+            (0..64usize)
+                .map(|n| if (n >> (3 + i)) & 1 == 0 { 1.0 } else { -1.0 })
+                .collect()
+        };
+        let unrelated: Vec<Vec<f64>> = (0..3).map(walsh).collect();
+        assert!((effective_tests(&unrelated) - 3.0).abs() < 1e-9);
+        let a: Vec<f64> = (0..50).map(|n| ((n * 37) % 11) as f64).collect();
+        let b: Vec<f64> = (0..50).map(|n| ((n * 17) % 13) as f64).collect();
+        assert!((effective_tests(&[a.clone(), a.clone(), a.clone()]) - 1.0).abs() < 1e-9);
+        let neg: Vec<f64> = a.iter().map(|x| -2.0 * x + 5.0).collect();
+        assert!((effective_tests(&[a.clone(), neg]) - 1.0).abs() < 1e-9);
+        let r = {
+            let m = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+            let (ma, mb) = (m(&a), m(&b));
+            let cov: f64 = a.iter().zip(&b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+            let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+            let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+            cov / (va * vb).sqrt()
+        };
+        assert!(r.abs() > 0.01, "a test of a real correlation: {r}");
+        let two = effective_tests(&[a.clone(), b]);
+        assert!(
+            (two - (1.0 + (1.0 - r * r).sqrt())).abs() < 1e-9,
+            "{two} {r}"
+        );
+        // No spread or another length: unrelated, never a failure.
+        assert!((effective_tests(&[a.clone(), vec![3.0; 50]]) - 2.0).abs() < 1e-9);
+        assert!((effective_tests(&[a.clone(), vec![1.0, 2.0]]) - 2.0).abs() < 1e-9);
+        assert_eq!(effective_tests(&[a]), 1.0);
+        assert_eq!(effective_tests(&[]), 0.0);
+    }
+
+    /// The Jacobi eigenvalues of a matrix with known ones.
+    #[test]
+    fn jacobi_finds_known_eigenvalues() {
+        // [[2,1,0],[1,2,1],[0,1,2]]: 2 - sqrt 2, 2, 2 + sqrt 2.
+        let mut l = symmetric_eigenvalues(vec![
+            vec![2.0, 1.0, 0.0],
+            vec![1.0, 2.0, 1.0],
+            vec![0.0, 1.0, 2.0],
+        ]);
+        l.sort_by(f64::total_cmp);
+        let r2 = 2f64.sqrt();
+        for (got, want) in l.iter().zip([2.0 - r2, 2.0, 2.0 + r2]) {
+            assert!((got - want).abs() < 1e-12, "{l:?}");
+        }
     }
 }

@@ -9,7 +9,7 @@ use super::model_fit::ModelFit;
 use super::noise::{Noise, rms_beyond_noise};
 use super::pairs::PairTest;
 use super::search::Explanation;
-use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z};
+use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z, vuong_threshold};
 use crate::discretisation::Discretisation;
 use crate::params;
 
@@ -229,7 +229,19 @@ fn evidence_text(
                     h.score,
                     100.0 * h.explained,
                     h.vuong
-                        .map(|z| format!(", Vuong z {z:+.2} against {}", h.rival_text()))
+                        .map(|z| format!(
+                            ", Vuong z {z:+.2} against {} (needed {:.2}{})",
+                            h.rival_text(),
+                            vuong_threshold(h.tests),
+                            if h.tests > 1.0 {
+                                format!(
+                                    ": its effect's forms or places count as {:.1} tests",
+                                    h.tests
+                                )
+                            } else {
+                                String::new()
+                            }
+                        ))
                         .unwrap_or_default()
                 )
             })
