@@ -38,8 +38,8 @@ pub use options::{BaselineModel, DiagnoseOptions, Progress, check_bounds, parse_
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
 pub use statistics::{
-    BIC_THRESHOLD, MIN_EXPLAINED, PROMISING, UNEXPLAINED_RATIO, VUONG_Z, bic, significant, vuong,
-    vuong_by_sample,
+    BIC_THRESHOLD, MIN_EXPLAINED, PROMISING, UNEXPLAINED_RATIO, VUONG_Z, bic, effective_tests,
+    significant, vuong, vuong_by_sample, vuong_threshold,
 };
 pub use verdict::Diagnosis;
 

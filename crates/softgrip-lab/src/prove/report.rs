@@ -334,7 +334,7 @@ fn write_confusion_matrix(s: &mut String, outcomes: &[Outcome]) {
 
 /// Every candidate fitted per case, by round, and the pair test.
 fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
-    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect, or against the model without it when its round has no other, is 2 or more), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it); when leaving one out lowers BIC, the pair does not need it at all, and the other is judged as a lone candidate: by Vuong's z against the model without it.\n\n");
+    s.push_str("\n## Candidates per case\n\nEvery candidate fitted, by round: the change of BIC against the model it was added to (an effect is accepted below -10 when it also removes 10 % of the weighted residual and Vuong's z against the best other effect, or against the model without it when its round has no other, is 2 or more: for the best of an effect's forms or places, \"z of\" gives the z its forms' independent tests ask, up to 2.53), the share removed and z. When the best two effects both pass BIC and the share but neither beats the other by z 2, they are fitted together, and each is named when the pair needs it: leaving it out must cost the same three thresholds (Vuong's z here is the pair against the pair without it; z by sample, which counts each sample once, is shown beside it); when leaving one out lowers BIC, the pair does not need it at all, and the other is judged as a lone candidate: by Vuong's z against the model without it.\n\n");
     for o in outcomes {
         let Ok(d) = &o.diagnosis else { continue };
         let mut line = format!("- **{}, {}**: ", case_label(o), o.model.name());
@@ -365,9 +365,13 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
                     100.0 * h.explained,
                     match h.vuong {
                         Some(z) if h.against_model =>
-                            format!(" / z {z:+.1} against {}", h.rival_text()),
-                        Some(z) => format!(" / z {z:+.1}"),
+                            format!(" / z {z:+.2} against {}", h.rival_text()),
+                        Some(z) => format!(" / z {z:+.2}"),
                         None => String::new(),
+                    } + &if h.tests > 1.0 && h.vuong.is_some() {
+                        format!(" of {:.2}", diagnose::vuong_threshold(h.tests))
+                    } else {
+                        String::new()
                     },
                     h.seconds
                 )
