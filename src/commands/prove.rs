@@ -50,6 +50,7 @@ pub fn run(args: Args) -> Result<()> {
     let options = &softgrip_lab::prove::ProveOptions {
         e_measured_within: args.e_measured_within,
         truth_edge_length: args.truth_edge_length,
+        commit: Some(env!("SOFTGRIP_COMMIT")),
     };
     if let Some(f) = options.e_measured_within {
         anyhow::ensure!(

@@ -30,12 +30,15 @@ pub struct ProveOptions {
     /// Tell the diagnosis E's measured range, this factor either way of
     /// the nominal E (`options_for`).
     pub e_measured_within: Option<f64>,
-    /// Make the truths with this edge length instead of the suite's 3 mm:
+    /// Make the truths with this edge length instead of the suite's 2 mm:
     /// the diagnosis's own 4 mm takes the mesh's form error out of the
     /// proof (what the diagnosis does with no discretisation between it
     /// and the data); a finer one brings the data nearer a continuum, as a
     /// lab's are.
     pub truth_edge_length: Option<f64>,
+    /// The commit the running binary was built from (the CLI's build script), for the report:
+    /// which rules ran.
+    pub commit: Option<&'static str>,
 }
 
 /// One case's outcome.

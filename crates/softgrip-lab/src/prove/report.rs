@@ -127,7 +127,12 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
     let seeds: Vec<String> = seeds.iter().map(|s| format!("{s:#x}")).collect();
     let _ = writeln!(
         s,
-        "Made by `softgrip prove` on {}, seeds {}. Each recording is made by another model than the diagnosis's: a continuum (neo-Hookean tetrahedra with nodal pressures, checked against NGSolve) on {truth_edge}, 1 ms steps, E drawn log-uniformly in 0.8-1.25 times the nominal, each effect's strength (and a region's place) drawn from the seed within its stated range; 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane and the finger. The diagnosis gets the nominal scene as a lab writes it (the thesis's lattice at 4 mm, fitted as the continuum, `diagnose`'s default, or as the lattice: column model) and the recording{}, and is not told what is hidden.\n",
+        "Made by `softgrip prove`{} on {}, seeds {}. Each recording is made by another model than the diagnosis's: a continuum (neo-Hookean tetrahedra with nodal pressures, checked against NGSolve) on {truth_edge}, 1 ms steps, E drawn log-uniformly in 0.8-1.25 times the nominal, each effect's strength (and a region's place) drawn from the seed within its stated range; 0.1 mm of Gaussian noise, x and z only, 8 markers on the contour of the object's mid-plane and the finger. The diagnosis gets the nominal scene as a lab writes it (the thesis's lattice at 4 mm, fitted as the continuum, `diagnose`'s default, or as the lattice: column model) and the recording{}, and is not told what is hidden.\n",
+        prove
+            .commit
+            .filter(|c| !c.is_empty())
+            .map(|c| format!(" built from commit `{c}`"))
+            .unwrap_or_default(),
         softgrip_core::bench::machine_description(),
         seeds.join(", "),
         match prove.e_measured_within {
@@ -406,5 +411,28 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
             }
         }
         let _ = writeln!(s, "{line}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The report says which build ran (the rules are the commit's), and says nothing of a
+    /// commit it was not given.
+    #[test]
+    fn the_report_names_the_commit_it_was_built_from() {
+        let with = ProveOptions {
+            commit: Some("abc1234"),
+            ..Default::default()
+        };
+        assert!(report(&[], &with).contains("built from commit `abc1234`"));
+        for commit in [None, Some("")] {
+            let without = ProveOptions {
+                commit,
+                ..Default::default()
+            };
+            assert!(!report(&[], &without).contains("built from commit"));
+        }
     }
 }
