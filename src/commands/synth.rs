@@ -101,7 +101,7 @@ pub fn run(args: Args) -> Result<()> {
         noise,
         seed,
         description: format!(
-            "made by softgrip synth: loads {loads:?} N, axes {axes}, noise {noise} m, seed {seed:#x}"
+            "made by softgrip synth: loads {loads:?} N, axes {axes}, noise {noise} m, seed {seed}"
         ),
     };
     let rec = synthesize(scene, &spec, out)?;

@@ -266,13 +266,13 @@ fn evidence_text(
         let ratio = location.over_noise();
         return if unexplained {
             format!(
-                "unexplained: a mismatch {ratio:.1} times the noise ({}) that no candidate explains (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}){best}",
+                "unexplained: a mismatch {ratio:.1} times the noise ({}) that no candidate explains (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}, more for the best of an effect's forms or places){best}",
                 location.description,
                 100.0 * MIN_EXPLAINED
             )
         } else {
             format!(
-                "nothing is missing: the residual left after the baseline fit, {ratio:.1} times the noise ({}), is explained by no candidate (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}): the model's own form error{best}",
+                "nothing is missing: the residual left after the baseline fit, {ratio:.1} times the noise ({}), is explained by no candidate (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}, more for the best of an effect's forms or places): the model's own form error{best}",
                 location.description,
                 100.0 * MIN_EXPLAINED
             )
