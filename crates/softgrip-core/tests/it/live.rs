@@ -15,6 +15,10 @@ use crate::support::shipped_scene;
 /// are slow and shared.
 const PATIENCE: Duration = Duration::from_secs(10);
 
+/// For a command that is work (hundreds of steps): only a hang guard, as a loaded machine may
+/// take many times its usual second.
+const WORK_PATIENCE: Duration = Duration::from_secs(300);
+
 fn started(scene: Scene) -> LiveSimulation {
     let live = LiveSimulation::start(scene).expect("solver thread");
     live.wait_for(PATIENCE, |f| f.run == RunState::Paused)
@@ -24,9 +28,13 @@ fn started(scene: Scene) -> LiveSimulation {
 
 /// Sends `command` and waits for the frame that shows it was taken.
 fn send(live: &LiveSimulation, command: Command) -> Arc<Frame> {
+    send_within(live, command, PATIENCE)
+}
+
+fn send_within(live: &LiveSimulation, command: Command, patience: Duration) -> Arc<Frame> {
     let before = live.latest().map_or(0, |f| f.commands);
     live.send(command).expect("sent");
-    live.wait_for(PATIENCE, |f| f.commands > before)
+    live.wait_for(patience, |f| f.commands > before)
         .expect("command taken")
 }
 
@@ -74,7 +82,7 @@ fn an_alpha_edit_acts_without_a_restart() {
     let scene = shipped_scene("thesis_cuboid_no_bulk.toml");
     let run = |edit: bool| {
         let live = started(scene.clone());
-        send(&live, Command::Step(150));
+        send_within(&live, Command::Step(150), WORK_PATIENCE);
         if edit {
             let mut edited = scene.clone();
             edited.model.alpha = 0.0;
@@ -84,7 +92,10 @@ fn an_alpha_edit_acts_without_a_restart() {
             assert_eq!(frame.model.as_ref().expect("model").alpha, 0.0);
             assert_eq!(frame.state.step, 150, "the run goes on from where it was");
         }
-        send(&live, Command::Step(150)).state.stats.volume_error
+        send_within(&live, Command::Step(150), WORK_PATIENCE)
+            .state
+            .stats
+            .volume_error
     };
     let (kept, zeroed) = (run(false), run(true));
     println!("volume error 0.15 s after the edit: alpha 6e6 {kept:.3e}, alpha 0 {zeroed:.3e}");
@@ -179,9 +190,9 @@ fn a_failing_step_pauses_with_the_error_and_reset_recovers() {
 #[test]
 fn history_is_bounded_and_even() {
     let live = started(Scene::thesis());
-    let mut frame = send(&live, Command::Step(500));
+    let mut frame = send_within(&live, Command::Step(500), WORK_PATIENCE);
     for _ in 0..4 {
-        frame = send(&live, Command::Step(500));
+        frame = send_within(&live, Command::Step(500), WORK_PATIENCE);
     }
     assert_eq!(frame.state.step, 2500);
     let samples = &frame.history[0];
@@ -240,7 +251,7 @@ fn hold_drags_a_finger_and_letting_go_returns_it_to_its_control() {
             at: Some(above),
         },
     );
-    let held = send(&live, Command::Step(300));
+    let held = send_within(&live, Command::Step(300), WORK_PATIENCE);
     assert!(held.state.fingers[0].held.is_some());
     let gap = (held.state.fingers[0].position - above).length();
     assert!(gap < 1e-5, "held finger {gap:e} m from where it is held");
@@ -252,7 +263,7 @@ fn hold_drags_a_finger_and_letting_go_returns_it_to_its_control() {
         },
     );
     // Force control again: its weight brings it down.
-    let fallen = send(&live, Command::Step(100));
+    let fallen = send_within(&live, Command::Step(100), WORK_PATIENCE);
     assert!(fallen.state.fingers[0].held.is_none());
     assert!(fallen.state.fingers[0].position.z < above.z - 1e-3);
     // A finger that is not there is ignored.
