@@ -3,6 +3,7 @@
 
 pub mod cg;
 pub mod gmres;
+pub mod pressure;
 pub mod system;
 
 pub use cg::{CgError, CgParams, CgReport, LinearOperator, conjugate_gradient};

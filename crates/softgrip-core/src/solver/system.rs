@@ -13,6 +13,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::model::Model;
+use crate::solver::pressure::{Choice, NoFactor, Pressure};
 
 /// Unknown index: particles first, then fingers.
 pub type Dof = usize;
@@ -45,6 +46,12 @@ pub struct System {
     /// The volume term averaged per node (`forces::volume::nodal`): it couples
     /// nodes two edges apart, so it is applied matrix-free.
     pub nodal: NodalOperator,
+    /// The nodal term's own preconditioner, kept over steps (`None`: block Jacobi).
+    pressure: Option<Pressure>,
+    /// A factorization refused for its size is not tried again for this mesh.
+    pressure_refused: bool,
+    /// Whether the next solve uses `pressure`.
+    choice: Choice,
 }
 
 /// `sum_i c_i g_i g_i^T` with `g_i = dV_i/dx`, `V_i` a quarter of the volume of
@@ -229,8 +236,56 @@ impl System {
         self.kv[finger] += kp.transpose() * v(particle);
     }
 
-    /// Prepares the preconditioner after assembly.
-    pub fn finish(&mut self) {
+    /// Prepares the preconditioner after assembly (`tets`: the model's elements;
+    /// `last_iterations`: CG's iterations in the last solve, which tell when the nodal term's
+    /// factorization has aged).
+    pub fn finish(&mut self, tets: &[[u32; 4]], last_iterations: usize) {
+        self.finish_block_jacobi();
+        if !self.nodal.is_active() || self.pressure_refused {
+            self.pressure = None;
+            self.choice = Choice::default();
+            return;
+        }
+        let n = self.particles;
+        let cost = self.pressure.as_ref().map_or(f64::INFINITY, |p| {
+            // The product's two halves run side by side (`crate::step::parallel`): the
+            // factor's application, on one thread, weighs against the longer half.
+            let half = (36 * self.free_springs.len()).max(48 * tets.len() + 9 * n) as f64;
+            1.0 + p.work() / half
+        });
+        // Untried yet: tried where block Jacobi's iterations leave room (cost unknown: 3).
+        let cost = if cost.is_finite() { cost } else { 3.0 };
+        let factored = self.choice.factored;
+        let serving = factored
+            && self
+                .pressure
+                .as_mut()
+                .is_some_and(|p| p.serves(n, &self.mask, last_iterations));
+        // An aged factorization is built anew before it is judged: its count tells its age.
+        if !(factored && !serving) {
+            if !self.choice.next(last_iterations, cost) || serving {
+                return;
+            }
+        }
+        let mut p = self.pressure.take().unwrap_or_default();
+        let built = p.build(
+            tets,
+            &self.nodal.quarter_gradients,
+            &self.nodal.weight,
+            &self.diag[..n],
+            &self.mask[..n],
+        );
+        match built {
+            Ok(()) => self.pressure = Some(p),
+            Err(NoFactor::TooLarge) => self.pressure_refused = true,
+            Err(NoFactor::NotDefinite) => {}
+        }
+        if self.pressure.is_none() {
+            self.choice.failed();
+        }
+    }
+
+    fn finish_block_jacobi(&mut self) {
         self.inv_diag.clear();
         for (i, (d, m)) in self.diag.iter().zip(&self.mask).enumerate() {
             // Replace fixed rows and columns by the identity, then invert.
@@ -315,21 +370,29 @@ impl System {
         }
     }
 
-    /// `z = M^-1 r` with the block-Jacobi preconditioner `M`.
+    /// `z = M^-1 r` with the preconditioner `M`: block Jacobi, with the nodal volume term
+    /// whole where there is one (`solver::pressure`).
     pub fn precondition(&self, r: &[DVec3], z: &mut [DVec3]) {
-        for ((z, inv), r) in z.iter_mut().zip(&self.inv_diag).zip(r) {
+        let from = match self.pressure.as_ref().filter(|_| self.choice.factored) {
+            Some(p) => {
+                p.apply(r, z, &self.mask);
+                self.particles
+            }
+            None => 0,
+        };
+        for ((z, inv), r) in z[from..]
+            .iter_mut()
+            .zip(&self.inv_diag[from..])
+            .zip(&r[from..])
+        {
             *z = *inv * *r;
         }
     }
 
     /// [`System::precondition`], returning `r . z`.
     pub fn precondition_dot(&self, r: &[DVec3], z: &mut [DVec3]) -> f64 {
-        let mut rz = 0.0;
-        for ((z, inv), r) in z.iter_mut().zip(&self.inv_diag).zip(r) {
-            *z = *inv * *r;
-            rz += r.dot(*z);
-        }
-        rz
+        self.precondition(r, z);
+        r.iter().zip(z.iter()).map(|(r, z)| r.dot(*z)).sum()
     }
 
     fn add_spring_blocks(&self, range: std::ops::Range<usize>, x: &[DVec3], y: &mut [DVec3]) {

@@ -362,7 +362,7 @@ fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
     forces::viscosity::accumulate_dashpots(model, state, &mut s.force, &mut system, springs);
     forces::viscosity::accumulate_elements(model, state, &mut s.force, &mut system, elements);
     parallel.finish_assembly(&mut s.force, &mut system);
-    system.finish();
+    system.finish(&model.tets, state.stats.cg_iterations);
     static_residual(model, state, &s.force, &system.mask)
 }
 

@@ -12,6 +12,7 @@ mod finger_shapes;
 mod guide_friction;
 mod hanging_cuboid;
 mod hertz_indentation;
+mod incompressible;
 mod invariants;
 mod live;
 mod mesh_import;
