@@ -11,7 +11,8 @@ pub const DEFAULT_MAX_TETRAHEDRA: u64 = 2_000_000;
 
 /// What a tetrahedron costs a running simulation, mesh and model together (bytes): the 1.6 mm
 /// built-in scene (79,872 tetrahedra) peaks at 40.3 MiB, the 4 mm one (4,320) at 6.2 MiB
-/// (`docs/results/benchmarks.md`).
+/// (`docs/results/benchmarks.md`). A nearly incompressible continuum's factored volume term
+/// (`solver::pressure`) adds at most 430 bytes, and only on meshes small enough to use it.
 pub const BYTES_PER_TETRAHEDRON: f64 = 530.0;
 
 static MAX_TETRAHEDRA: AtomicU64 = AtomicU64::new(DEFAULT_MAX_TETRAHEDRA);

@@ -1,8 +1,7 @@
 //! A nearly incompressible continuum (nu 0.4999, as silicone is) is solved by CG with the nodal
 //! volume term factored whole (`solver::pressure`): far fewer iterations than block Jacobi
 //! alone takes (243 a step on this block at the default tolerance, 24 with it), and the state
-//! within 1e-4 of an edge of a
-//! solve at 1e-10.
+//! within 1e-4 of an edge of a solve at 1e-10.
 
 use softgrip_core::Simulation;
 
