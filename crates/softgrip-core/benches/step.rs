@@ -69,7 +69,7 @@ fn kernels(c: &mut Criterion) {
     softgrip_core::step::integrate::set_mask(model, state, &mut system);
     softgrip_core::forces::springs::accumulate(model, state, &mut force, &mut system);
     softgrip_core::forces::volume::accumulate(model, state, &mut force, &mut system);
-    system.finish();
+    system.finish(&model.tets, 0);
     let x: Vec<DVec3> = (0..total)
         .map(|i| DVec3::new(1.0, (i as f64).sin(), 0.5) * system.mask[i])
         .collect();

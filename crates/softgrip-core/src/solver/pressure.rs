@@ -436,7 +436,7 @@ mod tests {
         let product = |x: &[DVec3]| {
             let mut y: Vec<DVec3> = (0..5).map(|k| diag[k] * x[k]).collect();
             for i in 0..5 {
-                let mut g = vec![DVec3::ZERO; 5];
+                let mut g = [DVec3::ZERO; 5];
                 for (t, q) in tets.iter().zip(&qg) {
                     if t.contains(&(i as u32)) {
                         for a in 0..4 {

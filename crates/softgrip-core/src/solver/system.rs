@@ -261,12 +261,18 @@ impl System {
                 .pressure
                 .as_mut()
                 .is_some_and(|p| p.serves(n, &self.mask, last_iterations));
-        // An aged factorization is built anew before it is judged: its count tells its age.
-        if !(factored && !serving) {
-            if !self.choice.next(last_iterations, cost) || serving {
+        if !factored {
+            // Block Jacobi last: is the factorization worth a try?
+            if !self.choice.next(last_iterations, cost) {
                 return;
             }
+        } else if serving {
+            // Judged against block Jacobi's count: kept, or block Jacobi again.
+            self.choice.next(last_iterations, cost);
+            return;
         }
+        // Here a new factorization: tried, or an aged one built anew before it is judged (its
+        // count tells its age).
         let mut p = self.pressure.take().unwrap_or_default();
         let built = p.build(
             tets,
