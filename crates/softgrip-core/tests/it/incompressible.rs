@@ -5,7 +5,7 @@
 
 use softgrip_core::Simulation;
 
-use crate::support::{cuboid_scene, simulation};
+use crate::support::{cuboid_scene, rms_distance, simulation};
 
 /// A 20 x 20 x 60 mm neo-Hookean block hanging from its top face, 5 mm edges, 1 ms steps, for
 /// 50 steps from rest: the state and the mean CG iterations a step.
@@ -38,16 +38,7 @@ fn a_nearly_incompressible_block_steps_in_few_iterations_as_a_tight_solve_does()
         let b = s.spawn(|| hanging(0.4999, 1e-10));
         (a.join().expect("run"), b.join().expect("run"))
     });
-    let n = a.state.positions.len() as f64;
-    let rms = (a
-        .state
-        .positions
-        .iter()
-        .zip(&b.state.positions)
-        .map(|(x, y)| x.distance_squared(*y))
-        .sum::<f64>()
-        / n)
-        .sqrt();
+    let rms = rms_distance(&a, &b);
     let sag = b
         .state
         .positions

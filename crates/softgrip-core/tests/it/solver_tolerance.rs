@@ -12,6 +12,8 @@ use softgrip_core::Scene;
 use softgrip_core::Simulation;
 use softgrip_core::scene::DEFAULT_CG_TOLERANCE;
 
+use crate::support::rms_distance;
+
 /// RMS particle distance and finger distance (m) from a 1e-10 solve, the
 /// finger frictionless.
 fn difference_from_tight(tolerance: f64, until: f64) -> (f64, f64) {
@@ -32,16 +34,7 @@ fn difference(tolerance: f64, until: f64, friction: f64) -> (f64, f64) {
         let b = s.spawn(|| run(1e-10));
         (a.join().expect("run"), b.join().expect("run"))
     });
-    let n = a.state.positions.len() as f64;
-    let particles = (a
-        .state
-        .positions
-        .iter()
-        .zip(&b.state.positions)
-        .map(|(x, y)| x.distance_squared(*y))
-        .sum::<f64>()
-        / n)
-        .sqrt();
+    let particles = rms_distance(&a, &b);
     let finger = a.state.fingers[0]
         .position
         .distance(b.state.fingers[0].position);

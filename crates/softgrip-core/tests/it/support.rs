@@ -15,6 +15,13 @@ pub fn shipped_scene(name: &str) -> Scene {
     Scene::load(std::path::Path::new(&path)).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The RMS distance between the particles of two runs of one model (m).
+pub fn rms_distance(a: &Simulation, b: &Simulation) -> f64 {
+    let (x, y) = (&a.state.positions, &b.state.positions);
+    let sum: f64 = x.iter().zip(y).map(|(p, q)| p.distance_squared(*q)).sum();
+    (sum / x.len() as f64).sqrt()
+}
+
 /// Scene text resolved and ready to run; `name` names it in errors.
 pub fn simulation(text: &str, name: &str) -> Simulation {
     let scene = Scene::from_toml_str(text, name).unwrap_or_else(|e| panic!("{e}"));
