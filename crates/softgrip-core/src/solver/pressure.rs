@@ -78,10 +78,8 @@ impl Pressure {
         mask: &[DVec3],
     ) -> Result<(), NoFactor> {
         let n = weight.len();
-        if weight
-            .iter()
-            .any(|&w| w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater))
-        {
+        // Every weight positive and finite (NaN fails too): C^-1 must exist.
+        if !weight.iter().all(|&w| w > 0.0 && w.is_finite()) {
             return Err(NoFactor::NotDefinite);
         }
         let mut elements_of = vec![Vec::new(); n];

@@ -397,8 +397,17 @@ impl System {
 
     /// [`System::precondition`], returning `r . z`.
     pub fn precondition_dot(&self, r: &[DVec3], z: &mut [DVec3]) -> f64 {
-        self.precondition(r, z);
-        r.iter().zip(z.iter()).map(|(r, z)| r.dot(*z)).sum()
+        if self.choice.factored && self.pressure.is_some() {
+            self.precondition(r, z);
+            return r.iter().zip(z.iter()).map(|(r, z)| r.dot(*z)).sum();
+        }
+        // Block Jacobi alone, in CG's inner loop: one pass.
+        let mut rz = 0.0;
+        for ((z, inv), r) in z.iter_mut().zip(&self.inv_diag).zip(r) {
+            *z = *inv * *r;
+            rz += r.dot(*z);
+        }
+        rz
     }
 
     fn add_spring_blocks(&self, range: std::ops::Range<usize>, x: &[DVec3], y: &mut [DVec3]) {
