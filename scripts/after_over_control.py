@@ -6,6 +6,10 @@ control's ratio is the diagnosis model's form error against the finer truth with
 so a case within 1.25 x of it is as close as the model gets. Reads the case tables of one or
 more DIAGNOSIS.md files (`softgrip prove`); prints a row per case and the share within 1.25 x.
 
+Then the same band for detection: an effect case whose baseline (before) is within 1.25 x its
+controls' is one the model's own form error could have made; the share named right is printed
+for the effects above the band and within it, by seed.
+
 Usage: scripts/after_over_control.py DIAGNOSIS.md [...]"""
 
 import re
@@ -31,7 +35,7 @@ def rows(path):
         moved = re.search(r"(\d+\.\d+) mm", cells[5])
         yield {
             "case": name, "seed": seed, "model": cells[1], "named": cells[3],
-            "right": cells[4] == "yes", "after": after,
+            "right": cells[4] == "yes", "before": before, "after": after,
             "moved": float(moved.group(1)) if moved else 0.0,
         }
 
@@ -65,6 +69,30 @@ def main() -> None:
               f"{r['after'] / floor:.2f} | {'yes' if ok else 'no'} |")
     if counted:
         print(f"\nwithin 1.25 x the control's: {within} of {counted} ({100 * within / counted:.0f} %)")
+    detection(table, control)
+
+
+def detection(table, control) -> None:
+    """Named right among the effects above the controls' band (before > 1.25 x) and within it."""
+    tally = defaultdict(lambda: [0, 0, 0, 0])  # (seed, model): named above, above, named within, within
+    print("\n| case | seed | model | named right | before / truth | control's | ratio | above the band |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in table:
+        if r["case"].startswith("control"):
+            continue
+        family = next((f for f in CONTROLS if r["case"].startswith(f)), None)
+        mine = [control[(r["seed"], r["model"])].get(n) for n in (CONTROLS[family] if family else SPHERE)]
+        if None in mine:
+            continue
+        floor = sum(mine) / len(mine)
+        above = r["before"] > 1.25 * floor
+        t = tally[(r["seed"], r["model"])]
+        t[0 if above else 2] += r["right"]
+        t[1 if above else 3] += 1
+        print(f"| {r['case']} | {r['seed']} | {r['model']} | {'yes' if r['right'] else 'NO'} | "
+              f"{r['before']:.2f} | {floor:.2f} | {r['before'] / floor:.2f} | {'yes' if above else 'no'} |")
+    for (seed, model), (na, a, nw, w) in sorted(tally.items()):
+        print(f"seed {seed}, {model}: named right {na} of {a} above the band, {nw} of {w} within it")
 
 
 if __name__ == "__main__":
