@@ -40,6 +40,14 @@ def rows(path):
         }
 
 
+def floor(r, control, key):
+    """The mean `key` (before or after) of the case's experiment's controls, same seed and model;
+    None when one of them was not run."""
+    family = next((f for f in CONTROLS if r["case"].startswith(f)), None)
+    mine = [control[(r["seed"], r["model"])].get(n) for n in (CONTROLS[family] if family else SPHERE)]
+    return None if None in mine else sum(c[key] for c in mine) / len(mine)
+
+
 def main() -> None:
     if len(sys.argv) < 2:
         sys.exit(__doc__)
@@ -47,7 +55,7 @@ def main() -> None:
     control = defaultdict(dict)
     for r in table:
         if r["case"].startswith("control"):
-            control[(r["seed"], r["model"])][r["case"]] = r["after"]
+            control[(r["seed"], r["model"])][r["case"]] = r
     within = counted = 0
     print("| case | seed | model | after / truth | control's | ratio | within 1.25 x |")
     print("|---|---|---|---|---|---|---|")
@@ -55,42 +63,40 @@ def main() -> None:
         # Named right, above the noise (moves a marker by more than twice its 0.1 mm).
         if r["case"].startswith("control") or r["named"] == "none" or r["moved"] <= 0.2:
             continue
-        family = next((f for f in CONTROLS if r["case"].startswith(f)), None)
-        names = CONTROLS[family] if family else SPHERE
-        mine = [control[(r["seed"], r["model"])].get(n) for n in names]
-        if None in mine:
+        band = floor(r, control, "after")
+        if band is None:
             print(f"| {r['case']} | {r['seed']} | {r['model']} | {r['after']:.2f} | not run | | |")
             continue
-        floor = sum(mine) / len(mine)
-        ok = r["after"] <= 1.25 * floor
+        ok = r["after"] <= 1.25 * band
         within += ok
         counted += 1
-        print(f"| {r['case']} | {r['seed']} | {r['model']} | {r['after']:.2f} | {floor:.2f} | "
-              f"{r['after'] / floor:.2f} | {'yes' if ok else 'no'} |")
+        print(f"| {r['case']} | {r['seed']} | {r['model']} | {r['after']:.2f} | {band:.2f} | "
+              f"{r['after'] / band:.2f} | {'yes' if ok else 'no'} |")
     if counted:
         print(f"\nwithin 1.25 x the control's: {within} of {counted} ({100 * within / counted:.0f} %)")
     detection(table, control)
 
 
 def detection(table, control) -> None:
-    """Named right among the effects above the controls' band (before > 1.25 x) and within it."""
+    """Named right among the effects above the controls' band (before > 1.25 x the controls'
+    before: the baseline's misfit on both sides) and within it."""
     tally = defaultdict(lambda: [0, 0, 0, 0])  # (seed, model): named above, above, named within, within
     print("\n| case | seed | model | named right | before / truth | control's | ratio | above the band |")
     print("|---|---|---|---|---|---|---|---|")
     for r in table:
         if r["case"].startswith("control"):
             continue
-        family = next((f for f in CONTROLS if r["case"].startswith(f)), None)
-        mine = [control[(r["seed"], r["model"])].get(n) for n in (CONTROLS[family] if family else SPHERE)]
-        if None in mine:
+        band = floor(r, control, "before")
+        if band is None:
+            print(f"| {r['case']} | {r['seed']} | {r['model']} | {'yes' if r['right'] else 'NO'} | "
+                  f"{r['before']:.2f} | not run | | |")
             continue
-        floor = sum(mine) / len(mine)
-        above = r["before"] > 1.25 * floor
+        above = r["before"] > 1.25 * band
         t = tally[(r["seed"], r["model"])]
         t[0 if above else 2] += r["right"]
         t[1 if above else 3] += 1
         print(f"| {r['case']} | {r['seed']} | {r['model']} | {'yes' if r['right'] else 'NO'} | "
-              f"{r['before']:.2f} | {floor:.2f} | {r['before'] / floor:.2f} | {'yes' if above else 'no'} |")
+              f"{r['before']:.2f} | {band:.2f} | {r['before'] / band:.2f} | {'yes' if above else 'no'} |")
     for (seed, model), (na, a, nw, w) in sorted(tally.items()):
         print(f"seed {seed}, {model}: named right {na} of {a} above the band, {nw} of {w} within it")
 
