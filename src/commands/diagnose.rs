@@ -16,7 +16,9 @@ use super::progress::{progress_bar, show_stages};
 /// catalogue of candidate effects (table-friction, strain-stiffening,
 /// viscoelastic-creep, finger-friction, heterogeneous-stiffness,
 /// load-loss; damping for time series) and name the one(s) that
-/// explain it, or "none".
+/// explain it, or "none". Each fit is saved in the report directory as it
+/// ends (fits.checkpoint): run the same command again to resume a diagnosis
+/// stopped midway.
 #[derive(clap::Args)]
 pub struct Args {
     recording: PathBuf,
@@ -76,12 +78,30 @@ pub fn run(args: Args) -> Result<()> {
         workers,
         sensitivities: args.sensitivities,
         model: diagnose::BaselineModel::from_name(&args.model),
+        checkpoint: report
+            .dir("diagnose", recording_path)
+            .map(|dir| open_checkpoint(&dir))
+            .transpose()?,
         ..DiagnoseOptions::default()
     };
+    if let Some(c) = options.checkpoint.as_ref().filter(|c| !c.is_empty()) {
+        println!(
+            "{} fits saved in {}: those of this diagnosis are not fitted again (delete the file to refit)",
+            c.len(),
+            c.path().display()
+        );
+    }
     let bar = progress_bar(1, "fits");
     let d =
         diagnose::diagnose(&recording, &options, &show_stages(&bar)).map_err(anyhow::Error::msg)?;
     bar.finish_and_clear();
+    if let Some(c) = options.checkpoint.as_ref().filter(|c| c.reused() > 0) {
+        println!(
+            "resumed: {} fits taken from {}",
+            c.reused(),
+            c.path().display()
+        );
+    }
     let params = |p: &[(String, f64)]| {
         p.iter()
             .map(|(k, v)| format!("{k} {v:.4e}"))
@@ -206,3 +226,23 @@ pub fn run(args: Args) -> Result<()> {
     }
     Ok(())
 }
+
+/// The report directory's `fits.checkpoint`, under a hash of this binary: a rebuilt softgrip
+/// fits again rather than trust fits its older code made.
+fn open_checkpoint(dir: &std::path::Path) -> Result<diagnose::Checkpoint> {
+    use std::hash::Hasher;
+    let exe = std::env::current_exe()?;
+    let bytes = std::fs::read(&exe).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {e} (reading this program to name its build)",
+            exe.display()
+        )
+    })?;
+    let mut h = std::hash::DefaultHasher::new();
+    h.write(&bytes);
+    let build = format!("{} {:016x}", env!("SOFTGRIP_COMMIT"), h.finish());
+    Ok(diagnose::Checkpoint::open(&dir.join(CHECKPOINT), &build)?)
+}
+
+/// Where in the report directory a diagnosis saves its fits.
+const CHECKPOINT: &str = "fits.checkpoint";

@@ -11,6 +11,7 @@
 
 mod baseline;
 mod catalogue;
+mod checkpoint;
 mod hypothesis;
 mod locate;
 mod model_fit;
@@ -26,6 +27,7 @@ mod verdict;
 
 pub use baseline::{baseline_params, pinned_at_bounds};
 pub use catalogue::{Candidate, EFFECTS, catalogue, effect_label};
+pub use checkpoint::Checkpoint;
 pub use hypothesis::{Hypothesis, accepted};
 pub use locate::{Location, locate};
 pub use model_fit::{JACOBIAN_STEP, LOCAL_SEARCHES, ModelFit, same_model};

@@ -6,6 +6,7 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
+use super::checkpoint::Saved;
 use super::noise::{Noise, weighted_residuals, weighted_rss};
 use super::options::DiagnoseOptions;
 use super::statistics::{PROMISING, bic};
@@ -102,9 +103,118 @@ pub(super) fn fit_model(
     options: &DiagnoseOptions,
     task: FitTask<'_>,
 ) -> Result<ModelFit, LabError> {
+    let Some(checkpoint) = &options.checkpoint else {
+        let fit = fit_task(recording, noise, options, task);
+        check_cancel()?;
+        return fit;
+    };
+    // What the fit depends on: the recording, the options (not the file, nor the simulations
+    // at once) and its task. Not the noise or the model it extends beyond that model's values:
+    // both follow from the recording and options, and a resumed run replays its saved fits
+    // from rest, so their bits differ within the rest tolerance from the run that saved them.
+    let key = {
+        let options = DiagnoseOptions {
+            checkpoint: None,
+            workers: 0,
+            ..options.clone()
+        };
+        let known = task.known.map(|k| &k.params);
+        checkpoint.key(&(
+            recording,
+            &options,
+            task.scene,
+            task.params,
+            task.k_total,
+            task.search,
+            task.budget,
+            task.starts,
+            task.floor,
+            known,
+        ))
+    };
+    let (scene, params, k_total) = (task.scene, task.params, task.k_total);
+    if let Some(saved) = checkpoint
+        .get(key)
+        .filter(|s| s.values.len() == params.len())
+    {
+        // Replayed from rest at its values; a replay that fails so (it ran from a neighbour's
+        // equilibrium before) is fitted again.
+        let at = |values: &[f64]| -> Result<ModelFit, LabError> {
+            let mut s = scene.clone();
+            for (p, v) in params.iter().zip(values) {
+                s = params::set(&s, p.param.name, *v)?;
+            }
+            let (replay, _) =
+                replay_observing(recording, &s, fit_replay_options(), None, None, |_| {})?;
+            model_fit(
+                scene,
+                params,
+                values,
+                replay,
+                noise,
+                k_total,
+                saved.evaluations,
+            )
+        };
+        if let Ok(fit) = at(&saved.values) {
+            check_cancel()?;
+            return Ok(fit);
+        }
+    }
     let fit = fit_task(recording, noise, options, task);
     check_cancel()?;
+    if let Ok(f) = &fit {
+        checkpoint.save(
+            key,
+            Saved {
+                evaluations: f.evaluations,
+                values: f.params.iter().map(|(_, v)| *v).collect(),
+            },
+        )?;
+    }
     fit
+}
+
+/// How every fit replays: to the fits' rest tolerance, each replay keeping its samples' states
+/// where they can serve (the next points start Newton from the nearest one's).
+fn fit_replay_options() -> ReplayOptions {
+    ReplayOptions {
+        rest: RestTolerance::for_fits(),
+        warm_seeds: true,
+        ..ReplayOptions::default()
+    }
+}
+
+/// The fitted model of `scene` with `params` at `values`, from its replay.
+fn model_fit(
+    scene: &Scene,
+    params: &[FitParam],
+    values: &[f64],
+    replay: Replay,
+    noise: &Noise,
+    k_total: usize,
+    evaluations: usize,
+) -> Result<ModelFit, LabError> {
+    let (rss, n) = weighted_rss(&replay.residuals, noise);
+    let mut fitted_scene = scene.clone();
+    for (p, v) in params.iter().zip(values) {
+        fitted_scene = params::set(&fitted_scene, p.param.name, *v)?;
+    }
+    Ok(ModelFit {
+        scene: fitted_scene,
+        params: params
+            .iter()
+            .zip(values)
+            .map(|(p, v)| (p.param.name.to_string(), *v))
+            .collect(),
+        errors: replay.errors,
+        rss,
+        n,
+        k: k_total,
+        bic: bic(rss, n, k_total),
+        replay,
+        evaluations,
+    })
 }
 
 fn fit_task(
@@ -125,13 +235,7 @@ fn fit_task(
     } = task;
     // On the default thread count: one simulation per core while a batch
     // has several, both cores for the last one left (`Simulation::set_threads`).
-    // Each replay keeps its samples' states where they can serve: the next points start Newton
-    // from the nearest one's (`replay_observing`).
-    let replay_options = ReplayOptions {
-        rest: RestTolerance::for_fits(),
-        warm_seeds: true,
-        ..ReplayOptions::default()
-    };
+    let replay_options = fit_replay_options();
     let run = |values: &[f64], warm: Option<&[SampleState]>| -> Result<Replay, LabError> {
         let mut s = scene.clone();
         for (p, v) in params.iter().zip(values) {
@@ -410,26 +514,7 @@ fn fit_task(
             run(&values, None)?
         }
     };
-    let (rss, n) = weighted_rss(&replay.residuals, noise);
-    let mut fitted_scene = scene.clone();
-    for (p, v) in params.iter().zip(&values) {
-        fitted_scene = params::set(&fitted_scene, p.param.name, *v)?;
-    }
-    Ok(ModelFit {
-        scene: fitted_scene,
-        params: params
-            .iter()
-            .zip(&values)
-            .map(|(p, v)| (p.param.name.to_string(), *v))
-            .collect(),
-        errors: replay.errors,
-        rss,
-        n,
-        k: k_total,
-        bic: bic(rss, n, k_total),
-        replay,
-        evaluations,
-    })
+    model_fit(scene, params, &values, replay, noise, k_total, evaluations)
 }
 
 /// Whether two scenes are the same model: equal (which values were

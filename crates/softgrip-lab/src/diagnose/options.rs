@@ -1,6 +1,7 @@
 //! How a diagnosis runs: its options, the ranges the user gives parameters (`--bound`), and
 //! its progress.
 
+use super::checkpoint::Checkpoint;
 use crate::error::LabError;
 use crate::fit::FitParam;
 use crate::params;
@@ -36,6 +37,9 @@ pub struct DiagnoseOptions {
     /// against a converged FE code is a few per cent at 4 mm, the lattice's 35-50 %
     /// (`docs/results/accuracy.md`), and a form error the noise test sees is read as physics.
     pub model: Option<BaselineModel>,
+    /// Fits saved here as they end and taken from here when a run of the same diagnosis
+    /// (recording, options, build) saved them: a diagnosis stopped midway resumes.
+    pub checkpoint: Option<Checkpoint>,
 }
 
 /// The models a diagnosis can start from.
@@ -106,6 +110,7 @@ impl Default for DiagnoseOptions {
             max_effects: 2,
             sensitivities: false,
             model: Some(BaselineModel::Continuum),
+            checkpoint: None,
         }
     }
 }

@@ -300,3 +300,70 @@ fn a_baseline_at_the_edge_of_its_range_says_so() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A diagnosis stopped midway resumes from its checkpoint: the fits it finished are taken from
+/// the file, not fitted again, and the verdict is the uninterrupted run's. Run again on a
+/// complete checkpoint, every fit comes from the file with its values bit for bit.
+#[test]
+#[ignore = "slow: whole diagnoses"]
+fn a_diagnosis_stopped_midway_resumes_from_its_checkpoint() {
+    use softgrip_core::cancel::{self, Cancel};
+    use softgrip_lab::error::LabError;
+    let (dir, rec) = coarse_table_friction("resume");
+    let options = small_budget(4);
+    let whole = diagnose::diagnose(&rec, &options, &|_, _, _| {}).expect("diagnosis");
+    let path = dir.join("fits.checkpoint");
+    let open = || diagnose::Checkpoint::open(&path, "this build").expect("checkpoint");
+    let with = |c: &diagnose::Checkpoint| DiagnoseOptions {
+        checkpoint: Some(c.clone()),
+        ..options.clone()
+    };
+    // Stopped as its first candidate starts: both baseline fits are done.
+    let token = Cancel::new();
+    let first = open();
+    let stopped = cancel::scope(Some(token.clone()), || {
+        diagnose::diagnose(&rec, &with(&first), &|_, _, what| {
+            if !what.starts_with("baseline") {
+                token.cancel();
+            }
+        })
+    });
+    assert_eq!(stopped.err(), Some(LabError::Cancelled));
+    let resumed_from = open();
+    assert_eq!(resumed_from.len(), 2, "the two baseline fits saved");
+    let resumed = diagnose::diagnose(&rec, &with(&resumed_from), &|_, _, _| {}).expect("resumed");
+    assert_eq!(resumed_from.reused(), 2, "and not fitted again");
+    assert_eq!(resumed.verdict(), whole.verdict());
+    assert_eq!(resumed.effects, whole.effects);
+    assert_eq!(resumed.baseline.params, whole.baseline.params);
+    // Every fit of that run is in the file now: a third run fits nothing.
+    let fits = resumed.hypotheses.iter().filter(|h| h.fit.is_ok()).count()
+        + 2
+        + usize::from(resumed.pair.is_some());
+    let complete = open();
+    let again = diagnose::diagnose(&rec, &with(&complete), &|_, _, _| {}).expect("again");
+    assert_eq!(complete.reused(), fits);
+    assert_eq!(again.verdict(), resumed.verdict());
+    for (a, b) in again.hypotheses.iter().zip(&resumed.hypotheses) {
+        if let (Ok(a), Ok(b)) = (&a.fit, &b.fit) {
+            assert_eq!(a.params, b.params, "{}", b.params.len());
+        }
+    }
+    // Another option is another diagnosis: its first fit is not taken from the file.
+    let other = open();
+    let token = Cancel::new();
+    let stopped = cancel::scope(Some(token.clone()), || {
+        let two = DiagnoseOptions {
+            max_effects: 2,
+            ..with(&other)
+        };
+        diagnose::diagnose(&rec, &two, &|_, _, what| {
+            if what != "baseline" {
+                token.cancel();
+            }
+        })
+    });
+    assert_eq!(stopped.err(), Some(LabError::Cancelled));
+    assert_eq!(other.reused(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,251 @@
+//! Fits saved as they end, so that a diagnosis stopped midway (Ctrl-C, a cluster's preemption,
+//! a closed laptop: a beam's takes hours) resumes where it was instead of from the start.
+//!
+//! Each line of the file is one fit: a key, its simulations and its fitted values (their bits,
+//! so exactly). The key hashes what the fit depends on: the build, the recording, the options
+//! and the fit's own task (its scene, parameters, search, budget, starts and the values of the
+//! model it extends). A fit is taken from the file only when its key is there, so a changed
+//! recording, option or binary fits again; a line cut short by a kill is skipped. A saved fit is
+//! replayed once at its values from rest: the same model as the run that saved it, its
+//! residuals within the replays' rest tolerance of that run's (whose last replay may have
+//! started from a neighbour's equilibrium), and so the noise and the scores after it.
+
+use std::collections::HashMap;
+use std::fmt::Debug;
+use std::hash::{DefaultHasher, Hasher};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use crate::error::LabError;
+
+/// The first word of every line: a file of another layout is not read as this one.
+const VERSION: &str = "fit1";
+
+/// A fit as saved: its simulations and its values.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Saved {
+    pub(super) evaluations: usize,
+    pub(super) values: Vec<f64>,
+}
+
+/// A diagnosis's fits saved in a file (`DiagnoseOptions::checkpoint`).
+#[derive(Clone)]
+pub struct Checkpoint {
+    path: PathBuf,
+    build: String,
+    saved: Arc<Mutex<HashMap<u64, Saved>>>,
+    /// Fits taken from the file in this run.
+    reused: Arc<Mutex<usize>>,
+}
+
+impl Debug for Checkpoint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Checkpoint({})", self.path.display())
+    }
+}
+
+impl PartialEq for Checkpoint {
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path && self.build == other.build
+    }
+}
+
+impl Checkpoint {
+    /// The fits saved at `path` (none if it does not exist yet); new ones are added to it.
+    /// `build` names the code that fits (the CLI gives a hash of its own binary): fits saved
+    /// by another build are fitted again.
+    pub fn open(path: &Path, build: &str) -> Result<Checkpoint, LabError> {
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
+            Err(e) => {
+                return Err(LabError::Input(format!(
+                    "{}: {e}; delete it or give another report directory",
+                    path.display()
+                )));
+            }
+        };
+        let saved = text.lines().filter_map(parse).collect();
+        Ok(Checkpoint {
+            path: path.to_path_buf(),
+            build: build.to_string(),
+            saved: Arc::new(Mutex::new(saved)),
+            reused: Arc::default(),
+        })
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Fits in the file (of any build or diagnosis).
+    pub fn len(&self) -> usize {
+        self.saved.lock().map_or(0, |s| s.len())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Fits this run took from the file instead of fitting.
+    pub fn reused(&self) -> usize {
+        self.reused.lock().map_or(0, |r| *r)
+    }
+
+    /// The key of a fit whose inputs print (`Debug`) as `inputs` do, under this build.
+    pub(super) fn key(&self, inputs: &dyn Debug) -> u64 {
+        // Through `fmt::Write`: a recording's text is hashed as it is printed, never held whole.
+        struct Hashing(DefaultHasher);
+        impl std::fmt::Write for Hashing {
+            fn write_str(&mut self, s: &str) -> std::fmt::Result {
+                self.0.write(s.as_bytes());
+                Ok(())
+            }
+        }
+        let mut h = Hashing(DefaultHasher::new());
+        // Writing to a hasher cannot fail.
+        let _ = std::fmt::write(&mut h, format_args!("{VERSION} {} {inputs:?}", self.build));
+        h.0.finish()
+    }
+
+    /// The fit saved under `key`, if any.
+    pub(super) fn get(&self, key: u64) -> Option<Saved> {
+        let found = self.saved.lock().ok()?.get(&key).cloned();
+        if found.is_some()
+            && let Ok(mut r) = self.reused.lock()
+        {
+            *r += 1;
+        }
+        found
+    }
+
+    /// Saves a fit under `key`: appended to the file and flushed at once, so that a kill loses
+    /// at most the fit it interrupts.
+    pub(super) fn save(&self, key: u64, fit: Saved) -> Result<(), LabError> {
+        let line = format_line(key, &fit);
+        let write = || -> std::io::Result<()> {
+            if let Some(dir) = self.path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)?;
+            }
+            let mut file = std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(&self.path)?;
+            file.write_all(line.as_bytes())?;
+            file.flush()
+        };
+        write().map_err(|source| LabError::Write {
+            dir: self.path.clone(),
+            source: Arc::new(source),
+        })?;
+        if let Ok(mut s) = self.saved.lock() {
+            s.insert(key, fit);
+        }
+        Ok(())
+    }
+}
+
+fn format_line(key: u64, fit: &Saved) -> String {
+    let mut line = format!("{VERSION} {key:016x} {}", fit.evaluations);
+    for v in &fit.values {
+        line.push_str(&format!(" {:016x}", v.to_bits()));
+    }
+    line.push('\n');
+    line
+}
+
+/// A line of the file, or `None` for one of another layout or cut short mid-word (one cut
+/// between words is caught on use: its values are fewer than the fit's parameters).
+fn parse(line: &str) -> Option<(u64, Saved)> {
+    let mut words = line.split_ascii_whitespace();
+    if words.next()? != VERSION {
+        return None;
+    }
+    let key = u64::from_str_radix(words.next()?, 16).ok()?;
+    let evaluations = words.next()?.parse().ok()?;
+    let values = words
+        .map(|w| {
+            (w.len() == 16)
+                .then(|| u64::from_str_radix(w, 16).ok())
+                .flatten()
+                .map(f64::from_bits)
+        })
+        .collect::<Option<Vec<f64>>>()?;
+    Some((
+        key,
+        Saved {
+            evaluations,
+            values,
+        },
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("softgrip-checkpoint-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir.join("fits.checkpoint")
+    }
+
+    /// Values come back bit for bit, in a new run of the same build; another build, or other
+    /// inputs, find nothing; a line cut short by a kill is skipped.
+    #[test]
+    fn a_saved_fit_comes_back_exactly_and_only_for_its_own_inputs() {
+        let path = temp("roundtrip");
+        let c = Checkpoint::open(&path, "build-a").expect("open");
+        assert!(c.is_empty());
+        let fit = Saved {
+            evaluations: 17,
+            values: vec![61_234.567_890_123_4, 0.1 + 0.2, -0.0, 1e-300],
+        };
+        let key = c.key(&("scene", 0.25, [1.0, 2.0]));
+        c.save(key, fit.clone()).expect("save");
+        c.save(c.key(&"another fit"), fit.clone()).expect("save");
+        // Killed while writing a third.
+        let mut f = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .expect("append");
+        f.write_all(b"fit1 00000000000000ab 3 3ff00000000")
+            .expect("write");
+        drop(f);
+
+        let again = Checkpoint::open(&path, "build-a").expect("reopen");
+        assert_eq!(again.len(), 2, "the line cut short is skipped");
+        let back = again.get(again.key(&("scene", 0.25, [1.0, 2.0])));
+        assert_eq!(back, Some(fit.clone()));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&back.expect("saved").values), bits(&fit.values));
+        assert_eq!(again.reused(), 1);
+        assert_eq!(
+            again.get(again.key(&("scene", f64::from_bits(0.25f64.to_bits() + 1), [1.0, 2.0]))),
+            None,
+            "other inputs"
+        );
+        let other = Checkpoint::open(&path, "build-b").expect("reopen");
+        assert_eq!(other.get(other.key(&("scene", 0.25, [1.0, 2.0]))), None);
+        assert_eq!(other.reused(), 0);
+        let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
+    }
+
+    #[test]
+    fn an_unreadable_file_says_what_to_do() {
+        // A directory where the file should be.
+        let path = temp("unreadable");
+        std::fs::create_dir_all(&path).expect("dir");
+        let e = Checkpoint::open(&path, "b")
+            .expect_err("a directory")
+            .to_string();
+        assert!(
+            e.contains("fits.checkpoint") && e.contains("delete it"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
+    }
+}
