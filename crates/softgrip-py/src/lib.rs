@@ -689,9 +689,10 @@ fn sweep_merge(parts: Vec<String>) -> PyResult<(String, String)> {
 }
 
 /// `softgrip diagnose`'s JSON. `model`: "continuum" (default), "lattice" or "scene";
-/// `bounds`: "name=low:high"; `progress(done, planned, what)` as each fit starts.
+/// `bounds`: "name=low:high"; `progress(done, planned, what)` as each fit starts; `checkpoint`:
+/// a file each fit is saved in as it ends, from which a later call resumes.
 #[pyfunction]
-#[pyo3(signature = (recording, model = "continuum", max_effects = 2, bounds = Vec::new(), lock = Vec::new(), workers = 0, progress = None))]
+#[pyo3(signature = (recording, model = "continuum", max_effects = 2, bounds = Vec::new(), lock = Vec::new(), workers = 0, progress = None, checkpoint = None))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose(
     py: Python<'_>,
@@ -702,6 +703,7 @@ fn diagnose(
     lock: Vec<String>,
     workers: usize,
     progress: Option<Py<PyAny>>,
+    checkpoint: Option<PathBuf>,
 ) -> PyResult<String> {
     use softgrip_lab::diagnose::{self, BaselineModel, DiagnoseOptions};
     let model = match model {
@@ -723,6 +725,9 @@ fn diagnose(
         workers,
         max_effects,
         model,
+        checkpoint: checkpoint
+            .map(|path| diagnose::Checkpoint::open(&path, &build(py)?).map_err(err))
+            .transpose()?,
         ..DiagnoseOptions::default()
     };
     let rec = &recording.inner;
@@ -738,6 +743,19 @@ fn diagnose(
     };
     let d = cancellable(py, || diagnose::diagnose(rec, &options, &report))?.map_err(err)?;
     pretty(&diagnose::to_json(&d, rec))
+}
+
+/// This extension's build, for a checkpoint: a hash of its own file (another build fits again).
+fn build(py: Python<'_>) -> PyResult<String> {
+    use std::hash::Hasher;
+    let file: PathBuf = py
+        .import("softgrip._softgrip")?
+        .getattr("__file__")?
+        .extract()?;
+    let bytes = std::fs::read(&file).map_err(|e| err(format!("{}: {e}", file.display())))?;
+    let mut h = std::hash::DefaultHasher::new();
+    h.write(&bytes);
+    Ok(format!("python {:016x}", h.finish()))
 }
 
 /// Lets this process's simulations use at most `n` cores in all (0: the machine's), for a

@@ -54,3 +54,14 @@ def test_diagnoses_through_ray_are_the_single_machine_ones(ray_cluster, shipped)
                             workers=1)
     (many,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1)
     assert many.to_dict() == one.to_dict()
+
+
+def test_diagnoses_through_ray_save_their_fits_one_file_a_recording(ray_cluster, shipped,
+                                                                     tmp_path):
+    (d,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1,
+                                         checkpoint=tmp_path)
+    (file,) = tmp_path.iterdir()
+    assert file.name.endswith("thesis_7_loads.checkpoint") and file.read_text().count("\n") >= 2
+    (again,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1,
+                                             checkpoint=tmp_path)
+    assert again.verdict == d.verdict

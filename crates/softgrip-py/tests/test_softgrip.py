@@ -189,6 +189,19 @@ def test_diagnose_names_nothing_on_a_recording_of_its_own_model(shipped):
         softgrip.diagnose(rec, bounds=["young_modulus=1:"])
 
 
+def test_a_diagnosis_resumes_from_its_checkpoint(shipped, tmp_path):
+    """Each fit is saved as it ends; the same call again takes them from the file: it saves no
+    fit again, and says the same."""
+    rec = Recording.load(shipped)
+    path = tmp_path / "fits.checkpoint"
+    first = softgrip.diagnose(rec, model="scene", max_effects=1, checkpoint=path)
+    saved = path.read_text().splitlines()
+    assert len(saved) >= 2, saved
+    again = softgrip.diagnose(rec, model="scene", max_effects=1, checkpoint=path)
+    assert path.read_text().splitlines() == saved
+    assert again.verdict == first.verdict
+
+
 def test_ctrl_c_stops_a_long_run(tmp_path):
     """SIGINT during `run(1000)` raises KeyboardInterrupt at once, as in Python code."""
     import signal

@@ -17,6 +17,8 @@ The figures are those of the CLI's ``--json`` (docs/formats.md); every result ha
 
 from __future__ import annotations
 
+import os
+
 from ._softgrip import Scene, Simulation, SoftgripError, __version__, limit_cores
 from . import _softgrip
 from .recording import Recording
@@ -77,11 +79,13 @@ def diagnose(
     lock: list[str] | None = None,
     workers: int = 0,
     progress=None,
+    checkpoint: str | os.PathLike | None = None,
 ) -> Diagnosis:
     """What physics the model left out, as ``softgrip diagnose --json``: ``model`` is
     "continuum" (default), "lattice" or "scene"; ``bounds`` like ``"young_modulus=30e3:120e3"``;
-    ``progress(done, planned, what)`` is called as each fit starts. Minutes of work: Ctrl-C
-    stops it."""
+    ``progress(done, planned, what)`` is called as each fit starts. Minutes of work (a beam's,
+    hours): Ctrl-C stops it, and with ``checkpoint`` (a file) each fit is saved as it ends, so
+    the same call resumes where it stopped."""
     return Diagnosis.from_json(
         _softgrip.diagnose(
             recording._inner,
@@ -91,5 +95,6 @@ def diagnose(
             list(lock or []),
             workers,
             progress,
+            None if checkpoint is None else os.fspath(checkpoint),
         )
     )

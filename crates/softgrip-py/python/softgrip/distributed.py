@@ -61,14 +61,32 @@ def diagnose(
 ) -> list[Diagnosis]:
     """:func:`softgrip.diagnose` of each recording as a Ray task (one core each), in the
     order given; ``options`` as :func:`softgrip.diagnose` takes them (``model``, ``bounds``,
-    ...). A recording whose diagnosis fails raises its ``SoftgripError`` here."""
+    ...), except ``checkpoint``: a directory (on the shared file system) where each
+    recording's fits are saved as they end, so that a task Ray retries, or a call made again,
+    resumes. A recording whose diagnosis fails raises its ``SoftgripError`` here."""
     ray = _ray(address)
     task = ray.remote(num_cpus=1)(_diagnose)
     paths = [str(Path(os.fspath(r)).resolve()) for r in recordings]
-    return [Diagnosis.from_json(t) for t in ray.get([task.remote(p, options) for p in paths])]
+    checkpoints = options.pop("checkpoint", None)
+    files = [
+        None
+        if checkpoints is None
+        else str(Path(os.fspath(checkpoints)).resolve() / (_name(p) + ".checkpoint"))
+        for p in paths
+    ]
+    return [
+        Diagnosis.from_json(t)
+        for t in ray.get([task.remote(p, options, f) for p, f in zip(paths, files)])
+    ]
 
 
-def _diagnose(path: str, options: dict) -> str:
+def _name(path: str) -> str:
+    # The recording's directory, slashes as _: two recordings of one name in different
+    # directories keep apart.
+    return str(Path(path).parent).strip("/").replace("/", "_")
+
+
+def _diagnose(path: str, options: dict, checkpoint: str | None) -> str:
     _softgrip.limit_cores(1)
     return _softgrip.diagnose(
         _softgrip.Recording.load(path),
@@ -78,4 +96,5 @@ def _diagnose(path: str, options: dict) -> str:
         list(options.get("lock") or []),
         1,
         None,
+        checkpoint,
     )
