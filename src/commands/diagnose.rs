@@ -102,6 +102,9 @@ pub fn run(args: Args) -> Result<()> {
             c.path().display()
         );
     }
+    if let Some(e) = options.checkpoint.as_ref().and_then(|c| c.failed()) {
+        eprintln!("warning: fits not saved, a rerun would fit them again: {e}");
+    }
     let params = |p: &[(String, f64)]| {
         p.iter()
             .map(|(k, v)| format!("{k} {v:.4e}"))
@@ -241,7 +244,9 @@ fn open_checkpoint(dir: &std::path::Path) -> Result<diagnose::Checkpoint> {
     let mut h = std::hash::DefaultHasher::new();
     h.write(&bytes);
     let build = format!("{} {:016x}", env!("SOFTGRIP_COMMIT"), h.finish());
-    Ok(diagnose::Checkpoint::open(&dir.join(CHECKPOINT), &build)?)
+    diagnose::Checkpoint::open(&dir.join(CHECKPOINT), &build).map_err(|e| {
+        anyhow::anyhow!("{e}: give --report a directory you can write, or --no-report (no resume)")
+    })
 }
 
 /// Where in the report directory a diagnosis saves its fits.

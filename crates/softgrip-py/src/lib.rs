@@ -726,7 +726,10 @@ fn diagnose(
         max_effects,
         model,
         checkpoint: checkpoint
-            .map(|path| diagnose::Checkpoint::open(&path, &build(py)?).map_err(err))
+            .map(|path| {
+                diagnose::Checkpoint::open(&path, &build(py)?)
+                    .map_err(|e| err(format!("checkpoint: {e}: give a file you can write")))
+            })
             .transpose()?,
         ..DiagnoseOptions::default()
     };

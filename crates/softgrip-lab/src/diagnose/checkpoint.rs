@@ -37,6 +37,8 @@ pub struct Checkpoint {
     saved: Arc<Mutex<HashMap<u64, Saved>>>,
     /// Fits taken from the file in this run.
     reused: Arc<Mutex<usize>>,
+    /// The first save that failed (a full disk): the diagnosis goes on, its fits unsaved.
+    failed: Arc<Mutex<Option<String>>>,
 }
 
 impl Debug for Checkpoint {
@@ -55,24 +57,33 @@ impl Checkpoint {
     /// The fits saved at `path` (none if it does not exist yet); new ones are added to it.
     /// `build` names the code that fits (the CLI gives a hash of its own binary): fits saved
     /// by another build are fitted again.
+    /// It is opened for writing here, so that a place it cannot be written is said at the start,
+    /// not hours later.
     pub fn open(path: &Path, build: &str) -> Result<Checkpoint, LabError> {
-        let text = match std::fs::read_to_string(path) {
-            Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-            Err(e) => {
-                return Err(LabError::Input(format!(
-                    "{}: {e}; delete it or give another report directory",
-                    path.display()
-                )));
-            }
+        let unusable = |e: std::io::Error| {
+            LabError::Input(format!(
+                "{}: {e} (where the diagnosis saves its fits)",
+                path.display()
+            ))
         };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(unusable)?;
+        }
+        append(path).map_err(unusable)?;
+        let text = std::fs::read_to_string(path).map_err(unusable)?;
         let saved = text.lines().filter_map(parse).collect();
         Ok(Checkpoint {
             path: path.to_path_buf(),
             build: build.to_string(),
             saved: Arc::new(Mutex::new(saved)),
             reused: Arc::default(),
+            failed: Arc::default(),
         })
+    }
+
+    /// Why a fit could not be saved, if one could not (the first such).
+    pub fn failed(&self) -> Option<String> {
+        self.failed.lock().ok()?.clone()
     }
 
     /// The file.
@@ -122,29 +133,30 @@ impl Checkpoint {
     }
 
     /// Saves a fit under `key`: appended to the file and flushed at once, so that a kill loses
-    /// at most the fit it interrupts.
-    pub(super) fn save(&self, key: u64, fit: Saved) -> Result<(), LabError> {
+    /// at most the fit it interrupts. A save that fails does not fail the fit: it is kept for
+    /// [`Checkpoint::failed`].
+    pub(super) fn save(&self, key: u64, fit: Saved) {
         let line = format_line(key, &fit);
-        let write = || -> std::io::Result<()> {
-            if let Some(dir) = self.path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)?;
-            }
-            let mut file = std::fs::OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(&self.path)?;
+        let written = append(&self.path).and_then(|mut file| {
             file.write_all(line.as_bytes())?;
             file.flush()
-        };
-        write().map_err(|source| LabError::Write {
-            dir: self.path.clone(),
-            source: Arc::new(source),
-        })?;
+        });
+        if let Err(e) = written
+            && let Ok(mut f) = self.failed.lock()
+        {
+            f.get_or_insert_with(|| format!("{}: {e}", self.path.display()));
+        }
         if let Ok(mut s) = self.saved.lock() {
             s.insert(key, fit);
         }
-        Ok(())
     }
+}
+
+fn append(path: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
 }
 
 fn format_line(key: u64, fit: &Saved) -> String {
@@ -205,8 +217,9 @@ mod tests {
             values: vec![61_234.567_890_123_4, 0.1 + 0.2, -0.0, 1e-300],
         };
         let key = c.key(&("scene", 0.25, [1.0, 2.0]));
-        c.save(key, fit.clone()).expect("save");
-        c.save(c.key(&"another fit"), fit.clone()).expect("save");
+        c.save(key, fit.clone());
+        c.save(c.key(&"another fit"), fit.clone());
+        assert_eq!(c.failed(), None);
         // Killed while writing a third.
         let mut f = std::fs::OpenOptions::new()
             .append(true)
@@ -235,7 +248,7 @@ mod tests {
     }
 
     #[test]
-    fn an_unreadable_file_says_what_to_do() {
+    fn a_place_it_cannot_use_is_named_at_the_start() {
         // A directory where the file should be.
         let path = temp("unreadable");
         std::fs::create_dir_all(&path).expect("dir");
@@ -243,7 +256,7 @@ mod tests {
             .expect_err("a directory")
             .to_string();
         assert!(
-            e.contains("fits.checkpoint") && e.contains("delete it"),
+            e.contains("fits.checkpoint") && e.contains("saves its fits"),
             "{e}"
         );
         let _ = std::fs::remove_dir_all(path.parent().expect("dir"));

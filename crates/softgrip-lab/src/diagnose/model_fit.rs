@@ -170,7 +170,7 @@ pub(super) fn fit_model(
                 evaluations: f.evaluations,
                 values: f.params.iter().map(|(_, v)| *v).collect(),
             },
-        )?;
+        );
     }
     fit
 }
