@@ -233,6 +233,13 @@ pub fn run(args: Args) -> Result<()> {
 /// The report directory's `fits.checkpoint`, under a hash of this binary: a rebuilt softgrip
 /// fits again rather than trust fits its older code made.
 fn open_checkpoint(dir: &std::path::Path) -> Result<diagnose::Checkpoint> {
+    diagnose::Checkpoint::open(&dir.join(CHECKPOINT), &build_name()?).map_err(|e| {
+        anyhow::anyhow!("{e}: give --report a directory you can write, or --no-report (no resume)")
+    })
+}
+
+/// This binary's build, for checkpoints: its commit and a hash of its bytes.
+pub(super) fn build_name() -> Result<String> {
     use std::hash::Hasher;
     let exe = std::env::current_exe()?;
     let bytes = std::fs::read(&exe).map_err(|e| {
@@ -243,10 +250,7 @@ fn open_checkpoint(dir: &std::path::Path) -> Result<diagnose::Checkpoint> {
     })?;
     let mut h = std::hash::DefaultHasher::new();
     h.write(&bytes);
-    let build = format!("{} {:016x}", env!("SOFTGRIP_COMMIT"), h.finish());
-    diagnose::Checkpoint::open(&dir.join(CHECKPOINT), &build).map_err(|e| {
-        anyhow::anyhow!("{e}: give --report a directory you can write, or --no-report (no resume)")
-    })
+    Ok(format!("{} {:016x}", env!("SOFTGRIP_COMMIT"), h.finish()))
 }
 
 /// Where in the report directory a diagnosis saves its fits.

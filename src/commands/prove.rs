@@ -14,7 +14,8 @@ use super::progress::{progress_bar, show_stages};
 /// two effects), diagnose each blind and write DIAGNOSIS.md.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Where the recordings go.
+    /// Where the recordings go, and each case's fits as they end (`fits-MODEL.checkpoint`): the
+    /// same command again resumes a proof stopped midway (delete the directory to refit).
     #[arg(long, default_value = "target/prove")]
     out: PathBuf,
     /// Only the cases whose name contains this (e.g. load-loss).
@@ -51,6 +52,8 @@ pub fn run(args: Args) -> Result<()> {
         e_measured_within: args.e_measured_within,
         truth_edge_length: args.truth_edge_length,
         commit: Some(env!("SOFTGRIP_COMMIT")),
+        // Named once for the whole run.
+        checkpoint_build: Some(String::leak(super::diagnose::build_name()?)),
     };
     if let Some(f) = options.e_measured_within {
         anyhow::ensure!(

@@ -1,8 +1,8 @@
 //! Fits saved as they end, so that a diagnosis stopped midway (Ctrl-C, a cluster's preemption,
 //! a closed laptop: a beam's takes hours) resumes where it was instead of from the start.
 //!
-//! Each line of the file is one fit: a key, its simulations and its fitted values (their bits,
-//! so exactly). The key hashes what the fit depends on: the build, the recording, the options
+//! Each line of the file is one fit: a key, its simulations, its seconds and its fitted values
+//! (their bits, so exactly). The key hashes what the fit depends on: the build, the recording, the options
 //! and the fit's own task (its scene, parameters, search, budget, starts and the values of the
 //! model it extends). A fit is taken from the file only when its key is there, so a changed
 //! recording, option or binary fits again; a line cut short by a kill is skipped. A saved fit is
@@ -20,12 +20,13 @@ use std::sync::{Arc, Mutex};
 use crate::error::LabError;
 
 /// The first word of every line: a file of another layout is not read as this one.
-const VERSION: &str = "fit1";
+const VERSION: &str = "fit2";
 
-/// A fit as saved: its simulations and its values.
+/// A fit as saved: its simulations, its wall time and its values.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct Saved {
     pub(super) evaluations: usize,
+    pub(super) seconds: f64,
     pub(super) values: Vec<f64>,
 }
 
@@ -35,8 +36,8 @@ pub struct Checkpoint {
     path: PathBuf,
     build: String,
     saved: Arc<Mutex<HashMap<u64, Saved>>>,
-    /// Fits taken from the file in this run.
-    reused: Arc<Mutex<usize>>,
+    /// Fits taken from the file in this run, and the seconds they took the run that saved them.
+    reused: Arc<Mutex<(usize, f64)>>,
     /// The first save that failed (a full disk): the diagnosis goes on, its fits unsaved.
     failed: Arc<Mutex<Option<String>>>,
 }
@@ -102,7 +103,12 @@ impl Checkpoint {
 
     /// Fits this run took from the file instead of fitting.
     pub fn reused(&self) -> usize {
-        self.reused.lock().map_or(0, |r| *r)
+        self.reused.lock().map_or(0, |r| r.0)
+    }
+
+    /// The seconds those fits took the run that saved them.
+    pub fn reused_seconds(&self) -> f64 {
+        self.reused.lock().map_or(0.0, |r| r.1)
     }
 
     /// The key of a fit whose inputs print (`Debug`) as `inputs` do, under this build.
@@ -124,10 +130,11 @@ impl Checkpoint {
     /// The fit saved under `key`, if any.
     pub(super) fn get(&self, key: u64) -> Option<Saved> {
         let found = self.saved.lock().ok()?.get(&key).cloned();
-        if found.is_some()
+        if let Some(f) = &found
             && let Ok(mut r) = self.reused.lock()
         {
-            *r += 1;
+            r.0 += 1;
+            r.1 += f.seconds;
         }
         found
     }
@@ -160,7 +167,11 @@ fn append(path: &Path) -> std::io::Result<std::fs::File> {
 }
 
 fn format_line(key: u64, fit: &Saved) -> String {
-    let mut line = format!("{VERSION} {key:016x} {}", fit.evaluations);
+    let mut line = format!(
+        "{VERSION} {key:016x} {} {:016x}",
+        fit.evaluations,
+        fit.seconds.to_bits()
+    );
     for v in &fit.values {
         line.push_str(&format!(" {:016x}", v.to_bits()));
     }
@@ -177,18 +188,19 @@ fn parse(line: &str) -> Option<(u64, Saved)> {
     }
     let key = u64::from_str_radix(words.next()?, 16).ok()?;
     let evaluations = words.next()?.parse().ok()?;
-    let values = words
-        .map(|w| {
-            (w.len() == 16)
-                .then(|| u64::from_str_radix(w, 16).ok())
-                .flatten()
-                .map(f64::from_bits)
-        })
-        .collect::<Option<Vec<f64>>>()?;
+    let number = |w: &str| {
+        (w.len() == 16)
+            .then(|| u64::from_str_radix(w, 16).ok())
+            .flatten()
+            .map(f64::from_bits)
+    };
+    let seconds = number(words.next()?)?;
+    let values = words.map(number).collect::<Option<Vec<f64>>>()?;
     Some((
         key,
         Saved {
             evaluations,
+            seconds,
             values,
         },
     ))
@@ -214,6 +226,7 @@ mod tests {
         assert!(c.is_empty());
         let fit = Saved {
             evaluations: 17,
+            seconds: 612.5,
             values: vec![61_234.567_890_123_4, 0.1 + 0.2, -0.0, 1e-300],
         };
         let key = c.key(&("scene", 0.25, [1.0, 2.0]));
@@ -225,7 +238,7 @@ mod tests {
             .append(true)
             .open(&path)
             .expect("append");
-        f.write_all(b"fit1 00000000000000ab 3 3ff00000000")
+        f.write_all(b"fit2 00000000000000ab 3 3ff00000000")
             .expect("write");
         drop(f);
 
@@ -235,7 +248,7 @@ mod tests {
         assert_eq!(back, Some(fit.clone()));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back.expect("saved").values), bits(&fit.values));
-        assert_eq!(again.reused(), 1);
+        assert_eq!((again.reused(), again.reused_seconds()), (1, 612.5));
         assert_eq!(
             again.get(again.key(&("scene", f64::from_bits(0.25f64.to_bits() + 1), [1.0, 2.0]))),
             None,

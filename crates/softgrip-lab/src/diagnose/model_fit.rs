@@ -73,6 +73,9 @@ pub struct ModelFit {
     pub bic: f64,
     pub replay: Replay,
     pub evaluations: usize,
+    /// The fit's wall time; for one taken from a checkpoint, the time it took the run that
+    /// saved it.
+    pub seconds: f64,
 }
 
 /// One fit of the diagnosis: the model, what is fitted and how.
@@ -155,6 +158,10 @@ pub(super) fn fit_model(
                 k_total,
                 saved.evaluations,
             )
+            .map(|fit| ModelFit {
+                seconds: saved.seconds,
+                ..fit
+            })
         };
         if let Ok(fit) = at(&saved.values) {
             check_cancel()?;
@@ -168,6 +175,7 @@ pub(super) fn fit_model(
             key,
             Saved {
                 evaluations: f.evaluations,
+                seconds: f.seconds,
                 values: f.params.iter().map(|(_, v)| *v).collect(),
             },
         );
@@ -214,10 +222,23 @@ fn model_fit(
         bic: bic(rss, n, k_total),
         replay,
         evaluations,
+        seconds: 0.0,
     })
 }
 
 fn fit_task(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    task: FitTask<'_>,
+) -> Result<ModelFit, LabError> {
+    let started = std::time::Instant::now();
+    let mut fit = fit_searching(recording, noise, options, task)?;
+    fit.seconds = started.elapsed().as_secs_f64();
+    Ok(fit)
+}
+
+fn fit_searching(
     recording: &Recording,
     noise: &Noise,
     options: &DiagnoseOptions,

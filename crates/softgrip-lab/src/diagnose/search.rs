@@ -175,6 +175,10 @@ fn fit_candidate(
         Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
         Err(_) => (f64::INFINITY, 0.0),
     };
+    // A fit taken from a checkpoint counts the time it took the run that saved it.
+    let seconds = fit
+        .as_ref()
+        .map_or(started.elapsed().as_secs_f64(), |f| f.seconds);
     Ok(Hypothesis {
         effect: c.effect,
         variant: c.variant,
@@ -185,7 +189,7 @@ fn fit_candidate(
         vuong: None,
         against_model: false,
         tests: 1.0,
-        seconds: started.elapsed().as_secs_f64(),
+        seconds,
     })
 }
 

@@ -39,6 +39,9 @@ pub struct ProveOptions {
     /// The commit the running binary was built from (the CLI's build script), for the report:
     /// which rules ran.
     pub commit: Option<&'static str>,
+    /// With a build's name (`diagnose::Checkpoint::open`), each case's fits are saved in its
+    /// directory (`fits-MODEL.checkpoint`) as they end, and a rerun of the proof resumes.
+    pub checkpoint_build: Option<&'static str>,
 }
 
 /// One case's outcome.
@@ -50,7 +53,11 @@ pub struct Outcome {
     pub model: BaselineModel,
     pub case: Case,
     pub diagnosis: Result<Diagnosis, LabError>,
+    /// Its wall time, counting a fit taken from a checkpoint at the time it took the run that
+    /// saved it: about what the verdict costs uninterrupted.
     pub seconds: f64,
+    /// Fits taken from a checkpoint.
+    pub resumed: usize,
     /// How far the hidden effect moves each marker (RMS over the samples,
     /// noise-free, m), most first; empty for a control.
     pub moved: Vec<(String, f64)>,
@@ -272,16 +279,26 @@ pub fn run(
             .ok()
             .and_then(|(rec, clean)| noise_floor(rec, clean).ok());
         for &model in models {
+            let checkpoint = prove.checkpoint_build.map(|build| {
+                let path = case_dir.join(format!("fits-{}.checkpoint", model.name()));
+                diagnose::Checkpoint::open(&path, build)
+            });
             let options = DiagnoseOptions {
                 model: Some(model),
+                checkpoint: checkpoint.clone().and_then(Result::ok),
                 ..options_for(&case, options, prove.e_measured_within)
             };
             let started = std::time::Instant::now();
-            let diagnosis = written
+            let diagnosis = written.as_ref().map_err(Clone::clone).and_then(|(rec, _)| {
+                // A checkpoint that cannot be used fails the case, named, not silently.
+                checkpoint.transpose()?;
+                diagnose::diagnose(rec, &options, &|_, _, _| {})
+            });
+            let (resumed, resumed_seconds) = options
+                .checkpoint
                 .as_ref()
-                .map_err(Clone::clone)
-                .and_then(|(rec, _)| diagnose::diagnose(rec, &options, &|_, _, _| {}));
-            let seconds = started.elapsed().as_secs_f64();
+                .map_or((0, 0.0), |c| (c.reused(), c.reused_seconds()));
+            let seconds = started.elapsed().as_secs_f64() + resumed_seconds;
             let truth_errors = match (&diagnosis, clean) {
                 (Ok(d), Some(r)) => truth_errors(d, r).ok(),
                 _ => None,
@@ -292,6 +309,7 @@ pub fn run(
                 case: case.clone(),
                 diagnosis,
                 seconds,
+                resumed,
                 moved: moved.clone(),
                 truth_errors,
                 noise_floor,

@@ -169,6 +169,16 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
             None => String::new(),
         }
     );
+    let resumed: Vec<&Outcome> = outcomes.iter().filter(|o| o.resumed > 0).collect();
+    if !resumed.is_empty() {
+        let _ = writeln!(
+            s,
+            "{} of the {} verdicts resumed from checkpoints ({} fits taken from them); a resumed verdict's seconds count each fit taken at the time it took the run that saved it.\n",
+            resumed.len(),
+            outcomes.len(),
+            resumed.iter().map(|o| o.resumed).sum::<usize>()
+        );
+    }
     s.push_str("| model | effects named right | controls \"none\" | two effects both found (seeds) | after <= 1.25 x the truth itself (named, above the noise) | parameters within 30 %, region in its half (named) | verdicts without error | seconds a verdict (mean, max) |\n|---|---|---|---|---|---|---|---|\n");
     let mut models: Vec<BaselineModel> = outcomes.iter().map(|o| o.model).collect();
     models.sort_by_key(|m| m.name());

@@ -398,3 +398,53 @@ fn the_suite_is_drawn_from_its_seed() {
     // The scored seeds are none of those developed on.
     assert!(prove::SCORED_SEEDS.iter().all(|s| *s >= 40));
 }
+
+/// A proof run again resumes each case from its fits: the same outcome, the fits taken from the
+/// case's checkpoint, and its time counted as the run that saved them took it.
+#[test]
+#[ignore = "slow: proof cases, each a diagnosis"]
+fn a_proof_run_again_resumes_each_case_from_its_fits() {
+    let dir = support::temp_dir("prove-resume");
+    let options = prove::ProveOptions {
+        checkpoint_build: Some("this build"),
+        ..prove::ProveOptions::default()
+    };
+    // A small budget: the resuming is the question, not the verdict.
+    let budget = diagnose::DiagnoseOptions {
+        max_evaluations: 6,
+        candidate_evaluations_per_param: 3,
+        max_effects: 1,
+        ..diagnose::DiagnoseOptions::default()
+    };
+    let run = || {
+        prove::run(
+            &dir,
+            prove::DEVELOPMENT_SEED,
+            "control-1",
+            &[BaselineModel::Continuum],
+            &budget,
+            &options,
+            &|_, _, _| {},
+            &mut |_, _| {},
+        )
+    };
+    let first = run();
+    let again = run();
+    assert_eq!((first.len(), again.len()), (1, 1));
+    let (a, b) = (&first[0], &again[0]);
+    let verdict = |o: &prove::Outcome| o.diagnosis.as_ref().expect("a verdict").verdict();
+    assert_eq!(verdict(b), verdict(a));
+    assert_eq!(a.resumed, 0);
+    let fits = a.diagnosis.as_ref().expect("a verdict").hypotheses.len() + 2;
+    assert_eq!(b.resumed, fits, "every fit taken");
+    let fitting: f64 = {
+        let d = a.diagnosis.as_ref().expect("a verdict");
+        d.baseline.seconds + d.hypotheses.iter().map(|h| h.seconds).sum::<f64>()
+    };
+    assert!(
+        b.seconds >= fitting,
+        "resumed {} s, the fits took {fitting} s",
+        b.seconds
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
