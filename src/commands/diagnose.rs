@@ -97,9 +97,10 @@ pub fn run(args: Args) -> Result<()> {
     bar.finish_and_clear();
     if let Some(c) = options.checkpoint.as_ref().filter(|c| c.reused() > 0) {
         println!(
-            "resumed: {} fits taken from {}",
+            "resumed: {} fits taken from {} ({:.0} min of fitting saved)",
             c.reused(),
-            c.path().display()
+            c.path().display(),
+            c.reused_seconds() / 60.0
         );
     }
     if let Some(e) = options.checkpoint.as_ref().and_then(|c| c.failed()) {
