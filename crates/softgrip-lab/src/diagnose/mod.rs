@@ -137,6 +137,11 @@ pub fn diagnose(
             " Readings that fit about as well (Vuong's test does not find them worse than the best, z above -{VUONG_Z}): {}.",
             alternatives.join(", ")
         ));
+    } else if !d.effects.is_empty() {
+        // Said, not left to silence: a reader cannot tell "none" from "not checked".
+        d.evidence.push_str(&format!(
+            " No other reading fits about as well (none that passes BIC and the share is within Vuong's z of -{VUONG_Z} of the best)."
+        ));
     }
     fits.starting("the final model's standard errors");
     if !d.effects.is_empty() {

@@ -58,6 +58,14 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
             .count();
         assert_eq!(named, usize::from(d.effects.contains(&effect)), "{effect}");
     }
+    // A named effect's evidence says whether other readings fit about as well, either way.
+    assert!(!d.effects.is_empty(), "the strong load loss is named");
+    let says = if d.alternatives().is_empty() {
+        "No other reading fits about as well"
+    } else {
+        "Readings that fit about as well"
+    };
+    assert!(d.evidence.contains(says), "{}", d.evidence);
     // Only E was fitted in the baseline.
     assert_eq!(d.baseline.params.len(), 1);
     assert_eq!(d.baseline.params[0].0, "young_modulus");
