@@ -165,14 +165,19 @@ pub fn run(args: Args) -> Result<()> {
             params(&t.fit.params)
         );
     }
+    // Every effect named, as the report's heading says ("none" or "unexplained" without one).
+    let verdict = if d.effects.is_empty() {
+        d.verdict()
+    } else {
+        d.effects.join(" + ")
+    };
     if d.model_finding.is_some() {
         // The finding leads the evidence; the verdict is of the model that carries the loads.
         println!(
-            "verdict: {} (of the model and samples the finding at the start of the evidence names)",
-            d.verdict()
+            "verdict: {verdict} (of the model and samples the finding at the start of the evidence names)"
         );
     } else {
-        println!("verdict: {}", d.verdict());
+        println!("verdict: {verdict}");
     }
     if !d.effects.is_empty() {
         println!("effects: {}", d.effects.join(" + "));
