@@ -96,11 +96,16 @@ pub fn run(args: Args) -> Result<()> {
         diagnose::diagnose(&recording, &options, &show_stages(&bar)).map_err(anyhow::Error::msg)?;
     bar.finish_and_clear();
     if let Some(c) = options.checkpoint.as_ref().filter(|c| c.reused() > 0) {
+        let s = c.reused_seconds();
+        let saved = if s < 120.0 {
+            format!("{s:.0} s")
+        } else {
+            format!("{:.0} min", s / 60.0)
+        };
         println!(
-            "resumed: {} fits taken from {} ({:.0} min of fitting saved)",
+            "resumed: {} fits taken from {} ({saved} of fitting saved)",
             c.reused(),
-            c.path().display(),
-            c.reused_seconds() / 60.0
+            c.path().display()
         );
     }
     if let Some(e) = options.checkpoint.as_ref().and_then(|c| c.failed()) {
@@ -246,17 +251,13 @@ fn open_checkpoint(dir: &std::path::Path) -> Result<diagnose::Checkpoint> {
 
 /// This binary's build, for checkpoints: its commit and a hash of its bytes.
 pub(super) fn build_name() -> Result<String> {
-    use std::hash::Hasher;
     let exe = std::env::current_exe()?;
-    let bytes = std::fs::read(&exe).map_err(|e| {
+    diagnose::build_of(env!("SOFTGRIP_COMMIT"), &exe).map_err(|e| {
         anyhow::anyhow!(
             "{}: {e} (reading this program to name its build)",
             exe.display()
         )
-    })?;
-    let mut h = std::hash::DefaultHasher::new();
-    h.write(&bytes);
-    Ok(format!("{} {:016x}", env!("SOFTGRIP_COMMIT"), h.finish()))
+    })
 }
 
 /// Where in the report directory a diagnosis saves its fits.

@@ -750,15 +750,12 @@ fn diagnose(
 
 /// This extension's build, for a checkpoint: a hash of its own file (another build fits again).
 fn build(py: Python<'_>) -> PyResult<String> {
-    use std::hash::Hasher;
     let file: PathBuf = py
         .import("softgrip._softgrip")?
         .getattr("__file__")?
         .extract()?;
-    let bytes = std::fs::read(&file).map_err(|e| err(format!("{}: {e}", file.display())))?;
-    let mut h = std::hash::DefaultHasher::new();
-    h.write(&bytes);
-    Ok(format!("python {:016x}", h.finish()))
+    softgrip_lab::diagnose::build_of("python", &file)
+        .map_err(|e| err(format!("{}: {e}", file.display())))
 }
 
 /// Lets this process's simulations use at most `n` cores in all (0: the machine's), for a

@@ -129,14 +129,15 @@ impl Checkpoint {
 
     /// The fit saved under `key`, if any.
     pub(super) fn get(&self, key: u64) -> Option<Saved> {
-        let found = self.saved.lock().ok()?.get(&key).cloned();
-        if let Some(f) = &found
-            && let Ok(mut r) = self.reused.lock()
-        {
+        self.saved.lock().ok()?.get(&key).cloned()
+    }
+
+    /// Counts `fit` as taken from the file (not when its replay failed and it was fitted again).
+    pub(super) fn taken(&self, fit: &Saved) {
+        if let Ok(mut r) = self.reused.lock() {
             r.0 += 1;
-            r.1 += f.seconds;
+            r.1 += fit.seconds;
         }
-        found
     }
 
     /// Saves a fit under `key`: appended to the file and flushed at once, so that a kill loses
@@ -157,6 +158,25 @@ impl Checkpoint {
             s.insert(key, fit);
         }
     }
+}
+
+/// A build's name for [`Checkpoint::open`] from the file that holds its code (the binary, the
+/// Python extension): `label` and a hash of the file's bytes, read in pieces (a binary with its
+/// debug lines is a hundred megabytes).
+pub fn build_of(label: &str, file: &Path) -> std::io::Result<String> {
+    struct Hashing(DefaultHasher);
+    impl Write for Hashing {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.write(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let mut h = Hashing(DefaultHasher::new());
+    std::io::copy(&mut std::fs::File::open(file)?, &mut h)?;
+    Ok(format!("{label} {:016x}", h.0.finish()))
 }
 
 fn append(path: &Path) -> std::io::Result<std::fs::File> {
@@ -246,6 +266,7 @@ mod tests {
         assert_eq!(again.len(), 2, "the line cut short is skipped");
         let back = again.get(again.key(&("scene", 0.25, [1.0, 2.0])));
         assert_eq!(back, Some(fit.clone()));
+        again.taken(back.as_ref().expect("saved"));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back.expect("saved").values), bits(&fit.values));
         assert_eq!((again.reused(), again.reused_seconds()), (1, 612.5));
@@ -257,6 +278,23 @@ mod tests {
         let other = Checkpoint::open(&path, "build-b").expect("reopen");
         assert_eq!(other.get(other.key(&("scene", 0.25, [1.0, 2.0]))), None);
         assert_eq!(other.reused(), 0);
+        let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
+    }
+
+    /// A build is named by its file's bytes: the same file the same name, one byte changed
+    /// another, a missing file an error.
+    #[test]
+    fn a_build_is_named_by_its_files_bytes() {
+        let path = temp("build");
+        std::fs::create_dir_all(path.parent().expect("dir")).expect("dir");
+        let mut bytes: Vec<u8> = (0..200_000u32).map(|i| (i % 251) as u8).collect();
+        std::fs::write(&path, &bytes).expect("write");
+        let a = build_of("x", &path).expect("named");
+        assert_eq!(build_of("x", &path).expect("named"), a);
+        bytes[150_000] ^= 1;
+        std::fs::write(&path, &bytes).expect("write");
+        assert_ne!(build_of("x", &path).expect("named"), a);
+        assert!(build_of("x", &path.with_extension("missing")).is_err());
         let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
     }
 

@@ -27,7 +27,7 @@ mod verdict;
 
 pub use baseline::{baseline_params, pinned_at_bounds};
 pub use catalogue::{Candidate, EFFECTS, catalogue, effect_label};
-pub use checkpoint::Checkpoint;
+pub use checkpoint::{Checkpoint, build_of};
 pub use hypothesis::{Hypothesis, accepted};
 pub use locate::{Location, locate};
 pub use model_fit::{JACOBIAN_STEP, LOCAL_SEARCHES, ModelFit, same_model};

@@ -164,6 +164,7 @@ pub(super) fn fit_model(
             })
         };
         if let Ok(fit) = at(&saved.values) {
+            checkpoint.taken(&saved);
             check_cancel()?;
             return Ok(fit);
         }
