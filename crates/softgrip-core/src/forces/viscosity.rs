@@ -218,6 +218,29 @@ pub fn accumulate_arms(
     }
 }
 
+/// The energy the elements' Maxwell arms hold, `sum V0 mu_g |E - E_v|^2` (J). Part of the
+/// object's energy: without it an arm giving back what it stored reads as the energy rising
+/// with no input, and the divergence watch stopped a swinging viscoelastic beam.
+pub fn arm_energy(model: &Model, state: &State) -> f64 {
+    let Some(fem) = &model.fem else { return 0.0 };
+    let g_share = model.spring_law.prony_g;
+    if g_share == 0.0 || state.maxwell.len() != 6 * model.tets.len() {
+        return 0.0;
+    }
+    let x = &state.positions;
+    model
+        .tets
+        .iter()
+        .enumerate()
+        .map(|(e, tet)| {
+            let f = super::fem::deformation_gradient(&fem.gradients[e], tet.map(|i| x[i as usize]));
+            let d = green_strain(f) - unpack(&state.maxwell[6 * e..6 * e + 6]);
+            let mu_g = fem.mu[e] * g_share / (1.0 - g_share);
+            model.rest_volume[e] * mu_g * d.to_cols_array().iter().map(|v| v * v).sum::<f64>()
+        })
+        .sum()
+}
+
 /// After a step: each element's viscous strain moves towards its present Green strain,
 /// `E_v = (E_v + a E) / (1 + a)`, `a = dt / tau` (the step [`accumulate_arms`] assumed).
 pub fn relax_elements(model: &Model, state: &mut State) {
@@ -517,6 +540,16 @@ mod tests {
             (force, system)
         };
         let (force, _) = assemble(&deformed, &viscous);
+        // The stored energy the watch reads is the step's, without the step's relaxation.
+        let mut state = State::initial(&model);
+        state.positions = deformed.clone();
+        state.maxwell = viscous.to_vec();
+        let stored = arm_energy(&model, &state) / (1.0 + model.dt / 0.05);
+        assert!(
+            (stored - energy(&deformed)).abs() < 1e-12 * stored,
+            "{stored:e} against {:e}",
+            energy(&deformed)
+        );
         let h = 1e-8;
         for a in 0..4 {
             for k in 0..3 {
