@@ -154,11 +154,12 @@ class Diagnosis(Result):
 
     @property
     def verdict(self) -> str:
-        """The first effect named, "none" or "unexplained"."""
+        """The first effect named, "none" or "unexplained" (every effect: :attr:`effects`)."""
         return self._data["verdict"]["effect"]
 
     @property
     def effects(self) -> list[str]:
+        """Every effect named, in the order found; empty for "none" and "unexplained"."""
         return list(self._data["verdict"].get("effects", []))
 
     @property
