@@ -252,10 +252,10 @@ fn limit_spring(model: &Model, s: &crate::model::Spring, l: f64) -> Option<(f64,
 }
 
 /// Elastic energy stored in the springs (their Maxwell arms included) and
-/// their limit springs, or in the elements and their arms (J).
+/// their limit springs, or in the elements (their arms: [`super::viscosity::arm_energy`]) (J).
 pub fn energy(model: &Model, state: &State) -> f64 {
     if let Some(fem) = &model.fem {
-        return super::fem::energy(model, fem, state) + super::viscosity::arm_energy(model, state);
+        return super::fem::energy(model, fem, state);
     }
     let law = &model.spring_law;
     let linear = law.is_linear();

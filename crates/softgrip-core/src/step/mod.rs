@@ -458,6 +458,7 @@ pub fn update_diagnostics(model: &Model, state: &mut State) {
     let (volume, bulk_energy) = forces::volume::volume_and_bulk_energy(model, state);
     let energy = kinetic
         + forces::springs::energy(model, state)
+        + forces::viscosity::arm_energy(model, state)
         + forces::external::energy(model, state)
         + contact::energy(model, state)
         + contact::table::energy(model, state)
