@@ -540,7 +540,7 @@ mod tests {
             (force, system)
         };
         let (force, _) = assemble(&deformed, &viscous);
-        // The stored energy the watch reads is the step's, without the step's relaxation.
+        // The energy the arm stores is the step's times 1 + dt / tau (the step's arm is softer).
         let mut state = State::initial(&model);
         state.positions = deformed.clone();
         state.maxwell = viscous.to_vec();

@@ -66,7 +66,7 @@ fn damped_free_object_never_gains_energy() {
 /// the arms' energy was left out: an arm giving back what it stored read as energy from nowhere).
 #[test]
 fn a_swinging_viscoelastic_cantilever_never_gains_energy() {
-    // About 4 Hz (a 230-step period), the relaxation 1 s: the arms store and give back.
+    // About 17 Hz (a 60-step period), the relaxation 1 s: the arms store and give back.
     let text = cuboid_scene(
         "dt = 1e-3\ngravity = [0.0, 0.0, -9.81]",
         [0.06, 0.01, 0.01],
