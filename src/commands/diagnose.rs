@@ -185,7 +185,6 @@ pub fn run(args: Args) -> Result<()> {
         println!("verdict: {verdict}");
     }
     if !d.effects.is_empty() {
-        println!("effects: {}", d.effects.join(" + "));
         let with_errors: Vec<String> = d
             .fitted_params()
             .iter()
