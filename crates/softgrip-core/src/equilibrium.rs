@@ -17,7 +17,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::error::SimError;
-use crate::model::{AxisDrive, Model};
+use crate::model::{AxisDrive, LinearSolver, Model};
 use crate::step::Simulation;
 
 /// How the static solver iterates and when it stops.
@@ -48,6 +48,41 @@ pub struct StaticOptions {
     /// same load, [`Simulation::equilibrium_near`]): the pseudo step starts at its largest, not
     /// at the scene's `dt`.
     pub warm: bool,
+    /// How each Newton step is solved ([`StaticSolver`]).
+    pub solver: StaticSolver,
+}
+
+/// How the static solver's Newton steps are solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StaticSolver {
+    /// [`StaticSolver::Direct`] where it was measured faster ([`prefers_direct`]), else
+    /// [`StaticSolver::Cg`].
+    #[default]
+    Auto,
+    /// CG's inexact steps on the time steps' tangent, from a pseudo step ramped from `dt`.
+    Cg,
+    /// Newton's steps on the exact tangent solved by a sparse factorisation
+    /// (`crate::solver::direct`), globalised by a line search; a model with self-collision
+    /// (whose couplings the factorisation's pattern does not hold) takes CG's.
+    Direct,
+}
+
+/// Free unknowns up to which [`StaticSolver::Auto`] may factorise: the 4 mm cuboid's 2,536
+/// take 8.5 ms a factorisation, the 4 mm cylinder's 12,910 460 ms (its CG replay is 8 times
+/// faster than its direct one).
+pub const DIRECT_UNKNOWNS: usize = 8000;
+
+/// Whether [`StaticSolver::Auto`] solves `model` by factorisation: a continuum on a table with
+/// friction, of at most [`DIRECT_UNKNOWNS`] unknowns. There CG's tangent leaves out the friction
+/// limit's coupling to the penetration and its pseudo step is held at
+/// `FRICTION_PSEUDO_STEP`: on the 4 mm cuboid's 8 loads to 14.3 N, 2.6, 8.7 and 11.7 s at mu
+/// 0.3, 0.6 and 1 against 1.9, 2.4 and 5.8 s by factorisation (0.9 against 1.5 s at mu 0.1).
+/// Elsewhere CG's inexact steps were faster: the same cuboid bonded under the sphere 0.37
+/// against 0.60 s, the plate 2.3 against 3.0 s (`docs/design/equilibrium.md`).
+pub fn prefers_direct(model: &Model) -> bool {
+    let table_friction = model.table.as_ref().is_some_and(|t| t.friction > 0.0);
+    let unknowns = 3 * model.fixed.iter().filter(|f| !**f).count();
+    model.fem.is_some() && table_friction && unknowns <= DIRECT_UNKNOWNS
 }
 
 impl Default for StaticOptions {
@@ -60,6 +95,7 @@ impl Default for StaticOptions {
             max_pseudo_step: 100.0,
             forcing: 0.1,
             warm: false,
+            solver: StaticSolver::Auto,
         }
     }
 }
@@ -82,6 +118,8 @@ pub struct StaticReport {
     pub by_move: bool,
     /// Cycles of two states met, each answered by a smaller largest pseudo step.
     pub cycles: usize,
+    /// Force evaluations of the direct solver's line search.
+    pub line_search: usize,
 }
 
 impl StaticReport {
@@ -92,6 +130,7 @@ impl StaticReport {
             rejected: self.rejected + next.rejected,
             cg_iterations: self.cg_iterations + next.cg_iterations,
             cycles: self.cycles + next.cycles,
+            line_search: self.line_search + next.line_search,
             ..next
         }
     }
@@ -299,6 +338,7 @@ impl Simulation {
     /// docs). Time does not advance; velocities end at zero. A model with no equilibrium
     /// there gets [`SimError::NoEquilibrium`], with where and why.
     pub fn equilibrium(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
+        crate::contact::table::begin_increment(&self.model, &mut self.state);
         let report = self.equilibrium_guided(options)?;
         crate::contact::table::commit(&self.model, &mut self.state);
         crate::contact::commit(&mut self.state);
@@ -382,7 +422,16 @@ impl Simulation {
     fn solve_with(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
         let base = Arc::clone(&self.model);
         let (time, step) = (self.state.time, self.state.step);
-        let result = self.iterate(&base, options);
+        let direct = match options.solver {
+            StaticSolver::Auto => prefers_direct(&base),
+            StaticSolver::Cg => false,
+            StaticSolver::Direct => true,
+        };
+        let result = if direct && base.self_collision.is_none() {
+            self.newton(&base, options)
+        } else {
+            self.iterate(&base, options)
+        };
         self.model = base;
         self.state.time = time;
         self.state.step = step;
@@ -404,7 +453,7 @@ impl Simulation {
             load_scale: scale,
             ..StaticReport::default()
         };
-        let mut models: Vec<(f64, Arc<Model>)> = Vec::new();
+        let mut models: Vec<(f64, bool, Arc<Model>)> = Vec::new();
         let mut h = if o.warm { o.max_pseudo_step } else { base.dt };
         let mut last_failure = Failure::Still(0.0);
         let cancel = crate::cancel::current();
@@ -420,7 +469,7 @@ impl Simulation {
             crate::cancel::check(cancel.as_ref())?;
             report.iterations += 1;
             let before = self.state.clone();
-            self.model = model_with_step(&mut models, base, h, guide_hold, o);
+            self.model = model_with_step(&mut models, base, h, guide_hold, o, false, true);
             let stepped = self.step();
             let (before_points, now_points) = (points(&before), points(&self.state));
             let residual = self.state.stats.force_residual;
@@ -496,6 +545,158 @@ impl Simulation {
     }
 }
 
+impl Simulation {
+    /// Newton's method on the exact tangent, each step solved by a sparse factorisation
+    /// ([`StaticSolver::Direct`]). Globalised by the pseudo-transient continuation as
+    /// [`Simulation::iterate`] is, and by three safeguards it does without: a backtracking line
+    /// search on the free force (a step is halved until the force at its end is below the force
+    /// at its start; near a stick/slip switch Newton's full step can raise it), a step longer
+    /// than `max_move` shortened along its direction (damped Newton) rather than solved again,
+    /// and an indefinite tangent replaced, for that iteration, by the time steps' positive
+    /// semi-definite one at the same `h`. The force at a trial step is the next iteration's own
+    /// assembly, so a step the search keeps costs nothing extra.
+    fn newton(&mut self, base: &Arc<Model>, o: StaticOptions) -> Result<StaticReport, SimError> {
+        let scale = load_scale(base, &self.state);
+        let tolerance = o.tolerance * scale.max(f64::MIN_POSITIVE);
+        let max_move = o.max_move * base.edge_length;
+        let smallest = SMALLEST_STEP * base.dt;
+        let guide_hold = base.guide_rest_speed * base.dt;
+        let mut report = StaticReport {
+            load_scale: scale,
+            ..StaticReport::default()
+        };
+        let mut models: Vec<(f64, bool, Arc<Model>)> = Vec::new();
+        // From an equilibrium with its contacts made, Newton's full step; a finger or table not
+        // touching yet ramps the pseudo step from dt, so that a free body's first moves stay
+        // small.
+        let mut h = if o.warm || contacts_made(base, &self.state) {
+            o.max_pseudo_step
+        } else {
+            base.dt
+        };
+        let mut exact = true;
+        let mut last_failure = Failure::Still(0.0);
+        let cancel = crate::cancel::current();
+        let mut trial: Option<Trial> = None;
+        let (mut best, mut since_best) = (f64::INFINITY, 0usize);
+        while report.iterations < o.max_iterations {
+            crate::cancel::check(cancel.as_ref())?;
+            report.iterations += 1;
+            self.model = model_with_step(&mut models, base, h, guide_hold, o, true, exact);
+            let residual = self.assemble_here();
+            if let Some(t) = trial.as_mut() {
+                if residual >= (1.0 - 1e-4 * t.share) * t.start_residual {
+                    if t.share > 0.5f64.powi(LINE_SEARCH_HALVINGS as i32) {
+                        // Halve the step and look again.
+                        t.share *= 0.5;
+                        self.state.clone_from(&t.full);
+                        shorten(&t.start, &mut self.state, t.share);
+                        report.line_search += 1;
+                        continue;
+                    }
+                    // No length of this step lowers the force: a smaller pseudo step.
+                    self.state.clone_from(&t.start);
+                    h = t.h / GROWTH;
+                    trial = None;
+                    report.rejected += 1;
+                    if h < smallest {
+                        last_failure = Failure::Stalled(residual, DVec3::ZERO);
+                        break;
+                    }
+                    continue;
+                }
+                trial = None;
+            }
+            if residual <= tolerance {
+                report.residual = residual;
+                return Ok(report);
+            }
+            if residual < STALL_DROP * best {
+                (best, since_best) = (residual, 0);
+            } else {
+                since_best += 1;
+                if since_best >= STALL_ITERATIONS {
+                    last_failure = Failure::Stalled(residual, DVec3::ZERO);
+                    break;
+                }
+            }
+            let before = self.state.clone();
+            let stepped = self.step_assembled(residual);
+            report.cg_iterations += self.state.stats.cg_iterations.min(1000);
+            if let Err(SimError::Cancelled) = stepped {
+                return Err(SimError::Cancelled);
+            }
+            if stepped.is_err() && exact && self.last_step_indefinite() {
+                // Not a descent direction: the same pseudo step with the semi-definite tangent.
+                self.state = before;
+                report.rejected += 1;
+                exact = false;
+                continue;
+            }
+            exact = true;
+            let failure = match stepped {
+                Err(SimError::Diverged { what, .. }) => Failure::Step(what),
+                Err(e) => Failure::Step(e.to_string()),
+                Ok(()) => {
+                    let (from, to) = (points(&before), points(&self.state));
+                    match judge(base, &from, &to, &before, &self.state, max_move) {
+                        Failure::Moved(moved) => {
+                            shorten(&before, &mut self.state, 0.9 * max_move / moved);
+                            let to = points(&self.state);
+                            judge(base, &from, &to, &before, &self.state, max_move)
+                        }
+                        failure => failure,
+                    }
+                }
+            };
+            let Failure::Still(moved) = failure else {
+                self.state = before;
+                report.rejected += 1;
+                h *= 0.25;
+                last_failure = failure;
+                if h < smallest {
+                    break;
+                }
+                continue;
+            };
+            if h >= o.max_pseudo_step && moved <= o.move_tolerance * base.edge_length {
+                // A full Newton step moves nothing: the force left is below what the solve can
+                // resolve.
+                self.state = before;
+                report.residual = residual;
+                report.by_move = true;
+                return Ok(report);
+            }
+            self.state.velocities.fill(DVec3::ZERO);
+            for f in &mut self.state.fingers {
+                f.velocity = DVec3::ZERO;
+            }
+            trial = Some(Trial {
+                full: self.state.clone(),
+                start: before,
+                start_residual: residual,
+                share: 1.0,
+                h,
+            });
+            h = (GROWTH * h).min(o.max_pseudo_step);
+        }
+        Err(no_equilibrium(base, &self.state, last_failure, &report, o))
+    }
+}
+
+/// A Newton step on trial in the line search: where it started, the force there, its full
+/// length's end, the share of it being tried and its pseudo step.
+struct Trial {
+    start: crate::state::State,
+    start_residual: f64,
+    full: crate::state::State,
+    share: f64,
+    h: f64,
+}
+
+/// Trial steps of a line search at most: the step halved this often.
+const LINE_SEARCH_HALVINGS: usize = 4;
+
 /// Why an iteration was undone.
 #[derive(Debug, Clone, PartialEq)]
 enum Failure {
@@ -529,6 +730,16 @@ fn judge(
         return Failure::Inverted(inverted);
     }
     Failure::Still(moved)
+}
+
+/// `after`'s particles and fingers moved back towards `before`'s, to `share` of the way.
+fn shorten(before: &crate::state::State, after: &mut crate::state::State, share: f64) {
+    for (x, x0) in after.positions.iter_mut().zip(&before.positions) {
+        *x = *x0 + (*x - *x0) * share;
+    }
+    for (f, f0) in after.fingers.iter_mut().zip(&before.fingers) {
+        f.position = f0.position + (f.position - f0.position) * share;
+    }
 }
 
 /// The particles' and the fingers' positions.
@@ -567,29 +778,52 @@ fn newly_inverted(model: &Model, before: &[DVec3], after: &[DVec3]) -> Vec<usize
         .collect()
 }
 
-/// The model with pseudo step `h` (cached: the helper thread restarts when the model changes).
+/// The model with pseudo step `h` (cached: the helper thread restarts when the model changes),
+/// solved by CG or by a factorisation (`direct`) on the exact tangent or not (`exact`).
 fn model_with_step(
-    cache: &mut Vec<(f64, Arc<Model>)>,
+    cache: &mut Vec<(f64, bool, Arc<Model>)>,
     base: &Arc<Model>,
     h: f64,
     guide_hold: f64,
     o: StaticOptions,
+    direct: bool,
+    exact: bool,
 ) -> Arc<Model> {
-    if let Some((_, m)) = cache.iter().find(|(k, _)| *k == h) {
+    if let Some((_, _, m)) = cache.iter().find(|(k, e, _)| *k == h && *e == exact) {
         return Arc::clone(m);
     }
     let mut m = (**base).clone();
     m.dt = h;
     m.guide_rest_speed = guide_hold / h;
-    m.exact_tangent = true;
     m.quasi_static = true;
+    // CG's steps take the springs' exact tangent; a factorised step the whole exact tangent, or
+    // (after it was found indefinite) the time steps' semi-definite one.
+    m.exact_tangent = !direct || exact;
+    if direct {
+        m.linear_solver = LinearSolver::Direct;
+        m.full_tangent = exact;
+    }
     // CG stops at `forcing` times max(|rhs|, reference h |load|): the reference makes the floor
     // a tenth of the convergence test.
     m.cg_tolerance = o.forcing;
     m.cg_reference = 0.1 * o.tolerance / o.forcing;
     let m = Arc::new(m);
-    cache.push((h, Arc::clone(&m)));
+    cache.push((h, exact, Arc::clone(&m)));
     m
+}
+
+/// Whether every force-controlled finger touches the object and a table, if any, carries it:
+/// the state of a solved load, from which Newton's full step is safe.
+fn contacts_made(model: &Model, state: &crate::state::State) -> bool {
+    let fingers = (0..model.fingers.len())
+        .filter(|&k| model.fingers[k].is_force_controlled())
+        .all(|k| state.contacts.iter().any(|c| c.finger as usize == k));
+    let table = model.table.is_none()
+        || state
+            .table
+            .iter()
+            .any(|c| c.mode != crate::state::TableMode::Free);
+    fingers && table
 }
 
 fn no_equilibrium(

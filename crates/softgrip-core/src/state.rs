@@ -90,6 +90,8 @@ pub struct ContactMemory {
     /// In a static solve, how far the anchor is to be dragged when the solve ends
     /// (`crate::contact::commit`): it stays put over the load increment.
     pub pending: DVec3,
+    /// How far the last commit dragged it: a linearisation of that increment puts it back.
+    pub dragged: DVec3,
 }
 
 /// A boundary particle pressed against a facet of the same object
@@ -137,6 +139,13 @@ pub struct TableContact {
     pub tangential_force: DVec3,
     /// Sliding speed at the start of the last step (m/s); 0 unless slipping.
     pub last_speed: f64,
+    /// How far the last static solve's commit dragged the anchor (`anchor` less where it was
+    /// over the solve's increment): a linearisation of that increment puts it back.
+    pub dragged: DVec3,
+    /// Held sliding: in a static solve's return mapping the friction stays on the Coulomb
+    /// disc's edge whatever the stick spring's stretch, so that a linearisation at a sliding
+    /// equilibrium stays on the sliding branch (`crate::sensitivity`). Steps never set it.
+    pub sliding: bool,
 }
 
 /// Diagnostics of the last step.

@@ -121,6 +121,7 @@ pub fn finger_bounds(model: &Model, k: usize, centre: DVec3) -> (DVec3, DVec3) {
 pub fn commit(state: &mut State) {
     for m in state.contact_memory.values_mut() {
         m.anchor_offset += m.pending;
+        m.dragged = m.pending;
         m.pending = DVec3::ZERO;
     }
 }
@@ -182,6 +183,7 @@ pub fn accumulate(
                 anchor_offset: g.point - centre,
                 sliding: false,
                 pending: DVec3::ZERO,
+                dragged: DVec3::ZERO,
             });
             scratch.touched.push(key);
 
@@ -236,62 +238,44 @@ pub fn accumulate(
             }
             force[n + k] -= total;
 
-            // Jacobian: J = [w_0, w_1, w_2, -1] (x) Q.
-            let kq =
-                outer(g.normal, g.normal) * normal.stiffness + projector * tangential.stiffness;
-            let dq = outer(g.normal, g.normal) * normal.damping + projector * tangential.damping;
+            let exact = (model.full_tangent && model.quasi_static)
+                .then(|| pair_stiffness(model, k, centre, p, &*memory, &params));
+            if let Some((_, skew)) = &exact
+                && let Some(skew) = skew
+            {
+                let dofs = [tri[0], tri[1], tri[2], (n + k) as u32];
+                system.add_asym(dofs, *skew);
+            }
+            let exact = exact.map(|(sym, _)| sym);
             let vel = |dof: usize| crate::forces::velocity_of(state, dof);
-            for a in 0..3 {
-                let ia = tri[a] as usize;
-                system.add_diag(ia, kq * (w[a] * w[a]), dq * (w[a] * w[a]), &vel);
-                let b = (a + 1) % 3;
-                let ww = w[a] * w[b];
-                if ww != 0.0 {
+            if let Some(blocks) = exact {
+                // Newton's tangent: the static force's whole derivative, by central differences
+                // of the pair's force in its twelve coordinates (see `pair_stiffness`).
+                let dq = outer(g.normal, g.normal) * normal.damping;
+                let ends = [tri[0] as usize, tri[1] as usize, tri[2] as usize, n + k];
+                let weights = [w[0], w[1], w[2], -1.0];
+                for a in 0..4 {
+                    let damping = dq * (weights[a] * weights[a]);
+                    system.add_diag(ends[a], blocks[a][a], damping, &vel);
+                }
+                for a in 0..3 {
+                    let b = (a + 1) % 3;
+                    let (lo, hi) = if tri[a] < tri[b] { (a, b) } else { (b, a) };
+                    let damping = dq * (weights[lo] * weights[hi]);
                     system.add_off(
                         &model.springs,
                         model.facet_springs[j][a],
-                        ia,
-                        tri[b] as usize,
-                        kq * ww,
-                        dq * ww,
+                        ends[lo],
+                        ends[hi],
+                        blocks[lo][hi],
+                        damping,
                         &vel,
                     );
+                    let damping = dq * -weights[a];
+                    system.add_coupling(ends[a], n + k, blocks[a][3], damping, &vel);
                 }
-                if w[a] != 0.0 {
-                    system.add_coupling(ia, n + k, kq * -w[a], dq * -w[a], &vel);
-                }
-            }
-            system.add_diag(n + k, kq, dq, &vel);
-
-            // Lever stiffness: the contact point is the foot of the finger
-            // centre on the facet, so when the facet tilts, the point (and the
-            // share w_a of the force each particle takes) slides by the lever
-            // arm (R - penetration) times the tilt. For a facet of size h this
-            // stiffness, F (R - d) grad(w_a) . grad(w_b), exceeds the springs'
-            // by R / h and, left out, makes implicit Euler oscillate at period
-            // two. It is positive semi-definite (a Gram matrix) and restoring.
-            if let FingerShape::Sphere { radius } = finger.parts[g.part].shape {
-                let grads = sphere_facet::barycentric_gradients(p, w);
-                let lever = normal.force * (radius - g.penetration).max(0.0);
-                if lever > 0.0 && grads.iter().any(|g| *g != DVec3::ZERO) {
-                    let nn = outer(g.normal, g.normal);
-                    let zero = DMat3::ZERO;
-                    for a in 0..3 {
-                        let kaa = nn * (lever * grads[a].length_squared());
-                        system.add_diag(tri[a] as usize, kaa, zero, &vel);
-                        let b = (a + 1) % 3;
-                        let kab = nn * (lever * grads[a].dot(grads[b]));
-                        system.add_off(
-                            &model.springs,
-                            model.facet_springs[j][a],
-                            tri[a] as usize,
-                            tri[b] as usize,
-                            kab,
-                            zero,
-                            &vel,
-                        );
-                    }
-                }
+            } else {
+                add_pair_jacobian(model, system, k, j, tri, p, g, normal, tangential, &vel);
             }
 
             let fs = &mut state.fingers[k];
@@ -319,6 +303,182 @@ pub fn accumulate(
     state
         .contact_memory
         .retain(|key, _| touched.binary_search(key).is_ok());
+}
+
+/// The Jacobian blocks of one finger-facet contact in time steps: `[w_0, w_1, w_2, -1] (x) Q`
+/// with `Q` the normal stiffness along the normal and the stick spring's in the plane, and the
+/// sphere's lever stiffness (all symmetric positive semi-definite).
+#[allow(clippy::too_many_arguments)]
+fn add_pair_jacobian(
+    model: &Model,
+    system: &mut System,
+    k: usize,
+    j: usize,
+    tri: [u32; 3],
+    p: [DVec3; 3],
+    g: Geometry,
+    normal: hunt_crossley::NormalForce,
+    tangential: friction::TangentialForce,
+    vel: &impl Fn(usize) -> DVec3,
+) {
+    let n = model.particle_count();
+    let w = g.weights;
+    let finger = &model.fingers[k];
+    let projector = DMat3::IDENTITY - outer(g.normal, g.normal);
+    // Jacobian: J = [w_0, w_1, w_2, -1] (x) Q.
+    let kq = outer(g.normal, g.normal) * normal.stiffness + projector * tangential.stiffness;
+    let dq = outer(g.normal, g.normal) * normal.damping + projector * tangential.damping;
+    for a in 0..3 {
+        let ia = tri[a] as usize;
+        system.add_diag(ia, kq * (w[a] * w[a]), dq * (w[a] * w[a]), vel);
+        let b = (a + 1) % 3;
+        let ww = w[a] * w[b];
+        if ww != 0.0 {
+            system.add_off(
+                &model.springs,
+                model.facet_springs[j][a],
+                ia,
+                tri[b] as usize,
+                kq * ww,
+                dq * ww,
+                vel,
+            );
+        }
+        if w[a] != 0.0 {
+            system.add_coupling(ia, n + k, kq * -w[a], dq * -w[a], vel);
+        }
+    }
+    system.add_diag(n + k, kq, dq, vel);
+
+    // Lever stiffness: the contact point is the foot of the finger
+    // centre on the facet, so when the facet tilts, the point (and the
+    // share w_a of the force each particle takes) slides by the lever
+    // arm (R - penetration) times the tilt. For a facet of size h this
+    // stiffness, F (R - d) grad(w_a) . grad(w_b), exceeds the springs'
+    // by R / h and, left out, makes implicit Euler oscillate at period
+    // two. It is positive semi-definite (a Gram matrix) and restoring.
+    if let FingerShape::Sphere { radius } = finger.parts[g.part].shape {
+        let grads = sphere_facet::barycentric_gradients(p, w);
+        let lever = normal.force * (radius - g.penetration).max(0.0);
+        if lever > 0.0 && grads.iter().any(|g| *g != DVec3::ZERO) {
+            let nn = outer(g.normal, g.normal);
+            let zero = DMat3::ZERO;
+            for a in 0..3 {
+                let kaa = nn * (lever * grads[a].length_squared());
+                system.add_diag(tri[a] as usize, kaa, zero, vel);
+                let b = (a + 1) % 3;
+                let kab = nn * (lever * grads[a].dot(grads[b]));
+                system.add_off(
+                    &model.springs,
+                    model.facet_springs[j][a],
+                    tri[a] as usize,
+                    tri[b] as usize,
+                    kab,
+                    zero,
+                    vel,
+                );
+            }
+        }
+    }
+}
+
+/// The static force of one finger-facet contact on the facet's three particles and the finger,
+/// its memory (anchor, sliding) held: the Hunt-Crossley force at rest along the normal and the
+/// stick spring returned onto the friction cone. Zero where they do not touch.
+fn static_pair_force(
+    model: &Model,
+    k: usize,
+    centre: DVec3,
+    p: [DVec3; 3],
+    memory: &ContactMemory,
+    params: &StickSlipParams,
+) -> [DVec3; 4] {
+    let Some(g) = detect(model, k, centre, p) else {
+        return [DVec3::ZERO; 4];
+    };
+    let finger = &model.fingers[k];
+    let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+    let (stiffness, exponent) = stiffness_and_exponent(model, k, g.part, area);
+    let normal = hunt_crossley_normal_force(
+        stiffness,
+        exponent,
+        finger.restitution,
+        g.penetration,
+        0.0,
+        memory.approach_speed,
+    );
+    let projector = DMat3::IDENTITY - outer(g.normal, g.normal);
+    let anchor_point: DVec3 = (0..3).map(|a| memory.anchor_weights[a] * p[a]).sum();
+    let raw_drift = projector * (anchor_point - centre - memory.anchor_offset);
+    let (drift, _) = if memory.sliding {
+        slide_drift(params, normal.force, raw_drift)
+    } else {
+        limit_drift(params, normal.force, raw_drift)
+    };
+    let t = stick_slip_force(params, normal.force, drift, DVec3::ZERO, 0.0);
+    let total = normal.force * g.normal + t.force;
+    let w = g.weights;
+    [w[0] * total, w[1] * total, w[2] * total, -total]
+}
+
+/// The step in each coordinate of [`pair_stiffness`]'s central differences, in edge lengths:
+/// the force's third derivative is about the contact's over its penetration (a few tenths of an
+/// edge), so the truncation error is some 1e-13 of the stiffness, and rounding some 1e-9.
+const PAIR_STEP: f64 = 1e-6;
+
+/// `-df_a/dx_b` of one contact's static force ([`static_pair_force`]), `a, b` over the facet's
+/// three particles and the finger, by central differences in the twelve coordinates: its
+/// symmetric part, and the rest where friction makes it not symmetric (a sliding contact's
+/// force follows the normal force). Newton's exact tangent: the time steps' Jacobian leaves out
+/// the contact point sliding over the facet and the normal turning.
+fn pair_stiffness(
+    model: &Model,
+    k: usize,
+    centre: DVec3,
+    p: [DVec3; 3],
+    memory: &ContactMemory,
+    params: &StickSlipParams,
+) -> ([[DMat3; 4]; 4], Option<[[DMat3; 4]; 4]>) {
+    let h = PAIR_STEP * model.edge_length;
+    let mut columns = [[[DVec3::ZERO; 3]; 4]; 4];
+    for b in 0..4 {
+        for axis in 0..3 {
+            let moved = |sign: f64| {
+                let (mut c, mut q) = (centre, p);
+                if b == 3 {
+                    c[axis] += sign * h;
+                } else {
+                    q[b][axis] += sign * h;
+                }
+                static_pair_force(model, k, c, q, memory, params)
+            };
+            let (plus, minus) = (moved(1.0), moved(-1.0));
+            for a in 0..4 {
+                columns[a][b][axis] = -(plus[a] - minus[a]) / (2.0 * h);
+            }
+        }
+    }
+    let block = |a: usize, b: usize| {
+        let c = columns[a][b];
+        DMat3::from_cols(c[0], c[1], c[2])
+    };
+    let (mut sym, mut skew) = ([[DMat3::ZERO; 4]; 4], [[DMat3::ZERO; 4]; 4]);
+    let (mut size, mut asymmetry) = (0.0f64, 0.0f64);
+    for a in 0..4 {
+        for b in 0..4 {
+            sym[a][b] = (block(a, b) + block(b, a).transpose()) * 0.5;
+            skew[a][b] = block(a, b) - sym[a][b];
+            size = size.max(largest(block(a, b)));
+            asymmetry = asymmetry.max(largest(skew[a][b]));
+        }
+    }
+    // Below the differences' own error the remainder is noise.
+    (sym, (asymmetry > 1e-7 * size).then_some(skew))
+}
+
+/// The largest entry's magnitude.
+fn largest(m: DMat3) -> f64 {
+    m.to_cols_array().iter().fold(0.0, |a, x| a.max(x.abs()))
 }
 
 /// Elastic energy stored in the contacts of the last step, the stick springs

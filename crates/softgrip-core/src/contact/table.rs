@@ -53,7 +53,17 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
         // released, it left at the penetration over dt and fell back, a
         // two-step bounce for ever).
         if x.z >= 0.0 && x.z + dt * v.z >= 0.0 {
-            *c = TableContact::default();
+            // A static solve keeps where a particle off the table would stick if it landed
+            // ([`begin_increment`]).
+            let anchor = if model.quasi_static {
+                c.anchor
+            } else {
+                DVec3::ZERO
+            };
+            *c = TableContact {
+                anchor,
+                ..TableContact::default()
+            };
             continue;
         }
         let penetration = -x.z;
@@ -81,7 +91,8 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
         let xt = x * TANGENT;
         let vt = v * TANGENT;
         if model.quasi_static {
-            return_mapping(c, k, limit, xt, vt, c_n, p, force, system, &vel);
+            let exact = model.full_tangent.then_some(mu * k);
+            return_mapping(c, k, limit, exact, xt, vt, c_n, p, force, system, &vel);
             continue;
         }
         let speed = vt.length();
@@ -180,6 +191,7 @@ fn return_mapping(
     c: &mut TableContact,
     k: f64,
     limit: f64,
+    exact: Option<f64>,
     xt: DVec3,
     vt: DVec3,
     c_n: f64,
@@ -188,17 +200,16 @@ fn return_mapping(
     system: &mut System,
     vel: &dyn Fn(usize) -> DVec3,
 ) {
-    if c.mode == TableMode::Free {
-        // Landed in this increment: tied where it lands.
-        c.anchor = xt;
-    }
+    // Landed in this increment: tied where it was when the increment began
+    // ([`begin_increment`]), so that the answer does not depend on where Newton's iterates
+    // first crossed the plane.
     c.last_speed = 0.0;
     let tangent = DMat3::from_diagonal(TANGENT);
     let d = xt - c.anchor;
     let trial = k * d.length();
     // The dashpot acts on the pseudo velocity, zero at the answer: it only damps the iteration.
     let damper = -c_n * vt;
-    if trial <= limit {
+    if trial <= limit && !(c.sliding && trial > 0.0) {
         c.mode = TableMode::Stick;
         c.tangential_force = -k * d;
         force[p] += c.tangential_force + damper;
@@ -211,12 +222,34 @@ fn return_mapping(
         force[p] += c.tangential_force + damper;
         // d(limit n)/dx = (limit / |d|) (I_t - n n^T): the disc's edge turns with the slip.
         let along = crate::solver::system::outer(n, n);
-        system.add_diag(
-            p,
-            (tangent - along) * (limit / d.length()),
-            tangent * c_n,
-            &vel,
-        );
+        let kp = (tangent - along) * (limit / d.length());
+        if let Some(mu_k) = exact {
+            // Newton's exact tangent also has the limit following the penetration:
+            // `-df_t/dz = -mu k n`, a column with no row to match: the system's non-symmetric
+            // remainder (its symmetric part would make the block indefinite on a long slide).
+            let column = crate::solver::system::outer(n * -mu_k, DVec3::Z);
+            let none = crate::solver::system::Asym::NONE;
+            let mut blocks = [[DMat3::ZERO; 4]; 4];
+            blocks[0][0] = column;
+            system.add_asym([p as u32, none, none, none], blocks);
+        }
+        system.add_diag(p, kp, tangent * c_n, &vel);
+    }
+}
+
+/// Before a static solve: a particle off the table is tied, if it lands in this load increment,
+/// below where it is now (its anchor), whatever path Newton's iterates take to the plane.
+pub fn begin_increment(model: &Model, state: &mut State) {
+    let Some(table) = &model.table else {
+        return;
+    };
+    if state.table.len() != table.particles.len() {
+        state.table = vec![TableContact::default(); table.particles.len()];
+    }
+    for (c, &p) in state.table.iter_mut().zip(&table.particles) {
+        if c.mode == TableMode::Free {
+            c.anchor = state.positions[p as usize] * TANGENT;
+        }
     }
 }
 
@@ -230,13 +263,16 @@ pub fn commit(model: &Model, state: &mut State) {
     let k = table.stiffness;
     for (c, &p) in state.table.iter_mut().zip(&table.particles) {
         let x = state.positions[p as usize];
+        c.dragged = DVec3::ZERO;
         if c.mode == TableMode::Free || x.z >= 0.0 {
             continue;
         }
         let limit = table.friction * k * (-x.z);
         let d = x * TANGENT - c.anchor;
         if k * d.length() > limit {
-            c.anchor = x * TANGENT - d / d.length() * (limit / k);
+            let anchor = x * TANGENT - d / d.length() * (limit / k);
+            c.dragged = anchor - c.anchor;
+            c.anchor = anchor;
         }
     }
 }

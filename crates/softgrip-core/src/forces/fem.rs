@@ -155,63 +155,152 @@ pub fn accumulate_elements(
                 }
             }
         }
-        // A softened element's shear factor is positive for any J > 0
-        // (phi >= 1 - q^2 > 0); the Jacobian clamps it where J is tiny.
-        let mu_k = mu_s.max(0.0);
-        // The weight of `-d2V` (see below): mu at rest, less where softening
-        // has lowered the shear factor, so the blocks stay semi-definite.
-        let rest_stress = mu_k.min(mu);
         let fb = b.map(|ba| f * ba);
         for a in 0..4 {
             force[idx[a]] -= fb[a] * (v0 * mu_s) + g[a] * volumetric;
         }
-        // Blocks weighted by dt^2 as they enter A.
-        let c = own / v0;
-        let rate =
-            g[0].dot(v[idx[0]]) + g[1].dot(v[idx[1]]) + g[2].dot(v[idx[2]]) + g[3].dot(v[idx[3]]);
-        // The stiffening's rate, sum_b e_b . v_b.
-        let stretch_rate = if stiff > 0.0 {
-            (0..4).map(|bb| e_grad[bb].dot(v[idx[bb]])).sum::<f64>()
-        } else {
-            0.0
-        };
-        for a in 0..4 {
-            let shear = v0 * mu_k * b[a].dot(b[a]);
-            let mut block =
-                DMat3::from_diagonal(DVec3::splat(shear * dt2)) + outer(g[a], g[a] * (c * dt2));
-            // Kp v: the shear part sum_b V0 mu (b_a . b_b) v_b, the volumetric c G_a (G . v),
-            // the stiffening's e_a (sum_b e_b . v_b).
-            let mut kv = g[a] * (c * rate);
-            for (bb, &ib) in b.iter().zip(&idx) {
-                kv += v[ib] * (v0 * mu_k * b[a].dot(*bb));
-            }
-            for (bb, &ib) in idx.iter().enumerate() {
-                if bb != a {
-                    kv -= volume_hessian(p, a, bb) * v[ib] * rest_stress;
+        let blocks = if model.full_tangent {
+            // Newton's tangent: the energy's whole Hessian, indefinite where the element is
+            // stressed enough (see `exact_blocks`).
+            let yeoh_terms = (stiff != 0.0 || mu_s != mu).then(|| {
+                let (s, scale, i1) = stretch_invariant(f);
+                let raw_i1 = i1 / scale;
+                ExactYeoh {
+                    c1: 0.5 * mu * (yeoh.factor(s) - 1.0),
+                    slope: yeoh.slope_weight_signed(v0, mu, s),
+                    j,
+                    raw_i1,
                 }
-            }
+            });
+            exact_blocks(
+                b, &fb, &g, p, v0, mu_s, own, volumetric, &e_grad, yeoh_terms,
+            )
+        } else {
+            gauss_newton_blocks(b, &g, p, v0, mu, mu_s, own, stiff, &e_grad)
+        };
+        scatter(model, e, &idx, &blocks, dt2, v, system);
+    }
+}
+
+/// The Yeoh terms of an element's exact Hessian: `c1 = dPsi/dI`, the slope weight
+/// `V0 2 mu phi'` (signed), `J`, and the raw `I1 = |F|^2`.
+#[derive(Debug, Clone, Copy)]
+struct ExactYeoh {
+    c1: f64,
+    slope: f64,
+    j: f64,
+    raw_i1: f64,
+}
+
+/// An element's 4 x 4 blocks, `[a][b]` = `-df_a/dx_b`.
+type Blocks = [[DMat3; 4]; 4];
+
+/// The Gauss-Newton blocks the time steps use (positive semi-definite, so CG applies): the
+/// shear `V0 mu (b_a . b_b) I` with the stiffened shear factor, the volumetric `c G_a G_b^T`,
+/// the stiffening's `e_a e_b^T`, and the rest stress's `-mu d2V` (without it the shear block
+/// resists a rigid rotation, which implicit Euler then damps).
+#[allow(clippy::too_many_arguments)]
+fn gauss_newton_blocks(
+    b: &[DVec3; 4],
+    g: &[DVec3; 4],
+    p: [DVec3; 4],
+    v0: f64,
+    mu: f64,
+    mu_s: f64,
+    own: f64,
+    stiff: f64,
+    e_grad: &[DVec3; 4],
+) -> Blocks {
+    // A softened element's shear factor is positive for any J > 0 (phi >= 1 - q^2 > 0); the
+    // Jacobian clamps it where J is tiny.
+    let mu_k = mu_s.max(0.0);
+    // The weight of `-d2V`: mu at rest, less where softening has lowered the shear factor, so
+    // the blocks stay semi-definite.
+    let rest_stress = mu_k.min(mu);
+    let c = own / v0;
+    let mut k = [[DMat3::ZERO; 4]; 4];
+    for a in 0..4 {
+        for bb in 0..4 {
+            let mut block = DMat3::from_diagonal(DVec3::splat(v0 * mu_k * b[a].dot(b[bb])))
+                + outer(g[a], g[bb] * c);
             if stiff > 0.0 {
-                block += outer(e_grad[a], e_grad[a] * (stiff * dt2));
-                kv += e_grad[a] * (stiff * stretch_rate);
+                block += outer(e_grad[a], e_grad[bb] * stiff);
             }
-            system.diag[idx[a]] += block;
-            system.kv[idx[a]] += kv;
-        }
-        let slots = model.tet_springs[e];
-        for (m, [a, bb]) in TET_EDGES.into_iter().enumerate() {
-            // Block (spring.i, spring.j), spring.i < spring.j.
-            let (i, k) = if idx[a] < idx[bb] { (a, bb) } else { (bb, a) };
-            let shear = v0 * mu_k * b[i].dot(b[k]) * dt2;
-            let mut block =
-                DMat3::from_diagonal(DVec3::splat(shear)) + outer(g[i], g[k] * (c * dt2));
-            if stiff > 0.0 {
-                block += outer(e_grad[i], e_grad[k] * (stiff * dt2));
+            if a != bb {
+                block -= volume_hessian(p, a, bb) * rest_stress;
             }
-            // The rest stress's `-mu d2V`: without it the shear block resists a
-            // rigid rotation, which implicit Euler then damps.
-            block -= volume_hessian(p, i, k) * (rest_stress * dt2);
-            system.off[slots[m] as usize] += block;
+            k[a][bb] = block;
         }
+    }
+    k
+}
+
+/// The energy's exact Hessian (`docs/design/neo-hookean.md`, "Newton's tangent"): with
+/// `Psi = mu / 2 (I1 - 3) + Psi_s(I) + psi(J)`, `I = J^(-2/3) I1`,
+/// `-df_a/dx_b = V0 mu_s (b_a . b_b) I + psi'' / V0 G_a G_b^T + p d2V_ab`
+/// `+ V0 Psi_s'' dI_a dI_b^T + c1 [-(4/3) J^(-5/3) (G_a (F b_b)^T + (F b_a) G_b^T)`
+/// `+ (10/9) I1 J^(-8/3) / V0 G_a G_b^T]`, where `p` (`volumetric`) is every term's
+/// `dPsi/dJ` and `mu_s` carries the stiffening's `2 c1 J^(-2/3)`.
+#[allow(clippy::too_many_arguments)]
+fn exact_blocks(
+    b: &[DVec3; 4],
+    fb: &[DVec3; 4],
+    g: &[DVec3; 4],
+    p: [DVec3; 4],
+    v0: f64,
+    mu_s: f64,
+    own: f64,
+    volumetric: f64,
+    e_grad: &[DVec3; 4],
+    yeoh: Option<ExactYeoh>,
+) -> Blocks {
+    let c = own / v0;
+    let mut k = [[DMat3::ZERO; 4]; 4];
+    for a in 0..4 {
+        for bb in 0..4 {
+            let mut block = DMat3::from_diagonal(DVec3::splat(v0 * mu_s * b[a].dot(b[bb])))
+                + outer(g[a], g[bb] * c);
+            if a != bb {
+                block += volume_hessian(p, a, bb) * volumetric;
+            }
+            if let Some(y) = yeoh {
+                // e = dI / 2, so V0 Psi_s'' dI dI^T = slope e e^T.
+                block += outer(e_grad[a], e_grad[bb] * y.slope);
+                let j53 = y.j.powf(-5.0 / 3.0);
+                let j83 = y.j.powf(-8.0 / 3.0);
+                block += (outer(g[a], fb[bb]) + outer(fb[a], g[bb])) * (-4.0 / 3.0 * y.c1 * j53)
+                    + outer(g[a], g[bb]) * (10.0 / 9.0 * y.c1 * y.raw_i1 * j83 / v0);
+            }
+            k[a][bb] = block;
+        }
+    }
+    k
+}
+
+/// Adds an element's blocks to the system, weighted by `dt2` as they enter A, and their
+/// product with the velocities to `Kp v`.
+fn scatter(
+    model: &Model,
+    e: usize,
+    idx: &[usize; 4],
+    k: &Blocks,
+    dt2: f64,
+    v: &[DVec3],
+    system: &mut System,
+) {
+    for a in 0..4 {
+        system.diag[idx[a]] += k[a][a] * dt2;
+        let mut kv = DVec3::ZERO;
+        for bb in 0..4 {
+            kv += k[a][bb] * v[idx[bb]];
+        }
+        system.kv[idx[a]] += kv;
+    }
+    let slots = model.tet_springs[e];
+    for (m, [a, bb]) in TET_EDGES.into_iter().enumerate() {
+        // Block (spring.i, spring.j), spring.i < spring.j.
+        let (i, k2) = if idx[a] < idx[bb] { (a, bb) } else { (bb, a) };
+        system.off[slots[m] as usize] += k[i][k2] * dt2;
     }
 }
 

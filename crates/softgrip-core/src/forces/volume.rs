@@ -132,13 +132,26 @@ pub fn nodal(model: &Model, state: &State, force: &mut [DVec3], system: &mut Sys
             s.rate[i] *= w;
             op.weight.push(w * dt2);
         }
-        for (tet, q) in model.tets.iter().zip(&op.quarter_gradients) {
+        for (e, (tet, q)) in model.tets.iter().zip(&op.quarter_gradients).enumerate() {
             let idx = tet.map(|i| i as usize);
             let pressure: f64 = idx.iter().map(|&i| s.volume[i]).sum();
             let rate: f64 = idx.iter().map(|&i| s.rate[i]).sum();
             for (a, &i) in idx.iter().enumerate() {
                 force[i] -= q[a] * pressure;
                 system.kv[i] += q[a] * rate;
+            }
+            if model.full_tangent {
+                // Newton's tangent: the pressures' geometric term, `sum_i p_i d2V_i`, each element
+                // `sum_(i in e) p_i / 4 d2V_e` (the Gauss-Newton part is the operator's).
+                let p = idx.map(|i| x[i]);
+                let weight = 0.25 * pressure;
+                for (m, [a, b]) in TET_EDGES.into_iter().enumerate() {
+                    let (i, j) = if idx[a] < idx[b] { (a, b) } else { (b, a) };
+                    let h = crate::forces::fem::volume_hessian(p, i, j) * weight;
+                    system.off[model.tet_springs[e][m] as usize] += h * dt2;
+                    system.kv[idx[i]] += h * v[idx[j]];
+                    system.kv[idx[j]] += h.transpose() * v[idx[i]];
+                }
             }
         }
         let op = &mut system.nodal;

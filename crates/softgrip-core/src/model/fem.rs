@@ -95,6 +95,12 @@ impl Yeoh {
         (v0 * 2.0 * mu * self.beta / 3.0 + v0 * 2.0 * mu * 2.0 * self.gamma * s / 9.0).max(0.0)
     }
 
+    /// `V0 2 mu phi'(s)` with its sign: the exact Hessian's weight.
+    #[inline]
+    pub(crate) fn slope_weight_signed(&self, v0: f64, mu: f64, s: f64) -> f64 {
+        v0 * 2.0 * mu * (self.beta / 3.0 + 2.0 * self.gamma * s / 9.0)
+    }
+
     /// `Psi_s`, the terms' energy per unit rest volume.
     #[inline]
     pub(crate) fn energy(&self, mu: f64, s: f64) -> f64 {

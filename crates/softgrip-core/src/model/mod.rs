@@ -48,6 +48,18 @@ pub struct Spring {
 /// scene's rest rose to 2-3e-6 m/s (docs/results/benchmarks-history.md).
 pub const REST_REFERENCE: f64 = 1e-2;
 
+/// How the step's linear system `A dv = b` is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LinearSolver {
+    /// Block-Jacobi preconditioned conjugate gradients to [`Model::cg_tolerance`]: a time step,
+    /// whose matrix changes little from the last and whose solve need not be exact.
+    #[default]
+    Cg,
+    /// A sparse Cholesky factorisation (`crate::solver::direct`): an exact solve, for Newton's
+    /// steps on an exact tangent.
+    Direct,
+}
+
 /// The model: constant for a run.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -77,9 +89,17 @@ pub struct Model {
     /// Springs' Jacobians with their negative transverse terms (the static solver's Newton
     /// tangent); false in time steps, whose matrix must stay positive definite.
     pub exact_tangent: bool,
+    /// Newton's whole tangent (with `exact_tangent`): the elements' and the nodal pressures'
+    /// geometric terms, the finger contacts' full derivative and the table friction's coupling
+    /// to the penetration, some of it not symmetric ([`crate::solver::System::asym`]). Only a
+    /// factorised solve takes it (`crate::equilibrium`, `crate::sensitivity`).
+    pub full_tangent: bool,
     /// The steps are a static solver's Newton iterations, not time: the table's friction is a
     /// return mapping to anchors held over the load increment (`crate::contact::table`).
     pub quasi_static: bool,
+    /// How the step's linear system is solved: CG in time steps, a sparse factorisation in the
+    /// static solver's Newton steps where it pays (`crate::equilibrium`).
+    pub linear_solver: LinearSolver,
     pub cg_tolerance: f64,
     /// CG's tolerance is relative to the right-hand side or to this share of `dt` times the
     /// loads, whichever is larger ([`REST_REFERENCE`] in time steps;
@@ -608,7 +628,9 @@ impl Model {
             dt: scene.simulation.dt,
             guide_rest_speed: GUIDE_REST_SPEED,
             exact_tangent: false,
+            full_tangent: false,
             quasi_static: false,
+            linear_solver: LinearSolver::Cg,
             cg_tolerance: scene.simulation.cg_tolerance,
             cg_reference: REST_REFERENCE,
             cg_max_iterations: scene.simulation.cg_max_iterations,
@@ -691,7 +713,9 @@ impl Model {
             dt,
             guide_rest_speed: GUIDE_REST_SPEED,
             exact_tangent: false,
+            full_tangent: false,
             quasi_static: false,
+            linear_solver: LinearSolver::Cg,
             cg_tolerance: 1e-12,
             cg_reference: REST_REFERENCE,
             cg_max_iterations: 1000,

@@ -2,6 +2,7 @@
 //! thesis eq. 43 and the preconditioned conjugate gradient that solves it.
 
 pub mod cg;
+pub mod direct;
 pub mod gmres;
 pub mod pressure;
 pub mod system;

@@ -30,6 +30,12 @@ pub struct System {
     pub coupling: Vec<(u32, u32, DMat3)>,
     /// `Kp v`, for the right-hand side.
     pub kv: Vec<DVec3>,
+    /// What an exact tangent adds to the blocks above, weighted as A's blocks: the
+    /// non-symmetric part of friction in a static solve (a sliding contact's force follows the
+    /// normal force, not the other way). The blocks hold a symmetric matrix, which a direct
+    /// solve factorises and preconditions GMRES with; only a direct solve reads these
+    /// (`solver::direct`).
+    pub asym: Vec<Asym>,
     /// 1 on a free component, 0 on a fixed one (Baraff-Witkin filter).
     pub mask: Vec<DVec3>,
     /// Inverses of the masked diagonal blocks (block-Jacobi preconditioner).
@@ -52,6 +58,8 @@ pub struct System {
     pressure_refused: bool,
     /// Whether the next solve uses `pressure`.
     choice: Choice,
+    /// The system is solved by a factorisation: CG's preconditioners are not made.
+    direct: bool,
 }
 
 /// `sum_i c_i g_i g_i^T` with `g_i = dV_i/dx`, `V_i` a quarter of the volume of
@@ -66,6 +74,18 @@ pub struct NodalOperator {
     pub weight: Vec<f64>,
     /// Its diagonal blocks, for the preconditioner only.
     pub diag: Vec<DMat3>,
+}
+
+/// A small dense non-symmetric term over up to four dofs (unused ones [`Asym::NONE`]):
+/// `A[dofs[a], dofs[b]] += blocks[a][b]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Asym {
+    pub dofs: [u32; 4],
+    pub blocks: [[DMat3; 4]; 4],
+}
+
+impl Asym {
+    pub const NONE: u32 = u32::MAX;
 }
 
 thread_local! {
@@ -123,6 +143,7 @@ impl System {
         let nf = model.fingers.len();
         let mass = if with_mass { 1.0 } else { 0.0 };
         self.dt = dt;
+        self.direct = model.linear_solver == crate::model::LinearSolver::Direct;
         self.particles = n;
         self.diag.clear();
         self.diag.extend(
@@ -140,6 +161,7 @@ impl System {
         self.off.clear();
         self.off.resize(model.springs.len(), DMat3::ZERO);
         self.coupling.clear();
+        self.asym.clear();
         self.nodal.quarter_gradients.clear();
         self.nodal.weight.clear();
         self.nodal.diag.clear();
@@ -175,6 +197,18 @@ impl System {
             *a += *b;
         }
         self.coupling.extend_from_slice(&part.coupling);
+        self.asym.extend_from_slice(&part.asym);
+    }
+
+    /// Adds a non-symmetric stiffness remainder `kp` (unweighted, `-df/dx`) over `dofs`.
+    pub fn add_asym(&mut self, dofs: [u32; 4], mut kp: [[DMat3; 4]; 4]) {
+        let w = self.dt * self.dt;
+        for row in &mut kp {
+            for b in row.iter_mut() {
+                *b *= w;
+            }
+        }
+        self.asym.push(Asym { dofs, blocks: kp });
     }
 
     #[inline]
@@ -240,6 +274,9 @@ impl System {
     /// `last_iterations`: CG's iterations in the last solve, which tell when the nodal term's
     /// factorization has aged).
     pub fn finish(&mut self, tets: &[[u32; 4]], last_iterations: usize) {
+        if self.direct {
+            return;
+        }
         self.finish_block_jacobi();
         if !self.nodal.is_active() || self.pressure_refused {
             self.pressure = None;

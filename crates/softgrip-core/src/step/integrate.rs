@@ -12,6 +12,7 @@ use super::parallel::{Parallel, SystemOperator};
 use crate::model::{AxisDrive, Model};
 use crate::solver::System;
 use crate::solver::cg::{CgError, CgParams, CgReport, CgScratch, conjugate_gradient};
+use crate::solver::direct::{DirectError, DirectSolver};
 use crate::state::State;
 
 /// Sets the mask of fixed components: pinned particles, locked and
@@ -73,7 +74,51 @@ pub fn implicit_euler_update(
         max_iterations: model.cg_max_iterations,
     };
     let report = conjugate_gradient(&op, rhs, dv, params, cg)?;
+    apply_velocity_change(model, state, dv);
+    Ok(report)
+}
 
+/// [`implicit_euler_update`] with eq. 43 solved by a sparse factorisation of `system`
+/// (`crate::solver::direct`): exact to rounding. A matrix that is not positive definite is
+/// [`CgError::NotPositiveDefinite`], as CG would report it.
+pub fn implicit_euler_direct(
+    model: &Model,
+    state: &mut State,
+    force: &[DVec3],
+    system: &System,
+    direct: &mut DirectSolver,
+    rhs: &mut Vec<DVec3>,
+    dv: &mut Vec<DVec3>,
+) -> Result<CgReport, CgError> {
+    let n = model.particle_count();
+    let total = n + model.fingers.len();
+    let dt = model.dt;
+    rhs.clear();
+    rhs.extend((0..total).map(|i| (force[i] - dt * system.kv[i]) * dt * system.mask[i]));
+    dv.clear();
+    dv.resize(total, DVec3::ZERO);
+    direct.factorise(model, system).map_err(|e| match e {
+        DirectError::NotPositiveDefinite => CgError::NotPositiveDefinite {
+            iteration: 0,
+            curvature: f64::NAN,
+        },
+        DirectError::Factorisation(_) => CgError::NonFinite { iteration: 0 },
+    })?;
+    let iterations = direct.solve_system(system, rhs, dv).unwrap_or(usize::MAX);
+    if dv.iter().any(|d| !d.is_finite()) {
+        return Err(CgError::NonFinite { iteration: 0 });
+    }
+    apply_velocity_change(model, state, dv);
+    Ok(CgReport {
+        iterations,
+        relative_residual: 0.0,
+    })
+}
+
+/// `v += dv`, `x += dt v` for particles and fingers, and the fingers' travel.
+fn apply_velocity_change(model: &Model, state: &mut State, dv: &[DVec3]) {
+    let n = model.particle_count();
+    let dt = model.dt;
     for i in 0..n {
         state.velocities[i] += dv[i];
         state.positions[i] += dt * state.velocities[i];
@@ -92,7 +137,6 @@ pub fn implicit_euler_update(
         }));
         fs.travelled += (step * driven).length();
     }
-    Ok(report)
 }
 
 /// The 2-norm of the loads (gravity, `[[load]]`, the fingers' applied forces

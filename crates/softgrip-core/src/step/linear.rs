@@ -16,8 +16,9 @@ use glam::DVec3;
 use super::parallel::SystemOperator;
 use super::{Scratch, Simulation, assemble};
 use crate::error::SimError;
-use crate::model::Model;
+use crate::model::{LinearSolver, Model};
 use crate::solver::cg::{CgError, CgParams, CgReport, CgScratch, conjugate_gradient};
+use crate::solver::direct::DirectSolver;
 use crate::state::State;
 
 /// The pseudo time step (s) of the static tangent: past every mode's period by so much that
@@ -30,14 +31,27 @@ pub const STATIC_DT: f64 = 1e6;
 /// one's well inside.
 pub const CONE_EDGE: f64 = 1e-6;
 
+/// A guided finger whose driving force is within this share of its guide's friction `F_g`
+/// slides in its guide (at a sliding equilibrium the force is `F_g` to the solver's tolerance).
+pub const GUIDE_EDGE: f64 = 1e-4;
+
 /// CG's relative tolerance of [`Simulation::solve_tangent`].
 pub const TANGENT_CG_TOLERANCE: f64 = 1e-12;
 
-/// `model` as the static tangent sees it: a step of [`STATIC_DT`], the exact spring tangent.
+/// `model` as the static tangent sees it: a step of [`STATIC_DT`], the exact tangent (the
+/// whole of it, [`Model::full_tangent`]), the static solver's friction (a return mapping to
+/// anchors held), and a factorised solve where the mesh is small enough
+/// ([`crate::equilibrium::DIRECT_UNKNOWNS`]) and has no self-collision.
 pub fn static_model(model: &Model) -> Model {
     let mut m = model.clone();
     m.dt = STATIC_DT;
     m.exact_tangent = true;
+    m.full_tangent = true;
+    m.quasi_static = true;
+    let unknowns = 3 * m.fixed.iter().filter(|f| !**f).count();
+    if unknowns <= crate::equilibrium::DIRECT_UNKNOWNS && m.self_collision.is_none() {
+        m.linear_solver = crate::model::LinearSolver::Direct;
+    }
     m
 }
 
@@ -51,7 +65,12 @@ pub struct FixedState {
     /// For the force evaluations, which overwrite their system.
     forces: Scratch,
     work: State,
+    /// Each finger sliding in its guide: the direction of the force that drives the slide (the
+    /// guide's friction, `F_g` against it, is part of the force here).
+    guide_slides: Vec<Option<DVec3>>,
     cg: CgScratch,
+    /// The tangent's factorisation, where the model asks for one and it is positive definite.
+    direct: Option<DirectSolver>,
     /// The static residual at the state (N, `super::static_residual`).
     residual: f64,
 }
@@ -71,12 +90,65 @@ impl FixedState {
             state,
             tangent: Scratch::default(),
             forces: Scratch::default(),
+            guide_slides: Vec::new(),
             cg: CgScratch::default(),
+            direct: None,
             residual: 0.0,
         };
         fixed.residual = assemble(&fixed.model, &mut fixed.work, &mut fixed.tangent);
         fixed.hold_sliding_contacts();
+        fixed.hold_sliding_table();
+        fixed.hold_guided_fingers();
+        if fixed.guide_slides.iter().any(Option::is_some) {
+            // A finger sliding in its guide feels `F_g` along the slide, a force that does not
+            // change as it moves: the guide's friction damper (a time step's) leaves the
+            // tangent.
+            let mut m = (*fixed.model).clone();
+            for (f, slide) in m.fingers.iter_mut().zip(&fixed.guide_slides) {
+                if slide.is_some() {
+                    f.guide_friction = 0.0;
+                }
+            }
+            fixed.model = Arc::new(m);
+        }
+        // The tangent of the state as held: sliding contacts on the cone's edge, fingers held
+        // by their guides masked out.
+        fixed.work.clone_from(&fixed.state);
+        assemble(&fixed.model, &mut fixed.work, &mut fixed.tangent);
+        if fixed.model.linear_solver == LinearSolver::Direct {
+            let mut direct = DirectSolver::default();
+            let factorised = system_of(&fixed.tangent, |s| {
+                direct.factorise(&fixed.model, s).is_ok()
+            });
+            if factorised {
+                fixed.direct = Some(direct);
+            } else {
+                // Not positive definite (a frictionless contact on a lattice with no volume
+                // term): CG on the time steps' semi-definite tangent preconditions instead.
+                let mut m = (*fixed.model).clone();
+                m.full_tangent = false;
+                m.linear_solver = LinearSolver::Cg;
+                fixed.model = Arc::new(m);
+                fixed.work.clone_from(&fixed.state);
+                assemble(&fixed.model, &mut fixed.work, &mut fixed.tangent);
+            }
+        }
         fixed
+    }
+
+    /// Whether the tangent is factorised ([`FixedState::solve`] is then exact to rounding).
+    pub fn is_factorised(&self) -> bool {
+        self.direct.is_some()
+    }
+
+    /// `Kp v` with the assembled tangent (factorised models only: `None` otherwise): what
+    /// [`FixedState::solve`] inverts.
+    pub fn tangent_product(&self, v: &[DVec3]) -> Option<Vec<DVec3>> {
+        let direct = self.direct.as_ref()?;
+        let dt2 = self.model.dt * self.model.dt;
+        let mut out = vec![DVec3::ZERO; v.len()];
+        system_of(&self.tangent, |s| direct.apply(s, v, &mut out));
+        Some(out.into_iter().map(|x| x / dt2).collect())
     }
 
     /// Marks the finger contacts on their friction cone's edge as held sliding: at a sliding
@@ -91,6 +163,61 @@ impl FixedState {
                 && let Some(m) = self.state.contact_memory.get_mut(&(c.finger, c.facet))
             {
                 m.sliding = true;
+                // The anchor where the last static increment held it: the linearisation is
+                // that increment's.
+                m.anchor_offset -= m.dragged;
+            }
+        }
+    }
+
+    /// Marks the table contacts on (or within [`CONE_EDGE`] of) their Coulomb disc's edge as held
+    /// sliding, as [`FixedState::hold_sliding_contacts`] does the fingers'.
+    fn hold_sliding_table(&mut self) {
+        let Some(table) = &self.model.table else {
+            return;
+        };
+        let k = table.stiffness;
+        for (c, &p) in self.state.table.iter_mut().zip(&table.particles) {
+            let x = self.state.positions[p as usize];
+            if c.mode == crate::state::TableMode::Free || x.z >= 0.0 {
+                continue;
+            }
+            let limit = table.friction * k * (-x.z);
+            let trial = k * (x * DVec3::new(1.0, 1.0, 0.0) - c.anchor).length();
+            if limit > 0.0 && trial >= (1.0 - CONE_EDGE) * limit {
+                c.sliding = true;
+                // The anchor where the increment held it: the linearisation is the
+                // increment's.
+                c.anchor -= c.dragged;
+            }
+        }
+    }
+
+    /// A force-controlled finger with guide friction either slides in its guide (the force on
+    /// its axes is `F_g`: the guide's friction joins the force, against that direction) or is
+    /// held by it (the force is less: held where it is, its axes fixed).
+    fn hold_guided_fingers(&mut self) {
+        let n = self.model.particle_count();
+        self.guide_slides = vec![None; self.model.fingers.len()];
+        for (k, f) in self.model.fingers.iter().enumerate() {
+            if f.guide_friction <= 0.0
+                || !f.is_force_controlled()
+                || self.state.fingers[k].held.is_some()
+            {
+                continue;
+            }
+            let axes = DVec3::from_array(f.drive.map(|d| {
+                if d == crate::model::AxisDrive::Force {
+                    1.0
+                } else {
+                    0.0
+                }
+            }));
+            let net = self.tangent.force[n + k] * axes;
+            if net.length() >= (1.0 - GUIDE_EDGE) * f.guide_friction {
+                self.guide_slides[k] = Some(net.normalize());
+            } else {
+                self.state.fingers[k].held = Some(self.state.fingers[k].position);
             }
         }
     }
@@ -144,14 +271,21 @@ impl FixedState {
             }
         }
         assemble(model, &mut self.work, &mut self.forces);
+        let n = model.particle_count();
+        for (k, slide) in self.guide_slides.iter().enumerate() {
+            if let Some(direction) = slide {
+                self.forces.force[n + k] -= *direction * model.fingers[k].guide_friction;
+            }
+        }
         let force = &self.forces.force;
         system_of(&self.forces, |s| {
             force.iter().zip(&s.mask).map(|(f, m)| *f * *m).collect()
         })
     }
 
-    /// `y` with `Kp y = g` on the free components (zero on the fixed ones), by CG on the
-    /// assembled tangent from the start `y` holds (zero if its length is wrong).
+    /// `y` with `Kp y = g` on the free components (zero on the fixed ones): by the
+    /// factorisation where there is one, else by CG on the assembled tangent from the start `y`
+    /// holds (zero if its length is wrong).
     pub fn solve(
         &mut self,
         g: &[DVec3],
@@ -175,6 +309,13 @@ impl FixedState {
             .zip(&system.mask)
             .map(|(g, m)| *g * *m * dt2)
             .collect();
+        if let Some(direct) = self.direct.as_mut() {
+            let iterations = direct.solve_system(&system, &rhs, y).unwrap_or(0);
+            return Ok(CgReport {
+                iterations,
+                relative_residual: 0.0,
+            });
+        }
         let op = SystemOperator {
             system: &system,
             parallel,

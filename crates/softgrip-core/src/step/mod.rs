@@ -11,6 +11,7 @@ use crate::error::SimError;
 use crate::model::Model;
 use crate::scene::Scene;
 use crate::solver::cg::{CgError, CgScratch};
+use crate::solver::direct::DirectSolver;
 use crate::state::State;
 use crate::{contact, forces};
 use constraints::{ProjectionScratch, project_spring_limits};
@@ -33,11 +34,15 @@ pub struct Scratch {
     rhs: Vec<DVec3>,
     dv: Vec<DVec3>,
     cg: CgScratch,
+    /// The sparse factorisation of a direct solve ([`crate::model::LinearSolver::Direct`]).
+    direct: DirectSolver,
     contact: ContactScratch,
     self_collision: contact::self_collision::SelfScratch,
     projection: ProjectionScratch,
     energy_watch: EnergyWatch,
     stage_seconds: StageSeconds,
+    /// The last step's linear solve failed on a matrix that is not positive definite.
+    indefinite: bool,
 }
 
 impl Clone for Scratch {
@@ -51,11 +56,13 @@ impl Clone for Scratch {
             rhs: self.rhs.clone(),
             dv: self.dv.clone(),
             cg: self.cg.clone(),
+            direct: self.direct.clone(),
             contact: self.contact.clone(),
             self_collision: self.self_collision.clone(),
             projection: self.projection.clone(),
             energy_watch: self.energy_watch.clone(),
             stage_seconds: self.stage_seconds,
+            indefinite: self.indefinite,
         }
     }
 }
@@ -251,6 +258,38 @@ impl Simulation {
             .is_some_and(|p| p.is_threaded())
     }
 
+    /// The first half of [`Simulation::step`]: the fingers driven and every force and the
+    /// system assembled at the present state (its contact records updated); returns the static
+    /// residual there. [`Simulation::step_assembled`] goes on from it.
+    pub(crate) fn assemble_here(&mut self) -> f64 {
+        let started = Instant::now();
+        integrate::drive_fingers(&self.model, &mut self.state);
+        let residual = assemble(&self.model, &mut self.state, &mut self.scratch);
+        self.scratch.stage_seconds.forces += started.elapsed().as_secs_f64();
+        self.wall_seconds += started.elapsed().as_secs_f64();
+        residual
+    }
+
+    /// The second half of [`Simulation::step`] after [`Simulation::assemble_here`].
+    pub(crate) fn step_assembled(&mut self, force_residual: f64) -> Result<(), SimError> {
+        let started = Instant::now();
+        let result = step_assembled(
+            &self.model,
+            &mut self.state,
+            &mut self.scratch,
+            force_residual,
+            started,
+        );
+        self.wall_seconds += started.elapsed().as_secs_f64();
+        result
+    }
+
+    /// Whether the last step failed because its matrix is not positive definite (an indefinite
+    /// tangent in a static solve).
+    pub(crate) fn last_step_indefinite(&self) -> bool {
+        self.scratch.indefinite
+    }
+
     /// Wall-clock seconds per stage, summed over the steps so far.
     pub fn stage_seconds(&self) -> StageSeconds {
         self.scratch.stage_seconds
@@ -272,23 +311,47 @@ pub fn step(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> Result<()
     let mut mark = Instant::now();
     integrate::drive_fingers(model, state);
     let force_residual = assemble(model, state, s);
+    lap(&mut mark, &mut s.stage_seconds.forces);
+    step_assembled(model, state, s, force_residual, mark)
+}
+
+/// The rest of [`step`] once its forces and matrix are assembled at `state` (whose static
+/// residual is `force_residual`): the solve, the update, the constraints and the checks.
+fn step_assembled(
+    model: &Arc<Model>,
+    state: &mut State,
+    s: &mut Scratch,
+    force_residual: f64,
+    mut mark: Instant,
+) -> Result<(), SimError> {
     let times = &mut s.stage_seconds;
-    lap(&mut mark, &mut times.forces);
     let Some(parallel) = s.parallel.as_ref() else {
         unreachable!("assemble sets it")
     };
 
-    let report = integrate::implicit_euler_update(
-        model,
-        state,
-        &s.force,
-        &parallel.system(),
-        parallel,
-        &mut s.rhs,
-        &mut s.dv,
-        &mut s.cg,
-    )
-    .map_err(|e| match e {
+    let report = match model.linear_solver {
+        crate::model::LinearSolver::Cg => integrate::implicit_euler_update(
+            model,
+            state,
+            &s.force,
+            &parallel.system(),
+            parallel,
+            &mut s.rhs,
+            &mut s.dv,
+            &mut s.cg,
+        ),
+        crate::model::LinearSolver::Direct => integrate::implicit_euler_direct(
+            model,
+            state,
+            &s.force,
+            &parallel.system(),
+            &mut s.direct,
+            &mut s.rhs,
+            &mut s.dv,
+        ),
+    };
+    s.indefinite = matches!(report, Err(CgError::NotPositiveDefinite { .. }));
+    let report = report.map_err(|e| match e {
         // A limit the scene set too low is no divergence, and no fault of dt.
         CgError::NoConvergence {
             iterations,

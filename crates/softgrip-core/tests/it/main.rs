@@ -17,6 +17,7 @@ mod invariants;
 mod live;
 mod mesh_import;
 mod mesh_scenes;
+mod newton;
 mod pinch;
 mod rayleigh;
 mod reference;

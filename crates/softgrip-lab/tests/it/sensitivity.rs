@@ -222,3 +222,111 @@ fn dx_de_agrees_with_whole_solves_with_each_volume_term_on_and_off() {
         check_frictionless(&scene, DVec3::new(0.0, 0.0, -2.0), &["young_modulus"]);
     }
 }
+
+/// Acceptance asked of the continuum's sensitivities, from the factorised exact tangent alone
+/// and with the force differences' check.
+const CONTINUUM_AGREEMENT: f64 = 1e-4;
+
+/// The light-guide cuboid at 8 mm as the continuum (neo-Hookean, nodal pressures), with the
+/// finger's `friction`; `change` sets the effect under test.
+fn continuum(friction: f64, change: impl FnOnce(&mut Scene)) -> Scene {
+    let mut scene = scene(friction, [false, false, true]);
+    scene.model.elasticity = softgrip_core::scene::Elasticity::NeoHookean;
+    scene.model.bulk_pressure = softgrip_core::scene::BulkPressure::Nodal;
+    scene.model.tau_s = None;
+    scene.model.tau_c = None;
+    scene.model.stiffening = 0.0;
+    change(&mut scene);
+    scene
+}
+
+/// `dx/dp` of the continuum at the equilibrium reached along `path` (finger forces), for
+/// `names`, from the factor alone and with GMRES's force differences, against whole solves of
+/// the path's last step (the friction anchors dragged before it held, as the linearisation
+/// holds them).
+fn check_continuum(scene: &Scene, path: &[DVec3], names: &[&str]) {
+    let mesh = Model::mesh_of(scene).expect("mesh");
+    let start = State::initial(&Model::from_mesh(scene, mesh.clone()).expect("model"));
+    // The last load step is the one linearised: the friction anchors its start holds (where
+    // earlier steps dragged them) are held in the reference too.
+    let (last, before) = path.split_last().expect("a load");
+    let pressed = solve_along(scene, &mesh, &start, before);
+    let rest = &[*last][..];
+    let sim = solve_along(scene, &mesh, &pressed.state, rest);
+    let factor = sensitivities(scene, &mesh, &sim, names, assembled_only()).expect("factor");
+    let checked = sensitivities(scene, &mesh, &sim, names, SensitivityOptions::default())
+        .expect("sensitivities");
+    for (p, f) in checked.iter().zip(&factor) {
+        let reference = whole_solves(scene, &mesh, &pressed.state, rest, p.name);
+        let (error, scale) = disagreement(&p.dx_dp, &reference);
+        let (factor_error, _) = disagreement(&f.dx_dp, &reference);
+        eprintln!(
+            "{:>20}: |dx/dp| {scale:.3e}, factor alone {factor_error:.1e}, checked by force \
+             differences {error:.1e} ({} products)",
+            p.name, p.iterations
+        );
+        assert!(scale > 0.0, "{}: dx/dp is zero", p.name);
+        assert!(
+            factor_error <= CONTINUUM_AGREEMENT,
+            "{}: {factor_error:e}",
+            p.name
+        );
+        assert!(error <= CONTINUUM_AGREEMENT, "{}: {error:e}", p.name);
+    }
+}
+
+#[test]
+fn the_continuums_sensitivities_from_the_factor_agree_with_whole_solves() {
+    let down = |f: f64| DVec3::new(0.0, 0.0, -f);
+    // The elastic parameters, frictionless (no path): E, one- and two-term stiffening with
+    // softening, the creep's relaxed share (its static limit: the long-term modulus), a
+    // stiffer top half.
+    let scene = continuum(0.0, |s| {
+        s.model.stiffening = 5.0;
+        s.model.stiffening_cubic = 20.0;
+        s.model.softening = 0.3;
+        s.model.prony_g = 0.3;
+        s.regions.push(softgrip_core::scene::Region {
+            region: softgrip_core::scene::AaBox {
+                min: DVec3::new(-0.03, -0.03, 0.01),
+                max: DVec3::new(0.03, 0.03, 0.03),
+            },
+            young_modulus: 2.0 * s.object.young_modulus,
+            density: s.object.density,
+        });
+    });
+    let names = [
+        "young_modulus",
+        "stiffening",
+        "stiffening_cubic",
+        "softening",
+        "prony_g",
+        "region_young_modulus",
+    ];
+    check_continuum(&scene, &[DVec3::ZERO, down(4.0)], &names);
+    // On a table with friction, loaded in two steps: contacts at the rim slide.
+    let scene = continuum(0.0, |s| {
+        s.support.kind = softgrip_core::scene::SupportKind::Table;
+        s.support.friction = 0.3;
+    });
+    check_continuum(
+        &scene,
+        &[DVec3::ZERO, down(2.0), down(4.0)],
+        &["young_modulus", "table_friction"],
+    );
+    // The finger's friction, pressed and then pushed sideways so that contacts slide.
+    let mut scene = continuum(0.5, |_| {});
+    scene.fingers[0].free_axes = [true, true, true];
+    check_continuum(
+        &scene,
+        &[
+            down(4.0),
+            DVec3::new(0.8, 0.0, -4.0),
+            DVec3::new(1.6, 0.0, -4.0),
+        ],
+        &["friction"],
+    );
+    // The guide's friction: the finger slides in its guide, held back by F_g.
+    let scene = continuum(0.0, |s| s.fingers[0].guide_friction = 0.5);
+    check_continuum(&scene, &[DVec3::ZERO, down(4.0)], &["guide_friction"]);
+}
