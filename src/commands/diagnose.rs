@@ -230,6 +230,7 @@ pub fn run(args: Args) -> Result<()> {
         candidates,
         pair
     );
+    println!("time: {}", stage_times(&d.stages));
     if let Some(dir) = report.dir("diagnose", recording_path) {
         let written = softgrip_lab::report::diagnosis(&dir, &recording, &d)?;
         println!("report: {}", written.markdown.display());
@@ -261,3 +262,22 @@ pub(super) fn build_name() -> Result<String> {
 
 /// Where in the report directory a diagnosis saves its fits.
 const CHECKPOINT: &str = "fits.checkpoint";
+
+/// The stages' wall times in one line: the total, then each stage (a candidate fitted in
+/// several rounds summed), longest first.
+fn stage_times(stages: &[(String, f64)]) -> String {
+    let total: f64 = stages.iter().map(|(_, s)| s).sum();
+    let mut summed: Vec<(String, f64)> = Vec::new();
+    for (name, seconds) in stages {
+        match summed.iter_mut().find(|(n, _)| n == name) {
+            Some((_, s)) => *s += seconds,
+            None => summed.push((name.clone(), *seconds)),
+        }
+    }
+    summed.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let parts: Vec<String> = summed
+        .iter()
+        .map(|(name, s)| format!("{name} {s:.1} s"))
+        .collect();
+    format!("{total:.1} s in all: {}", parts.join(", "))
+}

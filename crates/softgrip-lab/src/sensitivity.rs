@@ -111,6 +111,12 @@ pub const WITH_SENSITIVITY: &[&str] = &[
     "tau_s",
     "tau_c",
     "friction",
+    "stiffening_cubic",
+    "softening",
+    "prony_g",
+    "region_young_modulus",
+    "table_friction",
+    "guide_friction",
 ];
 
 /// How the equilibria's sensitivities are solved in a replay: to a percent, what a fit's step

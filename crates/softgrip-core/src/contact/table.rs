@@ -52,7 +52,14 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
         // contact while it rises back (the dashpot stops it on the plane;
         // released, it left at the penetration over dt and fell back, a
         // two-step bounce for ever).
-        if x.z >= 0.0 && x.z + dt * v.z >= 0.0 {
+        // A static solve counts a particle on the plane (z = 0, the object's rest on the
+        // table) as touching: its tangent then holds the object up from the first iteration.
+        let off = if model.quasi_static {
+            x.z > 0.0
+        } else {
+            x.z >= 0.0
+        };
+        if off && x.z + dt * v.z >= 0.0 {
             // A static solve keeps where a particle off the table would stick if it landed
             // ([`begin_increment`]).
             let anchor = if model.quasi_static {

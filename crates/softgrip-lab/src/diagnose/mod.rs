@@ -126,6 +126,7 @@ pub fn diagnose(
         pinned,
         discretisation,
         model_finding,
+        stages: Vec::new(),
     };
     let alternatives: Vec<String> = d
         .alternatives()
@@ -150,5 +151,6 @@ pub fn diagnose(
     }
     fits.done = fits.planned;
     fits.starting("done");
+    d.stages = std::mem::take(&mut fits.stages);
     Ok(d)
 }

@@ -16,7 +16,7 @@ use crate::fit::{FitOptions, FitParam};
 use crate::optimize::levenberg_marquardt_with;
 use crate::params;
 use crate::recording::Recording;
-use crate::replay::{Replay, ReplayOptions, SampleState, replay_observing};
+use crate::replay::{MarkerSensitivities, Replay, ReplayOptions, SampleState, replay_observing};
 use crate::sensitivity::replay_with_sensitivities;
 use crate::sweep::parallel_map;
 use softgrip_core::quasi_static::RestTolerance;
@@ -258,13 +258,28 @@ fn fit_searching(
     // On the default thread count: one simulation per core while a batch
     // has several, both cores for the last one left (`Simulation::set_threads`).
     let replay_options = fit_replay_options();
-    let run = |values: &[f64], warm: Option<&[SampleState]>| -> Result<Replay, LabError> {
+    // Levenberg-Marquardt's Jacobian from the equilibria's sensitivities where every fitted
+    // parameter has one (a quasi-static recording): each replay solves them at its
+    // equilibria, so a point the search keeps has its Jacobian with no further replay.
+    let names: Vec<&str> = params.iter().map(|p| p.param.name).collect();
+    let analytic = options.sensitivities
+        && recording.mode == crate::recording::Mode::QuasiStatic
+        && names
+            .iter()
+            .all(|n| crate::sensitivity::WITH_SENSITIVITY.contains(n));
+    let run = |values: &[f64],
+               warm: Option<&[SampleState]>|
+     -> Result<(Replay, Option<MarkerSensitivities>), LabError> {
         let mut s = scene.clone();
         for (p, v) in params.iter().zip(values) {
             s = params::set(&s, p.param.name, *v)?;
         }
+        if analytic {
+            return replay_with_sensitivities(recording, &s, replay_options, warm, &names, |_| {})
+                .map_err(LabError::from);
+        }
         replay_observing(recording, &s, replay_options, warm, None, |_| {})
-            .map(|(r, _)| r)
+            .map(|(r, _)| (r, None))
             .map_err(LabError::from)
     };
     let own: Vec<Option<f64>> = params
@@ -345,35 +360,27 @@ fn fit_searching(
         }
     }
     let mut evaluations = 0usize;
-    // The Jacobian of the weighted residual in the unit box from the equilibria's
-    // sensitivities, where every fitted parameter has one.
-    let names: Vec<&str> = params.iter().map(|p| p.param.name).collect();
-    let analytic = options.sensitivities
-        && names
-            .iter()
-            .all(|n| crate::sensitivity::WITH_SENSITIVITY.contains(n));
-    let jacobian_runs = std::cell::Cell::new(0usize);
+    // Each evaluated point's sensitivities, where its replay solved them.
+    let solved: RefCell<HashMap<Vec<u64>, MarkerSensitivities>> = RefCell::default();
+    let extra = std::cell::Cell::new(0usize);
     let mut jacobian = |u: &[f64]| -> Option<Vec<Vec<f64>>> {
         if !analytic {
             return None;
         }
-        let values = value_at(u);
-        let mut s = scene.clone();
-        for (p, v) in params.iter().zip(&values) {
-            s = params::set(&s, p.param.name, *v).ok()?;
+        if !solved.borrow().contains_key(&key(u)) {
+            // A point whose replay came from elsewhere (a model already fitted): solved now,
+            // Newton starting at its answers.
+            let warm = nearest(&cache.borrow(), u);
+            let (replay, d) = run(&value_at(u), warm.as_deref()).ok()?;
+            solved.borrow_mut().insert(key(u), d?);
+            extra.set(extra.get() + 1);
+            let r = weighted_residuals(&replay.residuals, noise);
+            cache.borrow_mut().insert(key(u), Some((r, replay)));
         }
-        // Usually a point just evaluated: Newton starts at its answer.
-        let warm = nearest(&cache.borrow(), u);
-        let (replay, d) = replay_with_sensitivities(
-            recording,
-            &s,
-            replay_options,
-            warm.as_deref(),
-            &names,
-            |_| {},
-        )
-        .ok()?;
-        let d = d?;
+        let cached = cache.borrow();
+        let (_, replay) = cached.get(&key(u))?.as_ref()?;
+        let sensitivities = solved.borrow();
+        let d = sensitivities.get(&key(u))?;
         // dp/du of each parameter's scale, by a central difference of the map itself.
         let dp_du: Vec<f64> = params
             .iter()
@@ -387,7 +394,7 @@ fn fit_searching(
         let columns = (0..params.len())
             .map(|j| {
                 let mut c = Vec::new();
-                for (r, dr) in replay.residuals.iter().zip(&d) {
+                for (r, dr) in replay.residuals.iter().zip(d) {
                     let sigma = noise.sigma(r.marker);
                     for a in 0..3 {
                         if r.recorded[a].is_some() {
@@ -398,7 +405,6 @@ fn fit_searching(
                 c
             })
             .collect();
-        jacobian_runs.set(jacobian_runs.get() + 1);
         Some(columns)
     };
     let best_u = {
@@ -416,15 +422,17 @@ fn fit_searching(
             let results = parallel_map(
                 &todo.iter().zip(&warm).collect::<Vec<_>>(),
                 options.workers,
-                |(u, warm)| {
-                    run(&value_at(u), warm.as_deref())
-                        .ok()
-                        .map(|r| (weighted_residuals(&r.residuals, noise), r))
-                },
+                |(u, warm)| run(&value_at(u), warm.as_deref()).ok(),
                 &|_| {},
             );
             let mut cache = cache.borrow_mut();
             for (u, f) in todo.iter().zip(results) {
+                let f = f.map(|(r, d)| {
+                    if let Some(d) = d {
+                        solved.borrow_mut().insert(key(u), d);
+                    }
+                    (weighted_residuals(&r.residuals, noise), r)
+                });
                 cache.insert(key(u), f);
             }
             evaluations += todo.len();
@@ -527,13 +535,13 @@ fn fit_searching(
             _ => best_u,
         }
     };
-    evaluations += jacobian_runs.get();
+    evaluations += extra.get();
     let values = value_at(&best_u);
     let replay = match cache.borrow_mut().remove(&key(&best_u)).flatten() {
         Some((_, r)) => r,
         None => {
             evaluations += 1;
-            run(&values, None)?
+            run(&values, None)?.0
         }
     };
     model_fit(scene, params, &values, replay, noise, k_total, evaluations)

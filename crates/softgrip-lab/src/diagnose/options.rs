@@ -119,11 +119,15 @@ impl Default for DiagnoseOptions {
 pub type Progress<'a> = &'a (dyn Fn(usize, usize, &str) + Sync);
 
 /// A diagnosis's progress in fits: how many are done of how many are
-/// planned, told to its [`Progress`] as each fit starts.
+/// planned, told to its [`Progress`] as each fit starts; and the wall time of each stage, kept
+/// for the report.
 pub(super) struct FitCount<'a> {
     pub(super) done: usize,
     pub(super) planned: usize,
     progress: Progress<'a>,
+    /// Each stage ended, with its seconds; and the one running, since when.
+    pub(super) stages: Vec<(String, f64)>,
+    running: Option<(String, std::time::Instant)>,
 }
 
 impl<'a> FitCount<'a> {
@@ -132,11 +136,19 @@ impl<'a> FitCount<'a> {
             done: 0,
             planned,
             progress,
+            stages: Vec::new(),
+            running: None,
         }
     }
 
-    /// Tells the progress what is fitted next.
-    pub(super) fn starting(&self, what: &str) {
+    /// Tells the progress what is fitted next (the stage before it ends).
+    pub(super) fn starting(&mut self, what: &str) {
+        if let Some((name, since)) = self.running.take() {
+            self.stages.push((name, since.elapsed().as_secs_f64()));
+        }
+        if what != "done" {
+            self.running = Some((what.to_string(), std::time::Instant::now()));
+        }
         (self.progress)(self.done, self.planned, what);
     }
 }

@@ -109,7 +109,7 @@ pub(super) fn fit_pair(
     current: &ModelFit,
     (best, hf): (&Hypothesis, &ModelFit),
     (rival, rf): (&Hypothesis, &ModelFit),
-    fits: &FitCount,
+    fits: &mut FitCount,
 ) -> Result<Option<PairTest>, LabError> {
     let find = |scene: &Scene, h: &Hypothesis| {
         candidates(recording, scene, options)

@@ -283,7 +283,7 @@ fn name_pair(
     found: &mut Explanation,
     (b, hf): (usize, ModelFit),
     (r, rf): (usize, ModelFit),
-    fits: &FitCount,
+    fits: &mut FitCount,
 ) -> Result<(), LabError> {
     let Some(mut test) = fit_pair(
         recording,

@@ -46,6 +46,9 @@ pub struct Diagnosis {
     /// what the diagnosis gave it to carry them (a finding about the model, not about the
     /// physics the lab left out).
     pub model_finding: Option<String>,
+    /// Each stage's wall time (s), in the order run: the baseline's fits, each candidate's,
+    /// the discretisation check, the standard errors. Reported, never decided on.
+    pub stages: Vec<(String, f64)>,
 }
 
 impl Diagnosis {
