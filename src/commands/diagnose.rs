@@ -42,6 +42,10 @@ pub struct Args {
     /// parameters) where the fitted parameters have them, instead of finite differences.
     #[arg(long)]
     sensitivities: bool,
+    /// Fit every candidate: no score test first (by default each round's candidates are
+    /// screened by it, and those it finds nothing for are not fitted).
+    #[arg(long)]
+    no_screen: bool,
     /// The model to start from: `continuum` (neo-Hookean tetrahedra with nodal pressures,
     /// locking-free: the least form error to mistake for physics), `lattice` (the thesis's
     /// springs) or `scene` (the scene's own, as written)
@@ -77,6 +81,7 @@ pub fn run(args: Args) -> Result<()> {
         max_evaluations,
         workers,
         sensitivities: args.sensitivities,
+        screen: !args.no_screen,
         model: diagnose::BaselineModel::from_name(&args.model),
         checkpoint: report
             .dir("diagnose", recording_path)
@@ -136,6 +141,9 @@ pub fn run(args: Args) -> Result<()> {
     println!("noise (from the data): {}", d.noise.describe());
     println!("discretisation: {}", d.discretisation.describe());
     println!("mismatch: {}", d.location.description);
+    if let Some(line) = screen_line(&d.screens) {
+        println!("{line}");
+    }
     println!(
         "| round | candidate | BIC change | residual removed | Vuong z against the best other effect | NRMSE all | parameters |"
     );
@@ -280,4 +288,46 @@ fn stage_times(stages: &[(String, f64)]) -> String {
         .map(|(name, s)| format!("{name} {s:.1} s"))
         .collect();
     format!("{total:.1} s in all: {}", parts.join(", "))
+}
+
+/// The score tests in one line: what each round fitted and what it ruled out.
+fn screen_line(screens: &[(usize, diagnose::Screen)]) -> Option<String> {
+    if screens.is_empty() {
+        return None;
+    }
+    let label = |s: &diagnose::Screen| {
+        let name = softgrip_lab::diagnose::effect_label(s.effect, &s.variant);
+        if s.dof == 0 {
+            format!("{name} (not nested: always fitted)")
+        } else {
+            format!("{name} (T {:.1}, p {:.2})", s.statistic, s.p_value)
+        }
+    };
+    let rounds = screens.iter().map(|(r, _)| *r).max().unwrap_or(0);
+    let mut parts = Vec::new();
+    for round in 0..=rounds {
+        let of: Vec<&diagnose::Screen> = screens
+            .iter()
+            .filter(|(r, _)| *r == round)
+            .map(|(_, s)| s)
+            .collect();
+        let fitted: Vec<String> = of.iter().filter(|s| s.kept).map(|s| label(s)).collect();
+        let out: Vec<String> = of.iter().filter(|s| !s.kept).map(|s| label(s)).collect();
+        parts.push(format!(
+            "round {}: fitted {}; ruled out (p >= {}) {}",
+            round + 1,
+            if fitted.is_empty() {
+                "none".to_string()
+            } else {
+                fitted.join(", ")
+            },
+            diagnose::SCREEN_LEVEL,
+            if out.is_empty() {
+                "none".to_string()
+            } else {
+                out.join(", ")
+            }
+        ));
+    }
+    Some(format!("score test: {}", parts.join("; ")))
 }

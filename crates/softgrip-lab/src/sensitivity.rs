@@ -57,9 +57,24 @@ pub fn sensitivities(
     names: &[&str],
     options: SensitivityOptions,
 ) -> Result<Vec<ParameterSensitivity>, LabError> {
-    let mut steps = Vec::with_capacity(names.len());
-    let mut found = Vec::with_capacity(names.len());
-    for &name in names {
+    let targets: Vec<(&Scene, &str)> = names.iter().map(|n| (scene, *n)).collect();
+    sensitivities_to(&targets, mesh, sim, options)
+}
+
+/// [`sensitivities`] to parameters of other scenes of the same model: each `(scene, name)`
+/// is `name` in `scene`, a scene on the same mesh whose model at the parameter's present value
+/// is the simulation's (a region of the object's own material added, a term switched off), so
+/// that the simulation's equilibrium is its equilibrium too. The score test's screen
+/// (`crate::diagnose`) asks for each candidate effect's parameters at its null so.
+pub fn sensitivities_to(
+    targets: &[(&Scene, &str)],
+    mesh: &TetMesh,
+    sim: &Simulation,
+    options: SensitivityOptions,
+) -> Result<Vec<ParameterSensitivity>, LabError> {
+    let mut steps = Vec::with_capacity(targets.len());
+    let mut found = Vec::with_capacity(targets.len());
+    for &(scene, name) in targets {
         let param = params::find(name)?;
         let value = params::get(scene, name)?.ok_or_else(|| {
             LabError::Input(format!(

@@ -20,6 +20,7 @@ mod nominal;
 mod options;
 mod output;
 mod pairs;
+mod screen;
 mod search;
 mod statistics;
 mod uncertainty;
@@ -39,6 +40,7 @@ pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use options::{BaselineModel, DiagnoseOptions, Progress, check_bounds, parse_bound};
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
+pub use screen::{SCREEN_LEVEL, Screen};
 pub use statistics::{
     BIC_THRESHOLD, MIN_EXPLAINED, PROMISING, UNEXPLAINED_RATIO, VUONG_Z, bic, effective_tests,
     significant, vuong, vuong_by_sample, vuong_threshold,
@@ -127,6 +129,7 @@ pub fn diagnose(
         discretisation,
         model_finding,
         stages: Vec::new(),
+        screens: found.screens,
     };
     let alternatives: Vec<String> = d
         .alternatives()

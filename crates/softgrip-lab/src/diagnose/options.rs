@@ -32,6 +32,9 @@ pub struct DiagnoseOptions {
     /// Levenberg-Marquardt's Jacobian from the equilibria's sensitivities (one replay, however
     /// many parameters) where the fitted parameters have them; finite differences elsewhere.
     pub sensitivities: bool,
+    /// Each round's candidates screened by the score test first (`screen`): one replay with
+    /// sensitivities, and only those it cannot rule out fitted. False: every candidate fitted.
+    pub screen: bool,
     /// The baseline's model, in place of the scene's (`None`: the scene's own): the thesis's
     /// lattice or the continuum (`BaselineModel`). By default the continuum: its form error
     /// against a converged FE code is a few per cent at 4 mm, the lattice's 35-50 %
@@ -109,6 +112,7 @@ impl Default for DiagnoseOptions {
             workers: 0,
             max_effects: 2,
             sensitivities: false,
+            screen: true,
             model: Some(BaselineModel::Continuum),
             checkpoint: None,
         }

@@ -11,6 +11,7 @@ use super::model_fit::{FitTask, ModelFit, Search, check_cancel, fit_model};
 use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
 use super::pairs::{PairTest, fit_pair, judge_pair, tied_rival};
+use super::screen::{Screen, screen};
 use super::statistics::{PROMISING, UNEXPLAINED_RATIO, effective_tests, vuong};
 use crate::error::LabError;
 use crate::recording::Recording;
@@ -28,6 +29,8 @@ pub(super) struct Explanation {
     pub(super) unexplained: bool,
     /// The pair fitted when a round's best two effects tied, if they did.
     pub(super) pair: Option<PairTest>,
+    /// Each round's score tests (`super::screen`), with the round.
+    pub(super) screens: Vec<(usize, Screen)>,
 }
 
 impl Explanation {
@@ -59,6 +62,7 @@ pub(super) fn explain(
         current: baseline.clone(),
         unexplained: false,
         pair: None,
+        screens: Vec::new(),
     };
     if !location.significant {
         return Ok(found);
@@ -66,9 +70,29 @@ pub(super) fn explain(
     // Variants of an effect found are not tried again.
     let mut tried: Vec<&'static str> = Vec::new();
     for round in 0..options.max_effects {
-        let round_candidates = next_candidates(recording, options, &found, &tried, round);
+        let mut round_candidates = next_candidates(recording, options, &found, &tried, round);
         if round_candidates.is_empty() {
             break;
+        }
+        if options.screen {
+            fits.starting("the score test of every candidate");
+            if let Some(screens) = screen(recording, noise, &found.current, &round_candidates) {
+                round_candidates = round_candidates
+                    .into_iter()
+                    .zip(&screens)
+                    .filter(|(_, s)| s.kept)
+                    .map(|(c, _)| c)
+                    .collect();
+                found
+                    .screens
+                    .extend(screens.into_iter().map(|s| (round, s)));
+                if round_candidates.is_empty() {
+                    // Nothing could explain a share of it: as when the best fitted explains
+                    // too little.
+                    found.unexplained = unexplained(location, &found.effects);
+                    break;
+                }
+            }
         }
         let start = found.hypotheses.len();
         for c in round_candidates {

@@ -21,7 +21,7 @@ pub const VUONG_Z: f64 = 2.0;
 
 /// Standard normal upper tail `P(Z > z)` for `z >= 0` (Abramowitz and Stegun 26.2.17, error
 /// below 7.5e-8).
-fn upper_tail(z: f64) -> f64 {
+pub(super) fn upper_tail(z: f64) -> f64 {
     let t = 1.0 / (1.0 + 0.231_641_9 * z);
     let poly = t
         * (0.319_381_530

@@ -8,6 +8,7 @@ use super::locate::Location;
 use super::model_fit::ModelFit;
 use super::noise::{Noise, rms_beyond_noise};
 use super::pairs::PairTest;
+use super::screen::Screen;
 use super::search::Explanation;
 use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z, vuong_threshold};
 use crate::discretisation::Discretisation;
@@ -49,6 +50,9 @@ pub struct Diagnosis {
     /// Each stage's wall time (s), in the order run: the baseline's fits, each candidate's,
     /// the discretisation check, the standard errors. Reported, never decided on.
     pub stages: Vec<(String, f64)>,
+    /// Each round's score tests (the round, the test): the candidates fitted and those ruled
+    /// out.
+    pub screens: Vec<(usize, Screen)>,
 }
 
 impl Diagnosis {

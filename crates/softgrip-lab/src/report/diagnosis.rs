@@ -158,6 +158,16 @@ pub fn diagnosis(
         }
         md.push('\n');
     }
+    if !d.screens.is_empty() {
+        md += &screen_table(&d.screens);
+    }
+    if !d.stages.is_empty() {
+        md += "## Time\n\n| stage | seconds |\n|---|---|\n";
+        for (stage, seconds) in &d.stages {
+            let _ = writeln!(md, "| {stage} | {seconds:.1} |");
+        }
+        md.push('\n');
+    }
     // Residual arrows, before and after, magnified.
     let residuals_before = &d.baseline.replay.residuals;
     let residuals_after = &d.final_fit.replay.residuals;
@@ -210,4 +220,43 @@ pub fn diagnosis(
     );
     md += &out.chart("residuals.png", &chart, "residuals per sample")?;
     out.finish("diagnosis.md", &md)
+}
+
+/// The score tests that decided which candidates were fitted.
+fn screen_table(screens: &[(usize, crate::diagnose::Screen)]) -> String {
+    let mut md = format!(
+        "## The score test\n\nEach round's candidates were first tested at the current fit by the \
+         score test (one replay with the equilibria's sensitivities); those whose test is not \
+         significant at {} were not fitted: to first order they remove at most the predicted \
+         share of the residual, a quarter of what naming an effect asks. A candidate that is not \
+         nested in the model at a point of its range is always fitted.\n\n\
+         | round | candidate | tested at | T | degrees of freedom | p | predicted share | fitted |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        crate::diagnose::SCREEN_LEVEL
+    );
+    for (round, s) in screens {
+        let name = crate::diagnose::effect_label(s.effect, &s.variant);
+        if s.dof == 0 {
+            let _ = writeln!(md, "| {} | {name} | not nested | | | | | yes |", round + 1);
+            continue;
+        }
+        let at: Vec<String> = s
+            .tested
+            .iter()
+            .map(|(n, v)| format!("{n} {v:.4e}"))
+            .collect();
+        let _ = writeln!(
+            md,
+            "| {} | {name} | {} | {:.2} | {} | {:.3} | {:.1} % | {} |",
+            round + 1,
+            at.join(", "),
+            s.statistic,
+            s.dof,
+            s.p_value,
+            100.0 * s.predicted_share,
+            if s.kept { "yes" } else { "no" }
+        );
+    }
+    md.push('\n');
+    md
 }

@@ -1,0 +1,300 @@
+//! Candidates screened by the score test (Rao 1948; the Lagrange multiplier test) before they
+//! are fitted: at the current model, the gradient of the fit's residual sum of squares in each
+//! candidate's parameters at "effect absent", with the modulus the candidate refits projected
+//! out, tells from one replay with sensitivities how much the candidate could explain to first
+//! order. A candidate whose statistic is not significant at [`SCREEN_LEVEL`] cannot come near
+//! the thresholds that name an effect, and is not fitted.
+//!
+//! With `r` the noise-weighted residual at the current fit, `J` its derivative in the
+//! candidate's parameters `psi` and `J_E` in the modulus, `J~ = (I - P_E) J` (`P_E` the
+//! projection on `J_E`'s span: E is refitted with the effect), the statistic is
+//! `T = r^T J~ (J~^T J~)^-1 J~^T r / s^2`, `s^2 = |r|^2 / (n - k)` the residual variance per
+//! degree of freedom (the noise level is free, as in the BIC), chi-square with `dim psi`
+//! degrees of freedom where the effect is absent. `T s^2` is the one-step (Gauss-Newton)
+//! prediction of the residual the candidate removes. A parameter whose null is the end of its
+//! range (a stiffening or a guide friction of 0) is tested one-sided: a gradient that asks for
+//! it below the end counts as nothing. Which candidates are screened and why the others are
+//! not: `docs/design/diagnosis.md`, "The screen".
+
+use super::catalogue::Candidate;
+use super::model_fit::ModelFit;
+use super::noise::{Noise, weighted_residuals};
+use crate::recording::{Mode, Recording};
+use crate::replay::{ReplayOptions, replay_observing};
+use crate::sensitivity::{fit_sensitivity_options, sensitivities_to};
+use softgrip_core::quasi_static::RestTolerance;
+use softgrip_core::scene::Scene;
+
+/// The screen's level: a candidate is fitted when its score test is significant at 5 %.
+/// Naming it asks for a BIC gain over 10 (a likelihood-ratio statistic over `10 + ln n`, 14.7 on
+/// the 112 coordinates of a 7-load recording with 8 markers) and a tenth of the residual; the
+/// screen's 3.84 (one-sided 2.71) is a quarter of that, room for a response that grows faster
+/// than its first-order prediction.
+pub const SCREEN_LEVEL: f64 = 0.05;
+
+/// One candidate's score test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Screen {
+    pub effect: &'static str,
+    pub variant: String,
+    /// The parameters tested, at the values where the effect is absent.
+    pub tested: Vec<(&'static str, f64)>,
+    /// The statistic `T` and its degrees of freedom.
+    pub statistic: f64,
+    pub dof: usize,
+    /// Its p-value where the effect is absent.
+    pub p_value: f64,
+    /// The share of the current residual the first-order step would remove (`T s^2 / |r|^2`).
+    pub predicted_share: f64,
+    /// Fitted (significant, or another variant of its effect is).
+    pub kept: bool,
+}
+
+/// The parameters a candidate's score is taken in, at its null: `None` where the candidate is
+/// not nested in the current model at a point of its range (a table in place of a bonded base,
+/// whose bonded limit is at infinite friction), or not a quasi-static recording's.
+fn tested(c: &Candidate) -> Option<Vec<&'static str>> {
+    match (c.effect, c.variant.as_str()) {
+        ("strain-stiffening", "") => Some(vec!["stiffening"]),
+        // The two-term form at its null (no terms) spans the energy's second- and third-order
+        // terms in `I - 3`: softening is a share of the cubic term's square root, without
+        // effect (and without derivative) where that term is absent, so the score is taken in
+        // the two coefficients themselves.
+        ("strain-stiffening", "two-term") => Some(vec!["stiffening", "stiffening_cubic"]),
+        ("heterogeneous-stiffness", _) => Some(vec!["region_young_modulus"]),
+        ("finger-friction", _) => Some(vec!["friction"]),
+        ("load-loss", _) => Some(vec!["guide_friction"]),
+        _ => None,
+    }
+}
+
+/// The candidate's scene at its null for the tested parameters: the two-term form with both
+/// coefficients at 0 (its catalogue start has them there already).
+fn null_scene(c: &Candidate) -> Scene {
+    let mut s = c.scene.clone();
+    if c.variant == "two-term" {
+        s.model.stiffening = 0.0;
+        s.model.stiffening_cubic = 0.0;
+        s.model.softening = 0.0;
+    }
+    s
+}
+
+/// Whether a tested parameter's null is the lower end of its range (one-sided test).
+fn at_lower_end(c: &Candidate, name: &str, value: f64) -> bool {
+    c.params
+        .iter()
+        .find(|p| p.param.name == name)
+        .map_or(value == 0.0, |p| value <= p.lower)
+}
+
+/// The score tests of `candidates` at `current` (a quasi-static recording's fit): `None` where
+/// they cannot be had (a time series, or the sensitivities fail at an equilibrium), and then
+/// every candidate is fitted. Candidates not nested at a point (see [`tested`]) are kept.
+pub(super) fn screen(
+    recording: &Recording,
+    noise: &Noise,
+    current: &ModelFit,
+    candidates: &[Candidate],
+) -> Option<Vec<Screen>> {
+    if recording.mode != Mode::QuasiStatic || candidates.is_empty() {
+        return None;
+    }
+    // Every tested parameter in one replay of the current model: the modulus, then each
+    // candidate's, in their null scenes.
+    let nulls: Vec<Option<(Scene, Vec<&'static str>)>> = candidates
+        .iter()
+        .map(|c| tested(c).map(|t| (null_scene(c), t)))
+        .collect();
+    let mut targets: Vec<(&Scene, &str)> = vec![(&current.scene, "young_modulus")];
+    for (scene, names) in nulls.iter().flatten() {
+        for n in names {
+            targets.push((scene, n));
+        }
+    }
+    let options = ReplayOptions {
+        rest: RestTolerance::for_fits(),
+        ..ReplayOptions::default()
+    };
+    let mut at = |sim: &softgrip_core::Simulation,
+                  mesh: &softgrip_core::mesh::TetMesh|
+     -> Option<Vec<Vec<glam::DVec3>>> {
+        let solved = sensitivities_to(&targets, mesh, sim, fit_sensitivity_options()).ok()?;
+        Some(solved.into_iter().map(|s| s.dx_dp).collect())
+    };
+    let (replay, d) = replay_observing(
+        recording,
+        &current.scene,
+        options,
+        None,
+        Some(&mut at),
+        |_| {},
+    )
+    .ok()?;
+    let d = d?;
+    let r = weighted_residuals(&replay.residuals, noise);
+    // Column j of the weighted residual's derivative.
+    let column = |j: usize| -> Vec<f64> {
+        let mut c = Vec::with_capacity(r.len());
+        for (res, dr) in replay.residuals.iter().zip(&d) {
+            let sigma = noise.sigma(res.marker);
+            for a in 0..3 {
+                if res.recorded[a].is_some() {
+                    c.push(dr[j][a] / sigma);
+                }
+            }
+        }
+        c
+    };
+    let rss: f64 = r.iter().map(|x| x * x).sum();
+    let n = r.len();
+    let s2 = rss / n.saturating_sub(current.k).max(1) as f64;
+    let e = column(0);
+    let mut next = 1;
+    let mut out = Vec::with_capacity(candidates.len());
+    for (c, null) in candidates.iter().zip(&nulls) {
+        let Some((scene, names)) = null else {
+            out.push(Screen {
+                effect: c.effect,
+                variant: c.variant.clone(),
+                tested: Vec::new(),
+                statistic: f64::INFINITY,
+                dof: 0,
+                p_value: 0.0,
+                predicted_share: f64::NAN,
+                kept: true,
+            });
+            continue;
+        };
+        let columns: Vec<Vec<f64>> = (0..names.len())
+            .map(|i| project_out(&column(next + i), &e))
+            .collect();
+        next += names.len();
+        let values: Vec<(&'static str, f64)> = names
+            .iter()
+            .map(|n| {
+                (
+                    *n,
+                    crate::params::get(scene, n).ok().flatten().unwrap_or(0.0),
+                )
+            })
+            .collect();
+        let one_sided = names.len() == 1 && at_lower_end(c, names[0], values[0].1);
+        let statistic = score_statistic(&columns, &r, s2, one_sided);
+        let p_value = chi_square_tail(statistic, names.len()) * if one_sided { 0.5 } else { 1.0 };
+        out.push(Screen {
+            effect: c.effect,
+            variant: c.variant.clone(),
+            tested: values,
+            statistic,
+            dof: names.len(),
+            p_value,
+            predicted_share: statistic * s2 / rss.max(f64::MIN_POSITIVE),
+            kept: p_value < SCREEN_LEVEL,
+        });
+    }
+    // An effect's variants are fitted together (their Vuong threshold counts them all).
+    let kept_effects: Vec<&str> = out.iter().filter(|s| s.kept).map(|s| s.effect).collect();
+    for s in &mut out {
+        s.kept |= kept_effects.contains(&s.effect);
+    }
+    Some(out)
+}
+
+/// `v` less its projection on `e`.
+fn project_out(v: &[f64], e: &[f64]) -> Vec<f64> {
+    let ee: f64 = e.iter().map(|x| x * x).sum();
+    if ee == 0.0 {
+        return v.to_vec();
+    }
+    let k = v.iter().zip(e).map(|(a, b)| a * b).sum::<f64>() / ee;
+    v.iter().zip(e).map(|(a, b)| a - k * b).collect()
+}
+
+/// `r^T J (J^T J)^-1 J^T r / s2` for the columns `J` (one or two); one-sided for one column: 0
+/// where the gradient asks the parameter to go below its end (`J^T r > 0`: raising it raises
+/// the residual).
+fn score_statistic(columns: &[Vec<f64>], r: &[f64], s2: f64, one_sided: bool) -> f64 {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let g: Vec<f64> = columns.iter().map(|c| dot(c, r)).collect();
+    let t = match columns.len() {
+        1 => {
+            let h = dot(&columns[0], &columns[0]);
+            if h <= 0.0 || (one_sided && g[0] > 0.0) {
+                0.0
+            } else {
+                g[0] * g[0] / h
+            }
+        }
+        2 => {
+            let (a, b, c) = (
+                dot(&columns[0], &columns[0]),
+                dot(&columns[0], &columns[1]),
+                dot(&columns[1], &columns[1]),
+            );
+            let det = a * c - b * b;
+            if det <= 1e-12 * a * c {
+                // Collinear: the better of the two alone.
+                let one = |h: f64, g: f64| if h > 0.0 { g * g / h } else { 0.0 };
+                one(a, g[0]).max(one(c, g[1]))
+            } else {
+                (c * g[0] * g[0] - 2.0 * b * g[0] * g[1] + a * g[1] * g[1]) / det
+            }
+        }
+        _ => 0.0,
+    };
+    t / s2
+}
+
+/// `P(X > t)` for X chi-square with 1 or 2 degrees of freedom.
+fn chi_square_tail(t: f64, dof: usize) -> f64 {
+    match dof {
+        1 => 2.0 * super::statistics::upper_tail(t.max(0.0).sqrt()),
+        2 => (-0.5 * t.max(0.0)).exp(),
+        _ => 1.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_statistic_is_the_share_a_regression_on_the_columns_removes() {
+        // r = 2 x + noise-free orthogonal rest: the column x explains |2 x|^2 of |r|^2.
+        let x = [1.0, -1.0, 0.5, 0.0];
+        let rest = [0.0, 0.0, 0.0, 3.0];
+        let r: Vec<f64> = x.iter().zip(&rest).map(|(a, b)| 2.0 * a + b).collect();
+        let t = score_statistic(&[x.to_vec()], &r, 1.0, false);
+        let explained: f64 = x.iter().map(|a| 4.0 * a * a).sum();
+        assert!((t - explained).abs() < 1e-12, "{t} against {explained}");
+        // One-sided: r along +x asks the parameter to go down (the residual is sim - data).
+        assert_eq!(score_statistic(&[x.to_vec()], &r, 1.0, true), 0.0);
+        let minus: Vec<f64> = r.iter().map(|v| -v).collect();
+        assert!((score_statistic(&[x.to_vec()], &minus, 1.0, true) - explained).abs() < 1e-12);
+    }
+
+    #[test]
+    fn two_columns_give_the_projection_on_their_span() {
+        let a = vec![1.0, 0.0, 1.0, 0.0];
+        let b = vec![1.0, 1.0, 0.0, 0.0];
+        let r = vec![0.3, -0.7, 1.1, 2.0];
+        // The span's projection of r, by the normal equations solved by hand.
+        let t = score_statistic(&[a.clone(), b.clone()], &r, 1.0, false);
+        // Orthonormal basis of span{a, b}: u = a / |a|, w = (b - (b.u) u) / |.|.
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let u: Vec<f64> = a.iter().map(|x| x / norm(&a)).collect();
+        let bu: f64 = b.iter().zip(&u).map(|(x, y)| x * y).sum();
+        let w0: Vec<f64> = b.iter().zip(&u).map(|(x, y)| x - bu * y).collect();
+        let w: Vec<f64> = w0.iter().map(|x| x / norm(&w0)).collect();
+        let ru: f64 = r.iter().zip(&u).map(|(x, y)| x * y).sum();
+        let rw: f64 = r.iter().zip(&w).map(|(x, y)| x * y).sum();
+        assert!((t - (ru * ru + rw * rw)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_chi_square_tails_are_the_known_quantiles() {
+        assert!((chi_square_tail(3.841_458_820_694_124, 1) - 0.05).abs() < 1e-6);
+        assert!((chi_square_tail(5.991_464_547_107_979, 2) - 0.05).abs() < 1e-9);
+    }
+}
