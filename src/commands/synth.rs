@@ -14,9 +14,15 @@ pub struct Args {
     /// Scene file (.toml); omit for the built-in thesis scene.
     scene: Option<PathBuf>,
     /// Loads in N, one quasi-static sample each (along the first
-    /// force-controlled finger's `force` direction).
+    /// force-controlled finger's `force` direction); with --times, the load of each sample
+    /// time, or one load held throughout.
     #[arg(long, value_delimiter = ',', required = true, value_parser = super::args::finite)]
     loads: Vec<f64>,
+    /// A time series instead: sample times in s, rising (the first load stepped on at
+    /// t = 0 from rest), e.g. a creep test held 30 s sampled at 2 Hz: --loads 9.73 --times
+    /// 0.5,1,...,30.
+    #[arg(long, value_delimiter = ',', value_parser = super::args::finite)]
+    times: Vec<f64>,
     /// Object markers NAME=X,Y,Z on the undeformed surface (m);
     /// default for a cuboid: 9 on the top face and 5 along the front.
     #[arg(long = "marker")]
@@ -91,10 +97,37 @@ pub fn run(args: Args) -> Result<()> {
             })
             .collect::<Result<Vec<_>>>()?
     };
+    let (mode, samples) = if args.times.is_empty() {
+        (
+            Mode::QuasiStatic,
+            loads.iter().map(|l| (None, *l)).collect::<Vec<_>>(),
+        )
+    } else {
+        let times = &args.times;
+        anyhow::ensure!(
+            times[0] > 0.0 && times.windows(2).all(|w| w[1] > w[0]),
+            "--times {times:?}: sample times rise from above 0 s (the load is stepped on at 0)"
+        );
+        anyhow::ensure!(
+            loads.len() == 1 || loads.len() == times.len(),
+            "--times gives {} samples and --loads {} loads: give one load (held) or one per time",
+            times.len(),
+            loads.len()
+        );
+        let load = |i: usize| if loads.len() == 1 { loads[0] } else { loads[i] };
+        (
+            Mode::TimeSeries,
+            times
+                .iter()
+                .enumerate()
+                .map(|(i, t)| (Some(*t), load(i)))
+                .collect(),
+        )
+    };
     let spec = Synthesis {
-        mode: Mode::QuasiStatic,
+        mode,
         start: Start::Rest,
-        samples: loads.iter().map(|l| (None, *l)).collect(),
+        samples,
         markers,
         finger: !scene.fingers.is_empty(),
         axes: observed,

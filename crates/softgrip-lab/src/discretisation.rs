@@ -100,7 +100,11 @@ impl Discretisation {
         format!(
             "{}; {}",
             one("a finer mesh", &self.mesh, "mm"),
-            one("half the time step", &self.time_step, "ms")
+            one(
+                "half the time step and a quarter of the step control's error",
+                &self.time_step,
+                "ms"
+            )
         )
     }
 
@@ -163,18 +167,19 @@ pub fn check(
     noise: &Noise,
     rest: RestTolerance,
 ) -> Discretisation {
-    let refined = |s: Scene| {
-        replay(
-            recording,
-            &s,
-            ReplayOptions {
-                rest,
-                ..ReplayOptions::default()
-            },
-            |_| {},
-        )
+    let refined = |s: Scene, finer_steps: bool| {
+        let mut options = ReplayOptions {
+            rest,
+            ..ReplayOptions::default()
+        };
+        // Error-controlled steps are refined as the shortest step is: a quarter of the local
+        // error (implicit Euler's is O(h^2)) with half the step.
+        if let (true, Some(a)) = (finer_steps, options.adaptive.as_mut()) {
+            a.tolerance /= 4.0;
+        }
+        replay(recording, &s, options, |_| {})
     };
-    let measure = |s: Scene, from: f64, to: f64| match refined(s) {
+    let measure = |s: Scene, from: f64, to: f64, finer_steps: bool| match refined(s, finer_steps) {
         Ok(fine) => match moves(recording, &coarse.residuals, &fine.residuals, noise) {
             Some((rms_m, over_noise, worst)) => Outcome::Measured(Check {
                 coarse: from,
@@ -196,7 +201,7 @@ pub fn check(
             let mut s = scene.clone();
             let edge = s.object.edge_length;
             s.object.edge_length = edge * FINER;
-            measure(s, edge, edge * FINER)
+            measure(s, edge, edge * FINER, false)
         }
     };
     let time_step = match recording.mode {
@@ -207,7 +212,7 @@ pub fn check(
             let mut s = scene.clone();
             let dt = s.simulation.dt;
             s.simulation.dt = dt / 2.0;
-            measure(s, dt, dt / 2.0)
+            measure(s, dt, dt / 2.0, true)
         }
     };
     Discretisation { mesh, time_step }

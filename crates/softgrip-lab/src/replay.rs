@@ -24,6 +24,7 @@ use softgrip_core::model::AxisDrive;
 use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::scene::Scene;
 use softgrip_core::step::Simulation;
+use softgrip_core::step::adaptive::{Adaptive, AdaptiveOptions};
 
 /// A marker's reference farther than this fraction of the object's
 /// largest extent from its surface is an error: the recording and the
@@ -60,7 +61,7 @@ pub struct SampleState {
 pub use softgrip_core::scene::Settle;
 
 /// Options of a replay.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct ReplayOptions {
     /// `None`: as the scene's `[simulation] settle` says.
     pub settle: Option<Settle>,
@@ -77,6 +78,24 @@ pub struct ReplayOptions {
     /// path-independent model: [`replay_observing`]'s `warm`); elsewhere they would be dead
     /// weight (a fit of the 23k-tetrahedron cylinder keeps ~80 replays).
     pub warm_seeds: bool,
+    /// A time series stepped with error-controlled steps (`softgrip_core::step::adaptive`)
+    /// instead of the scene's `dt` throughout: `None` for fixed steps.
+    pub adaptive: Option<AdaptiveOptions>,
+}
+
+impl Default for ReplayOptions {
+    /// As the scene says, time series with error-controlled steps.
+    fn default() -> Self {
+        ReplayOptions {
+            settle: None,
+            rest: RestTolerance::default(),
+            statics: StaticOptions::default(),
+            threads: 0,
+            keep_states: false,
+            warm_seeds: false,
+            adaptive: Some(AdaptiveOptions::default()),
+        }
+    }
 }
 
 /// Simulates `recording` on `scene` (its own scene, or one with other
@@ -281,13 +300,28 @@ pub fn replay_observing(
                 sim.state.time = 0.0;
                 sim.state.step = 0;
             }
+            let mut control = options.adaptive.map(|a| Adaptive::new(&sim, a));
             for (i, sample) in recording.samples.iter().enumerate() {
                 let t = sample.time.unwrap_or(0.0);
-                sim.run_until(t)?;
+                match control.as_mut() {
+                    Some(c) => sim.run_until_adaptive(t, c)?,
+                    None => sim.run_until(t)?,
+                }
                 record(&sim, i, &mut residuals);
                 volume_errors.push(sim.state.stats.volume_error);
                 strains(&sim);
+                let before: Vec<DVec3> =
+                    sim.state.fingers.iter().map(|f| f.applied_force).collect();
                 set_load(&mut sim, sample.load);
+                let changed = sim
+                    .state
+                    .fingers
+                    .iter()
+                    .zip(&before)
+                    .any(|(f, b)| f.applied_force != *b);
+                if let (true, Some(c)) = (changed, control.as_mut()) {
+                    c.restart();
+                }
                 progress(i + 1);
             }
         }

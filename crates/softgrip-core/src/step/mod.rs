@@ -17,6 +17,7 @@ use crate::{contact, forces};
 use constraints::{ProjectionScratch, project_spring_limits};
 use parallel::Parallel;
 
+pub mod adaptive;
 pub mod constraints;
 pub mod integrate;
 pub mod linear;
@@ -100,8 +101,19 @@ impl Scratch {
                 }
             });
         if stale || rethink {
-            self.parallel = None; // stop the old helper first
-            self.parallel = Some(Parallel::new(Arc::clone(model), threads));
+            // The system (and the preconditioner it keeps over steps, its factorisations) goes
+            // on where the mesh is the same: a step control that changes dt swaps models every
+            // step (`adaptive`), and each new nodal-pressure factorisation cost a third of it.
+            let kept = self.parallel.take().and_then(|p| {
+                let same_mesh = p.model().tets.len() == model.tets.len()
+                    && p.model().springs.len() == model.springs.len();
+                same_mesh.then(|| std::mem::take(&mut *p.system_mut()))
+            });
+            let parallel = Parallel::new(Arc::clone(model), threads);
+            if let Some(system) = kept {
+                *parallel.system_mut() = system;
+            }
+            self.parallel = Some(parallel);
         }
     }
 }

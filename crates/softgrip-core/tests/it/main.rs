@@ -1,5 +1,6 @@
 //! The integration tests, one binary: one module per subject.
 
+mod adaptive;
 mod bad_scenes;
 mod bulk_modulus;
 mod contact_regressions;
