@@ -103,7 +103,7 @@ fn write(path: &Path, text: &str) -> Result<(), SynthError> {
 /// recording as read back.
 pub fn synthesize(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recording, SynthError> {
     let placeholder = prepare(scene, spec, dir)?;
-    let run = replay(&placeholder, scene, ReplayOptions::default(), |_| {})?;
+    let run = replay(&placeholder, scene, truth_options(), |_| {})?;
     write_samples(&placeholder, spec, &run.residuals, dir)
 }
 
@@ -121,7 +121,7 @@ pub fn synthesize_with_clean(
     };
     let placeholder = prepare(scene, spec, dir)?;
     prepare(scene, &clean_spec, clean_dir)?;
-    let run = replay(&placeholder, scene, ReplayOptions::default(), |_| {})?;
+    let run = replay(&placeholder, scene, truth_options(), |_| {})?;
     Ok((
         write_samples(&placeholder, spec, &run.residuals, dir)?,
         write_samples(&placeholder, &clean_spec, &run.residuals, clean_dir)?,
@@ -237,4 +237,13 @@ pub fn cuboid_markers(size: DVec3, n: usize, inset: f64, k: usize) -> Vec<(Strin
         out.push((format!("f{i}"), p));
     }
     out
+}
+
+/// A truth is simulated as its scene says: a time series at the scene's `dt` throughout, not by
+/// the error-controlled steps replays take.
+fn truth_options() -> ReplayOptions {
+    ReplayOptions {
+        adaptive: None,
+        ..ReplayOptions::default()
+    }
 }
