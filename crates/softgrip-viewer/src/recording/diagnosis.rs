@@ -35,6 +35,9 @@ pub struct DiagnosisSection {
     job: Option<Job<Diagnosis>>,
     /// What the running job is fitting.
     stage: Arc<Mutex<String>>,
+    /// The running job's stages so far, each with the seconds since the job started when it
+    /// began: every one but the last has finished.
+    stages: Arc<Mutex<Vec<(String, f64)>>>,
     result: Option<Arc<Diagnosis>>,
     pub shown: Shown,
     pub error: Option<String>,
@@ -52,6 +55,7 @@ impl Default for DiagnosisSection {
         DiagnosisSection {
             job: None,
             stage: Arc::default(),
+            stages: Arc::default(),
             result: None,
             shown: Shown::default(),
             error: None,
@@ -112,16 +116,24 @@ impl DiagnosisSection {
         self.error = None;
         self.result = None;
         let stage = Arc::clone(&self.stage);
+        let stages = Arc::clone(&self.stages);
+        if let Ok(mut s) = stages.lock() {
+            s.clear();
+        }
         let options = self.options(&recording);
         // Two baseline fits and each candidate once or twice; the count is
         // corrected as the diagnosis reports it.
         let total = 2 + 8 * options.max_effects;
         let job = Job::spawn("softgrip-diagnose", generation, total, move |progress| {
+            let started = std::time::Instant::now();
             let report = |done: usize, planned: usize, what: &str| {
                 progress.done.store(done, Ordering::Relaxed);
                 progress.planned.store(planned, Ordering::Relaxed);
                 if let Ok(mut s) = stage.lock() {
                     *s = what.to_string();
+                }
+                if let Ok(mut s) = stages.lock() {
+                    s.push((what.to_string(), started.elapsed().as_secs_f64()));
                 }
             };
             diagnose::diagnose(&recording, &options, &report)
@@ -188,6 +200,17 @@ impl DiagnosisSection {
                 ),
             );
             progress_with_stop(ui, job, bar);
+            // The stages as they finish, each with its seconds.
+            let stages = self.stages.lock().map(|s| s.clone()).unwrap_or_default();
+            let now = job.started.elapsed().as_secs_f64();
+            for (k, (what, at)) in stages.iter().enumerate() {
+                let end = stages.get(k + 1).map(|(_, t)| *t);
+                let line = match end {
+                    Some(end) => format!("done: {what}, {:.1} s", end - at),
+                    None => format!("running: {what}, {:.0} s so far", now - at),
+                };
+                ui.small(line);
+            }
         }
         if let Some(e) = &self.error {
             ui.colored_label(ERROR_RED, e);
@@ -234,6 +257,34 @@ impl DiagnosisSection {
         .on_hover_text(
             "the final model replayed on a mesh 0.8 times as fine and, for a time series, at half the step: a mismatch this size may be the model's own",
         );
+        let ruled_out: Vec<String> = d
+            .screens
+            .iter()
+            .filter(|(_, s)| !s.kept)
+            .map(|(_, s)| diagnose::effect_label(s.effect, &s.variant))
+            .collect();
+        if !ruled_out.is_empty() {
+            ui.label(
+                egui::RichText::new(format!(
+                    "not fitted (the score test found nothing for them): {}",
+                    ruled_out.join(", ")
+                ))
+                .small(),
+            )
+            .on_hover_text(
+                "each candidate's first-order effect at the current fit, from one replay with sensitivities: those not significant at 5 % cannot come near the evidence that names an effect",
+            );
+        }
+        let total: f64 = d.stages.iter().map(|(_, s)| s).sum();
+        if total > 0.0 {
+            let longest = d
+                .stages
+                .iter()
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(n, s)| format!(", longest {n} {s:.1} s"))
+                .unwrap_or_default();
+            ui.label(egui::RichText::new(format!("took {total:.1} s{longest}")).small());
+        }
         ui.horizontal(|ui| {
             ui.label("overlay:");
             let before = self.shown;
