@@ -339,7 +339,11 @@ impl Simulation {
     /// there gets [`SimError::NoEquilibrium`], with where and why.
     pub fn equilibrium(&mut self, options: StaticOptions) -> Result<StaticReport, SimError> {
         crate::contact::table::begin_increment(&self.model, &mut self.state);
+        let start: Vec<DVec3> = self.state.fingers.iter().map(|f| f.position).collect();
         let report = self.equilibrium_guided(options)?;
+        for (f, p) in self.state.fingers.iter_mut().zip(start) {
+            f.last_move = f.position - p;
+        }
         crate::contact::table::commit(&self.model, &mut self.state);
         crate::contact::commit(&mut self.state);
         Ok(report)

@@ -27,6 +27,9 @@ pub struct FingerState {
     /// Held (the viewer drags it): position-driven towards this point along
     /// its free axes, whatever its control mode, until let go (`None`).
     pub held: Option<DVec3>,
+    /// How far the last static solve moved it (m): the direction it slid in its guide, which
+    /// the guide's friction opposes (`crate::sensitivity`).
+    pub last_move: DVec3,
 }
 
 /// A material point of the object pulled towards a target by a spring:

@@ -200,10 +200,7 @@ impl FixedState {
         let n = self.model.particle_count();
         self.guide_slides = vec![None; self.model.fingers.len()];
         for (k, f) in self.model.fingers.iter().enumerate() {
-            if f.guide_friction <= 0.0
-                || !f.is_force_controlled()
-                || self.state.fingers[k].held.is_some()
-            {
+            if !f.is_force_controlled() || self.state.fingers[k].held.is_some() {
                 continue;
             }
             let axes = DVec3::from_array(f.drive.map(|d| {
@@ -214,10 +211,16 @@ impl FixedState {
                 }
             }));
             let net = self.tangent.force[n + k] * axes;
-            if net.length() >= (1.0 - GUIDE_EDGE) * f.guide_friction {
+            let moved = self.state.fingers[k].last_move * axes;
+            if f.guide_friction > 0.0 && net.length() >= (1.0 - GUIDE_EDGE) * f.guide_friction {
                 self.guide_slides[k] = Some(net.normalize());
-            } else {
+            } else if f.guide_friction > 0.0 {
                 self.state.fingers[k].held = Some(self.state.fingers[k].position);
+            } else if moved != DVec3::ZERO {
+                // Without guide friction the finger slid where the last increment moved it: a
+                // friction from 0 up opposes that slide (its derivative at 0, the load-loss
+                // candidate's null).
+                self.guide_slides[k] = Some(moved.normalize());
             }
         }
     }
