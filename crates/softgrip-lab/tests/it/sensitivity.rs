@@ -70,15 +70,20 @@ fn whole_solves(
     name: &str,
 ) -> Vec<DVec3> {
     let value = params::get(scene, name).expect("known").expect("set");
-    let d = STEP * value;
     let at = |v: f64| {
         let scene = params::set(scene, name, v).expect("set");
         points(&solve_along(&scene, mesh, start, path))
     };
-    let (up, down) = (at(value + d), at(value - d));
+    // Central, or forward from a parameter at 0 (its range's end: a guide friction from 0).
+    let (up, down, span) = if value == 0.0 {
+        (at(STEP), at(0.0), STEP)
+    } else {
+        let d = STEP * value;
+        (at(value + d), at(value - d), 2.0 * d)
+    };
     up.iter()
         .zip(&down)
-        .map(|(u, w)| (*u - *w) / (2.0 * d))
+        .map(|(u, w)| (*u - *w) / span)
         .collect()
 }
 
@@ -331,7 +336,10 @@ fn the_continuums_sensitivities_from_the_factor_agree_with_whole_solves() {
         ],
         &["friction"],
     );
-    // The guide's friction: the finger slides in its guide, held back by F_g.
+    // The guide's friction: the finger slides in its guide, held back by F_g; and from 0 (the
+    // load-loss candidate's null), where the last load step's slide sets its direction.
     let scene = continuum(0.0, |s| s.fingers[0].guide_friction = 0.5);
     check_continuum(&scene, &[DVec3::ZERO, down(4.0)], &["guide_friction"]);
+    let scene = continuum(0.0, |_| {});
+    check_continuum(&scene, &[down(2.0), down(4.0)], &["guide_friction"]);
 }
