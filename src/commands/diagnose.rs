@@ -298,7 +298,7 @@ fn screen_line(screens: &[(usize, diagnose::Screen)]) -> Option<String> {
     let label = |s: &diagnose::Screen| {
         let name = softgrip_lab::diagnose::effect_label(s.effect, &s.variant);
         if s.dof == 0 {
-            format!("{name} (not nested: always fitted)")
+            format!("{name} (not tested: always fitted)")
         } else {
             format!("{name} (T {:.1}, p {:.2})", s.statistic, s.p_value)
         }

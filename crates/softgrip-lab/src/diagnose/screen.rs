@@ -90,12 +90,14 @@ fn at_lower_end(c: &Candidate, name: &str, value: f64) -> bool {
 
 /// The score tests of `candidates` at `current` (a quasi-static recording's fit): `None` where
 /// they cannot be had (a time series, or the sensitivities fail at an equilibrium), and then
-/// every candidate is fitted. Candidates not nested at a point (see [`tested`]) are kept.
+/// every candidate is fitted. The table in place of a bonded base, not nested at a point (see
+/// [`tested`]), is tested on a grid ([`table_on_a_grid`]). The replays run on `workers`.
 pub(super) fn screen(
     recording: &Recording,
     noise: &Noise,
     current: &ModelFit,
     candidates: &[Candidate],
+    workers: usize,
 ) -> Option<Vec<Screen>> {
     if recording.mode != Mode::QuasiStatic || candidates.is_empty() {
         return None;
@@ -112,40 +114,39 @@ pub(super) fn screen(
             targets.push((scene, n));
         }
     }
-    let options = ReplayOptions {
-        rest: RestTolerance::for_fits(),
-        ..ReplayOptions::default()
-    };
-    let mut at = |sim: &softgrip_core::Simulation,
-                  mesh: &softgrip_core::mesh::TetMesh|
-     -> Option<Vec<Vec<glam::DVec3>>> {
-        let solved = sensitivities_to(&targets, mesh, sim, fit_sensitivity_options()).ok()?;
-        Some(solved.into_iter().map(|s| s.dx_dp).collect())
-    };
-    let (replay, d) = replay_observing(
-        recording,
-        &current.scene,
-        options,
-        None,
-        Some(&mut at),
-        |_| {},
-    )
-    .ok()?;
-    let d = d?;
-    let r = weighted_residuals(&replay.residuals, noise);
-    // Column j of the weighted residual's derivative.
-    let column = |j: usize| -> Vec<f64> {
-        let mut c = Vec::with_capacity(r.len());
-        for (res, dr) in replay.residuals.iter().zip(&d) {
-            let sigma = noise.sigma(res.marker);
-            for a in 0..3 {
-                if res.recorded[a].is_some() {
-                    c.push(dr[j][a] / sigma);
-                }
-            }
-        }
-        c
-    };
+    // The table candidate's grid, replayed beside it (the most friction first: the longest).
+    let table = candidates
+        .iter()
+        .zip(&nulls)
+        .position(|(c, null)| null.is_none() && c.effect == "table-friction");
+    let grid: Vec<(f64, Scene)> = table
+        .map(|i| table_grid(current, &candidates[i]))
+        .unwrap_or_default();
+    let mut jobs: Vec<(&Scene, Vec<(&Scene, &str)>)> = grid
+        .iter()
+        .map(|(_, s)| (s, vec![(s, "young_modulus"), (s, "table_friction")]))
+        .collect();
+    jobs.insert(grid.len().min(1), (&current.scene, targets));
+    let solved = crate::sweep::parallel_map(
+        &jobs,
+        workers,
+        |(scene, targets)| replay_columns(recording, noise, scene, targets),
+        &|_| {},
+    );
+    let main = grid.len().min(1);
+    let (r, columns) = solved[main].clone()?;
+    let grid_solved: Vec<(f64, Option<Columns>)> = grid
+        .iter()
+        .map(|(mu, _)| *mu)
+        .zip(
+            solved
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| *i != main)
+                .map(|(_, s)| s),
+        )
+        .collect();
+    let column = |j: usize| -> Vec<f64> { columns[j].clone() };
     let rss: f64 = r.iter().map(|x| x * x).sum();
     let n = r.len();
     let s2 = rss / n.saturating_sub(current.k).max(1) as f64;
@@ -153,6 +154,21 @@ pub(super) fn screen(
     let mut next = 1;
     let mut out = Vec::with_capacity(candidates.len());
     for (c, null) in candidates.iter().zip(&nulls) {
+        if null.is_none() && c.effect == "table-friction" {
+            out.push(
+                table_on_a_grid(c, &grid_solved, rss, s2).unwrap_or_else(|| Screen {
+                    effect: c.effect,
+                    variant: c.variant.clone(),
+                    tested: Vec::new(),
+                    statistic: f64::INFINITY,
+                    dof: 0,
+                    p_value: 0.0,
+                    predicted_share: f64::NAN,
+                    kept: true,
+                }),
+            );
+            continue;
+        }
         let Some((scene, names)) = null else {
             out.push(Screen {
                 effect: c.effect,
@@ -199,6 +215,113 @@ pub(super) fn screen(
         s.kept |= kept_effects.contains(&s.effect);
     }
     Some(out)
+}
+
+/// The table's frictions the table candidate is tried at when it is not nested in the current
+/// model (a bonded base): the drawn ranges of the proof's weak and strong cases span 0.03 to 0.3.
+pub const TABLE_GRID: [f64; 3] = [0.03, 0.1, 0.3];
+
+/// The scenes of the table candidate's grid: [`TABLE_GRID`] and, where the model has a table,
+/// its own friction (there the candidate is the model); the current fit's modulus throughout.
+fn table_grid(current: &ModelFit, c: &Candidate) -> Vec<(f64, Scene)> {
+    use softgrip_core::scene::SupportKind;
+    let mut grid: Vec<f64> = TABLE_GRID.iter().rev().copied().collect();
+    if current.scene.support.kind == SupportKind::Table {
+        grid.push(current.scene.support.friction);
+    }
+    let modulus = crate::params::get(&current.scene, "young_modulus")
+        .ok()
+        .flatten();
+    grid.into_iter()
+        .filter_map(|mu| {
+            let mut scene = crate::params::set(&c.scene, "table_friction", mu).ok()?;
+            if let Some(e) = modulus {
+                scene = crate::params::set(&scene, "young_modulus", e).ok()?;
+            }
+            Some((mu, scene))
+        })
+        .collect()
+}
+
+/// A replay's noise-weighted residual and its derivative in each parameter, column by column.
+type Columns = (Vec<f64>, Vec<Vec<f64>>);
+
+/// A replay of `scene` with the sensitivities to `targets`: the noise-weighted residual and its
+/// derivative in each target, column by column.
+fn replay_columns(
+    recording: &Recording,
+    noise: &Noise,
+    scene: &Scene,
+    targets: &[(&Scene, &str)],
+) -> Option<Columns> {
+    let options = ReplayOptions {
+        rest: RestTolerance::for_fits(),
+        ..ReplayOptions::default()
+    };
+    let mut at = |sim: &softgrip_core::Simulation,
+                  mesh: &softgrip_core::mesh::TetMesh|
+     -> Option<Vec<Vec<glam::DVec3>>> {
+        let solved = sensitivities_to(targets, mesh, sim, fit_sensitivity_options()).ok()?;
+        Some(solved.into_iter().map(|s| s.dx_dp).collect())
+    };
+    let (replay, d) =
+        replay_observing(recording, scene, options, None, Some(&mut at), |_| {}).ok()?;
+    let d = d?;
+    let r = weighted_residuals(&replay.residuals, noise);
+    let columns = (0..targets.len())
+        .map(|j| {
+            let mut c = Vec::with_capacity(r.len());
+            for (res, dr) in replay.residuals.iter().zip(&d) {
+                let sigma = noise.sigma(res.marker);
+                for a in 0..3 {
+                    if res.recorded[a].is_some() {
+                        c.push(dr[j][a] / sigma);
+                    }
+                }
+            }
+            c
+        })
+        .collect();
+    Some((r, columns))
+}
+
+/// The table candidate, not nested in a bonded base at any friction (the bonded limit is at
+/// infinite friction, and even there the rim lifts off): its likelihood ratio against the
+/// current model at each point of its grid ([`table_grid`]) followed by one Gauss-Newton step
+/// in E and the friction, `(RSS_current - RSS_j + r_j^T J (J^T J)^-1 J^T r_j) / s^2`, the
+/// supremum over the grid taken as the statistic of a one-parameter test. `None` where a replay
+/// or its sensitivities failed: the candidate is then fitted.
+fn table_on_a_grid(
+    c: &Candidate,
+    grid: &[(f64, Option<Columns>)],
+    rss: f64,
+    s2: f64,
+) -> Option<Screen> {
+    let mut best: Option<(f64, f64)> = None;
+    for (mu, solved) in grid {
+        let (r, columns) = solved.as_ref()?;
+        let rss_j: f64 = r.iter().map(|x| x * x).sum();
+        let ratio = (rss - rss_j) / s2 + score_statistic(columns, r, s2, false);
+        if best.is_none_or(|(b, _)| ratio > b) {
+            best = Some((ratio, *mu));
+        }
+    }
+    let (statistic, mu) = best?;
+    let p_value = if statistic > 0.0 {
+        chi_square_tail(statistic, 1)
+    } else {
+        1.0
+    };
+    Some(Screen {
+        effect: c.effect,
+        variant: c.variant.clone(),
+        tested: vec![("table_friction", mu)],
+        statistic,
+        dof: 1,
+        p_value,
+        predicted_share: statistic * s2 / rss.max(f64::MIN_POSITIVE),
+        kept: p_value < SCREEN_LEVEL,
+    })
 }
 
 /// `v` less its projection on `e`.

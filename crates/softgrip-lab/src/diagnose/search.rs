@@ -76,7 +76,13 @@ pub(super) fn explain(
         }
         if options.screen {
             fits.starting("the score test of every candidate");
-            if let Some(screens) = screen(recording, noise, &found.current, &round_candidates) {
+            if let Some(screens) = screen(
+                recording,
+                noise,
+                &found.current,
+                &round_candidates,
+                options.workers,
+            ) {
                 round_candidates = round_candidates
                     .into_iter()
                     .zip(&screens)

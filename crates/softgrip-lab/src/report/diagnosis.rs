@@ -228,16 +228,19 @@ fn screen_table(screens: &[(usize, crate::diagnose::Screen)]) -> String {
         "## The score test\n\nEach round's candidates were first tested at the current fit by the \
          score test (one replay with the equilibria's sensitivities); those whose test is not \
          significant at {} were not fitted: to first order they remove at most the predicted \
-         share of the residual, a quarter of what naming an effect asks. A candidate that is not \
-         nested in the model at a point of its range is always fitted.\n\n\
+         share of the residual, a quarter of what naming an effect asks. A table in place of a \
+         bonded base, not nested in it at any friction, is tried at frictions {:?} (T: the \
+         likelihood ratio against the model after a Gauss-Newton step from the best of them). \
+         A candidate whose test could not be had is fitted.\n\n\
          | round | candidate | tested at | T | degrees of freedom | p | predicted share | fitted |\n\
          |---|---|---|---|---|---|---|---|\n",
-        crate::diagnose::SCREEN_LEVEL
+        crate::diagnose::SCREEN_LEVEL,
+        crate::diagnose::TABLE_GRID
     );
     for (round, s) in screens {
         let name = crate::diagnose::effect_label(s.effect, &s.variant);
         if s.dof == 0 {
-            let _ = writeln!(md, "| {} | {name} | not nested | | | | | yes |", round + 1);
+            let _ = writeln!(md, "| {} | {name} | not tested | | | | | yes |", round + 1);
             continue;
         }
         let at: Vec<String> = s
