@@ -72,47 +72,72 @@ pub fn sensitivities_to(
     sim: &Simulation,
     options: SensitivityOptions,
 ) -> Result<Vec<ParameterSensitivity>, LabError> {
-    let mut steps = Vec::with_capacity(targets.len());
-    let mut found = Vec::with_capacity(targets.len());
-    for &(scene, name) in targets {
-        let param = params::find(name)?;
-        let value = params::get(scene, name)?.ok_or_else(|| {
-            LabError::Input(format!(
-                "{name} is off in this scene: set it to find the sensitivity to it"
-            ))
-        })?;
-        let delta = if value == 0.0 {
-            ABSOLUTE_STEP
-        } else {
-            RELATIVE_STEP * value.abs()
-        };
-        let model_at = |v: f64| -> Result<Model, LabError> {
-            Ok(Model::from_mesh(
-                &params::set(scene, name, v)?,
-                mesh.clone(),
-            )?)
-        };
-        let plus = model_at(value + delta)?;
-        // At a lower bound (a friction or a stiffening of 0) the step goes forward only.
-        let (minus, span) = match model_at(value - delta) {
-            Ok(m) => (m, 2.0 * delta),
-            Err(LabError::Input(_)) => (model_at(value)?, delta),
-            Err(e) => return Err(e),
-        };
-        steps.push(ParameterStep { span, minus, plus });
-        found.push((param.name, value));
+    let steps = ParameterSteps::new(targets, mesh)?;
+    steps.solve(sim, options)
+}
+
+/// The models at `p -+ delta` of each target, built once for every equilibrium on one mesh (a
+/// replay's loads): a model build costs about a force evaluation.
+pub struct ParameterSteps {
+    steps: Vec<ParameterStep>,
+    found: Vec<(&'static str, f64)>,
+}
+
+impl ParameterSteps {
+    /// The steps of each `(scene, name)` on `mesh` (see [`sensitivities_to`]).
+    pub fn new(targets: &[(&Scene, &str)], mesh: &TetMesh) -> Result<ParameterSteps, LabError> {
+        let mut steps = Vec::with_capacity(targets.len());
+        let mut found = Vec::with_capacity(targets.len());
+        for &(scene, name) in targets {
+            let param = params::find(name)?;
+            let value = params::get(scene, name)?.ok_or_else(|| {
+                LabError::Input(format!(
+                    "{name} is off in this scene: set it to find the sensitivity to it"
+                ))
+            })?;
+            let delta = if value == 0.0 {
+                ABSOLUTE_STEP
+            } else {
+                RELATIVE_STEP * value.abs()
+            };
+            let model_at = |v: f64| -> Result<Model, LabError> {
+                Ok(Model::from_mesh(
+                    &params::set(scene, name, v)?,
+                    mesh.clone(),
+                )?)
+            };
+            let plus = model_at(value + delta)?;
+            // At a lower bound (a friction or a stiffening of 0) the step goes forward only.
+            let (minus, span) = match model_at(value - delta) {
+                Ok(m) => (m, 2.0 * delta),
+                Err(LabError::Input(_)) => (model_at(value)?, delta),
+                Err(e) => return Err(e),
+            };
+            steps.push(ParameterStep { span, minus, plus });
+            found.push((param.name, value));
+        }
+        Ok(ParameterSteps { steps, found })
     }
-    let solved = sim.sensitivity(&steps, options)?;
-    Ok(found
-        .into_iter()
-        .zip(solved)
-        .map(|((name, value), s)| ParameterSensitivity {
-            name,
-            value,
-            dx_dp: s.dx_dp,
-            iterations: s.report.iterations,
-        })
-        .collect())
+
+    /// `dx/dp` at `sim`'s state, an equilibrium on the steps' mesh.
+    pub fn solve(
+        &self,
+        sim: &Simulation,
+        options: SensitivityOptions,
+    ) -> Result<Vec<ParameterSensitivity>, LabError> {
+        let solved = sim.sensitivity(&self.steps, options)?;
+        Ok(self
+            .found
+            .iter()
+            .zip(solved)
+            .map(|(&(name, value), s)| ParameterSensitivity {
+                name,
+                value,
+                dx_dp: s.dx_dp,
+                iterations: s.report.iterations,
+            })
+            .collect())
+    }
 }
 
 /// The parameters whose sensitivities are checked against finite differences of whole
@@ -146,6 +171,20 @@ pub fn fit_sensitivity_options() -> SensitivityOptions {
     }
 }
 
+/// [`fit_sensitivity_options`] for an equilibrium of `model`: where its static tangent is the
+/// continuum's exact one and factorised (`softgrip_core::step::linear::static_model`), one
+/// back-substitution per parameter, without GMRES's check by force differences (the factor alone
+/// agrees with whole solves to 1e-4: `tests/it/sensitivity.rs`); elsewhere checked.
+pub fn fit_sensitivity_options_for(model: &Model) -> SensitivityOptions {
+    let unknowns = 3 * model.fixed.iter().filter(|f| !**f).count();
+    let factorised =
+        unknowns <= softgrip_core::equilibrium::DIRECT_UNKNOWNS && model.self_collision.is_none();
+    SensitivityOptions {
+        exact: !(factorised && model.fem.is_some()),
+        ..fit_sensitivity_options()
+    }
+}
+
 /// A replay with the markers' sensitivities to `names` at each load's equilibrium, solved as
 /// [`fit_sensitivity_options`] says (the stick/slip state held). `None` where they cannot be had
 /// (see [`replay_observing`], and for `warm`).
@@ -157,8 +196,16 @@ pub fn replay_with_sensitivities(
     names: &[&str],
     progress: impl FnMut(usize),
 ) -> Result<(Replay, Option<MarkerSensitivities>), SimError> {
+    let targets: Vec<(&Scene, &str)> = names.iter().map(|n| (scene, *n)).collect();
+    let mut steps: Option<ParameterSteps> = None;
     let mut at = |sim: &Simulation, mesh: &TetMesh| -> Option<Vec<Vec<DVec3>>> {
-        let solved = sensitivities(scene, mesh, sim, names, fit_sensitivity_options()).ok()?;
+        if steps.is_none() {
+            steps = Some(ParameterSteps::new(&targets, mesh).ok()?);
+        }
+        let solved = steps
+            .as_ref()?
+            .solve(sim, fit_sensitivity_options_for(&sim.model))
+            .ok()?;
         Some(solved.into_iter().map(|s| s.dx_dp).collect())
     };
     replay_observing(recording, scene, options, warm, Some(&mut at), progress)

@@ -21,7 +21,7 @@ use super::model_fit::ModelFit;
 use super::noise::{Noise, weighted_residuals};
 use crate::recording::{Mode, Recording};
 use crate::replay::{ReplayOptions, replay_observing};
-use crate::sensitivity::{fit_sensitivity_options, sensitivities_to};
+use crate::sensitivity::{ParameterSteps, fit_sensitivity_options_for};
 use softgrip_core::quasi_static::RestTolerance;
 use softgrip_core::scene::Scene;
 
@@ -258,10 +258,17 @@ fn replay_columns(
         rest: RestTolerance::for_fits(),
         ..ReplayOptions::default()
     };
+    let mut steps: Option<ParameterSteps> = None;
     let mut at = |sim: &softgrip_core::Simulation,
                   mesh: &softgrip_core::mesh::TetMesh|
      -> Option<Vec<Vec<glam::DVec3>>> {
-        let solved = sensitivities_to(targets, mesh, sim, fit_sensitivity_options()).ok()?;
+        if steps.is_none() {
+            steps = Some(ParameterSteps::new(targets, mesh).ok()?);
+        }
+        let solved = steps
+            .as_ref()?
+            .solve(sim, fit_sensitivity_options_for(&sim.model))
+            .ok()?;
         Some(solved.into_iter().map(|s| s.dx_dp).collect())
     };
     let (replay, d) =
