@@ -40,7 +40,7 @@ pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use options::{BaselineModel, DiagnoseOptions, Progress, check_bounds, parse_bound};
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
-pub use screen::{SCREEN_LEVEL, Screen, TABLE_GRID};
+pub use screen::{FRICTION_GRID, SCREEN_LEVEL, Screen};
 pub use statistics::{
     BIC_THRESHOLD, MIN_EXPLAINED, PROMISING, UNEXPLAINED_RATIO, VUONG_Z, bic, effective_tests,
     significant, vuong, vuong_by_sample, vuong_threshold,

@@ -50,9 +50,8 @@ pub struct Screen {
     pub kept: bool,
 }
 
-/// The parameters a candidate's score is taken in, at its null: `None` where the candidate is
-/// not nested in the current model at a point of its range (a table in place of a bonded base,
-/// whose bonded limit is at infinite friction), or not a quasi-static recording's.
+/// The parameters a candidate's score is taken in, at its null: `None` where it is tried on a
+/// grid instead ([`on_a_grid`]) or not a quasi-static recording's.
 fn tested(c: &Candidate) -> Option<Vec<&'static str>> {
     match (c.effect, c.variant.as_str()) {
         ("strain-stiffening", "") => Some(vec!["stiffening"]),
@@ -62,8 +61,20 @@ fn tested(c: &Candidate) -> Option<Vec<&'static str>> {
         // the two coefficients themselves.
         ("strain-stiffening", "two-term") => Some(vec!["stiffening", "stiffening_cubic"]),
         ("heterogeneous-stiffness", _) => Some(vec!["region_young_modulus"]),
-        ("finger-friction", _) => Some(vec!["friction"]),
         ("load-loss", _) => Some(vec!["guide_friction"]),
+        _ => None,
+    }
+}
+
+/// The friction a candidate is tried at on a grid of values ([`FRICTION_GRID`]) rather than
+/// tested at its null: a table in place of a bonded base is not nested in it at any friction
+/// (the bonded limit is at infinite friction, and even there the rim lifts off), and the
+/// finger's friction has no derivative where every contact sticks (a lower friction changes
+/// nothing until contacts start to slide): a score of 0 there says nothing of a lower one.
+fn on_a_grid(c: &Candidate) -> Option<&'static str> {
+    match c.effect {
+        "table-friction" => Some("table_friction"),
+        "finger-friction" => Some("friction"),
         _ => None,
     }
 }
@@ -90,8 +101,8 @@ fn at_lower_end(c: &Candidate, name: &str, value: f64) -> bool {
 
 /// The score tests of `candidates` at `current` (a quasi-static recording's fit): `None` where
 /// they cannot be had (a time series, or the sensitivities fail at an equilibrium), and then
-/// every candidate is fitted. The table in place of a bonded base, not nested at a point (see
-/// [`tested`]), is tested on a grid ([`table_on_a_grid`]). The replays run on `workers`.
+/// every candidate is fitted. The frictions of [`on_a_grid`] are tried on a grid
+/// ([`best_on_a_grid`]). The replays run on `workers`.
 pub(super) fn screen(
     recording: &Recording,
     noise: &Noise,
@@ -114,37 +125,45 @@ pub(super) fn screen(
             targets.push((scene, n));
         }
     }
-    // The table candidate's grid, replayed beside it (the most friction first: the longest).
-    let table = candidates
+    // The grid candidates' replays beside it (the most friction first: the longest).
+    let grids: Vec<Vec<(f64, Scene)>> = candidates
         .iter()
-        .zip(&nulls)
-        .position(|(c, null)| null.is_none() && c.effect == "table-friction");
-    let grid: Vec<(f64, Scene)> = table
-        .map(|i| table_grid(current, &candidates[i]))
-        .unwrap_or_default();
-    let mut jobs: Vec<(&Scene, Vec<(&Scene, &str)>)> = grid
-        .iter()
-        .map(|(_, s)| (s, vec![(s, "young_modulus"), (s, "table_friction")]))
+        .map(|c| {
+            on_a_grid(c)
+                .map(|name| friction_grid(current, c, name))
+                .unwrap_or_default()
+        })
         .collect();
-    jobs.insert(grid.len().min(1), (&current.scene, targets));
-    let solved = crate::sweep::parallel_map(
+    let mut jobs: Vec<(&Scene, Vec<(&Scene, &str)>)> = vec![(&current.scene, targets)];
+    for (c, grid) in candidates.iter().zip(&grids) {
+        for (_, s) in grid {
+            let name = on_a_grid(c).unwrap_or("friction");
+            jobs.push((s, vec![(s, "young_modulus"), (s, name)]));
+        }
+    }
+    // The main replay second, after the first grid point (a friction of 0.3 on a table is the
+    // longest replay).
+    if jobs.len() > 1 {
+        jobs.swap(0, 1);
+    }
+    let mut solved = crate::sweep::parallel_map(
         &jobs,
         workers,
         |(scene, targets)| replay_columns(recording, noise, scene, targets),
         &|_| {},
     );
-    let main = grid.len().min(1);
-    let (r, columns) = solved[main].clone()?;
-    let grid_solved: Vec<(f64, Option<Columns>)> = grid
+    if solved.len() > 1 {
+        solved.swap(0, 1);
+    }
+    let mut solved = solved.into_iter();
+    let (r, columns) = solved.next().flatten()?;
+    let grid_solved: Vec<Vec<(f64, Option<Columns>)>> = grids
         .iter()
-        .map(|(mu, _)| *mu)
-        .zip(
-            solved
-                .into_iter()
-                .enumerate()
-                .filter(|(i, _)| *i != main)
-                .map(|(_, s)| s),
-        )
+        .map(|grid| {
+            grid.iter()
+                .map(|(mu, _)| (*mu, solved.next().flatten()))
+                .collect()
+        })
         .collect();
     let column = |j: usize| -> Vec<f64> { columns[j].clone() };
     let rss: f64 = r.iter().map(|x| x * x).sum();
@@ -153,10 +172,10 @@ pub(super) fn screen(
     let e = column(0);
     let mut next = 1;
     let mut out = Vec::with_capacity(candidates.len());
-    for (c, null) in candidates.iter().zip(&nulls) {
-        if null.is_none() && c.effect == "table-friction" {
+    for ((c, null), grid) in candidates.iter().zip(&nulls).zip(&grid_solved) {
+        if let Some(name) = on_a_grid(c) {
             out.push(
-                table_on_a_grid(c, &grid_solved, rss, s2).unwrap_or_else(|| Screen {
+                best_on_a_grid(c, name, grid, rss, s2).unwrap_or_else(|| Screen {
                     effect: c.effect,
                     variant: c.variant.clone(),
                     tested: Vec::new(),
@@ -217,24 +236,30 @@ pub(super) fn screen(
     Some(out)
 }
 
-/// The table's frictions the table candidate is tried at when it is not nested in the current
-/// model (a bonded base): the drawn ranges of the proof's weak and strong cases span 0.03 to 0.3.
-pub const TABLE_GRID: [f64; 3] = [0.03, 0.1, 0.3];
+/// The frictions a grid candidate ([`on_a_grid`]) is tried at, a decade in three steps below a
+/// silicone's usual 0.3 to 1 (where contacts stick, and a higher friction changes little).
+pub const FRICTION_GRID: [f64; 3] = [0.03, 0.1, 0.3];
 
-/// The scenes of the table candidate's grid: [`TABLE_GRID`] and, where the model has a table,
-/// its own friction (there the candidate is the model); the current fit's modulus throughout.
-fn table_grid(current: &ModelFit, c: &Candidate) -> Vec<(f64, Scene)> {
+/// The scenes of a grid candidate's grid: [`FRICTION_GRID`] and the model's own value of the
+/// friction where it has one (a table's, the finger's: there the candidate is the model); the
+/// current fit's modulus throughout.
+fn friction_grid(current: &ModelFit, c: &Candidate, name: &str) -> Vec<(f64, Scene)> {
     use softgrip_core::scene::SupportKind;
-    let mut grid: Vec<f64> = TABLE_GRID.iter().rev().copied().collect();
-    if current.scene.support.kind == SupportKind::Table {
-        grid.push(current.scene.support.friction);
+    let mut grid: Vec<f64> = FRICTION_GRID.iter().rev().copied().collect();
+    let own = match name {
+        "table_friction" => (current.scene.support.kind == SupportKind::Table)
+            .then_some(current.scene.support.friction),
+        _ => crate::params::get(&current.scene, name).ok().flatten(),
+    };
+    if let Some(own) = own.filter(|v| !grid.contains(v)) {
+        grid.push(own);
     }
     let modulus = crate::params::get(&current.scene, "young_modulus")
         .ok()
         .flatten();
     grid.into_iter()
         .filter_map(|mu| {
-            let mut scene = crate::params::set(&c.scene, "table_friction", mu).ok()?;
+            let mut scene = crate::params::set(&c.scene, name, mu).ok()?;
             if let Some(e) = modulus {
                 scene = crate::params::set(&scene, "young_modulus", e).ok()?;
             }
@@ -292,14 +317,14 @@ fn replay_columns(
     Some((r, columns))
 }
 
-/// The table candidate, not nested in a bonded base at any friction (the bonded limit is at
-/// infinite friction, and even there the rim lifts off): its likelihood ratio against the
-/// current model at each point of its grid ([`table_grid`]) followed by one Gauss-Newton step
-/// in E and the friction, `(RSS_current - RSS_j + r_j^T J (J^T J)^-1 J^T r_j) / s^2`, the
-/// supremum over the grid taken as the statistic of a one-parameter test. `None` where a replay
-/// or its sensitivities failed: the candidate is then fitted.
-fn table_on_a_grid(
+/// A grid candidate ([`on_a_grid`]): its likelihood ratio against the current model at each
+/// point of its grid ([`friction_grid`]) followed by one Gauss-Newton step in E and the
+/// friction, `(RSS_current - RSS_j + r_j^T J (J^T J)^-1 J^T r_j) / s^2`, the supremum over the
+/// grid taken as the statistic of a one-parameter test. `None` where a replay or its
+/// sensitivities failed: the candidate is then fitted.
+fn best_on_a_grid(
     c: &Candidate,
+    name: &'static str,
     grid: &[(f64, Option<Columns>)],
     rss: f64,
     s2: f64,
@@ -322,7 +347,7 @@ fn table_on_a_grid(
     Some(Screen {
         effect: c.effect,
         variant: c.variant.clone(),
-        tested: vec![("table_friction", mu)],
+        tested: vec![(name, mu)],
         statistic,
         dof: 1,
         p_value,

@@ -229,13 +229,14 @@ fn screen_table(screens: &[(usize, crate::diagnose::Screen)]) -> String {
          score test (one replay with the equilibria's sensitivities); those whose test is not \
          significant at {} were not fitted: to first order they remove at most the predicted \
          share of the residual, a quarter of what naming an effect asks. A table in place of a \
-         bonded base, not nested in it at any friction, is tried at frictions {:?} (T: the \
-         likelihood ratio against the model after a Gauss-Newton step from the best of them). \
+         bonded base (not nested in it at any friction) and the finger's friction (without a \
+         derivative where every contact sticks) are tried at frictions {:?} and their own (T: \
+         the likelihood ratio against the model after a Gauss-Newton step from the best). \
          A candidate whose test could not be had is fitted.\n\n\
          | round | candidate | tested at | T | degrees of freedom | p | predicted share | fitted |\n\
          |---|---|---|---|---|---|---|---|\n",
         crate::diagnose::SCREEN_LEVEL,
-        crate::diagnose::TABLE_GRID
+        crate::diagnose::FRICTION_GRID
     );
     for (round, s) in screens {
         let name = crate::diagnose::effect_label(s.effect, &s.variant);

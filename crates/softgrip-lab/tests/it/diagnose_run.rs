@@ -396,7 +396,7 @@ fn the_screen_keeps_a_table_under_a_sliding_base_and_rules_it_out_under_a_bonded
     let s = table_screen(&d);
     assert_eq!(s.dof, 1);
     assert!(s.kept && s.statistic > 10.0 * 3.84, "a sliding base: {s:?}");
-    assert!(diagnose::TABLE_GRID.contains(&s.tested[0].1), "{s:?}");
+    assert!(diagnose::FRICTION_GRID.contains(&s.tested[0].1), "{s:?}");
     let _ = std::fs::remove_dir_all(&dir);
 
     let rec = crate::support::thesis_7_loads();
