@@ -37,7 +37,7 @@ pub use noise::{
     weighted_residuals, weighted_rss,
 };
 pub use nominal::{carries_the_loads, implied_bulk_modulus};
-pub use options::{BaselineModel, DiagnoseOptions, Progress, check_bounds, parse_bound};
+pub use options::{BaselineModel, DiagnoseOptions, FITTED, Progress, check_bounds, parse_bound};
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
 pub use screen::{FRICTION_GRID, SCREEN_LEVEL, Screen};

@@ -122,6 +122,10 @@ impl Default for DiagnoseOptions {
 /// Progress: (fits done, fits planned, what is being fitted).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize, &str) + Sync);
 
+/// How a progress message that is not a stage of its own begins: a candidate's fit that ended
+/// inside the stage that fits several at once ("fitted: strain-stiffening (9.9 s)").
+pub const FITTED: &str = "fitted: ";
+
 /// A diagnosis's progress in fits: how many are done of how many are
 /// planned, told to its [`Progress`] as each fit starts; and the wall time of each stage, kept
 /// for the report.
@@ -143,6 +147,17 @@ impl<'a> FitCount<'a> {
             stages: Vec::new(),
             running: None,
         }
+    }
+
+    /// A fit that ran beside others (a candidate's among a round's, within the running stage)
+    /// ended after `seconds` of its own: counted as done and told to the progress.
+    pub(super) fn finished(&mut self, what: &str, seconds: f64) {
+        self.done += 1;
+        (self.progress)(
+            self.done,
+            self.planned,
+            &format!("{FITTED}{what} ({seconds:.1} s)"),
+        );
     }
 
     /// Tells the progress what is fitted next (the stage before it ends).

@@ -101,10 +101,16 @@ pub(super) fn explain(
             }
         }
         let start = found.hypotheses.len();
-        for c in round_candidates {
-            let h = fit_candidate(recording, noise, options, &found.current, c, round, fits)?;
-            found.hypotheses.push(h);
-        }
+        let fitted = fit_candidates(
+            recording,
+            noise,
+            options,
+            &found.current,
+            round_candidates,
+            round,
+            fits,
+        )?;
+        found.hypotheses.extend(fitted);
         compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
         let Some(b) = best_of(&found.hypotheses, start) else {
             break;
@@ -170,6 +176,62 @@ fn next_candidates(
 }
 
 /// Candidate `c` fitted on top of `current`, scored against it.
+/// A round's candidates fitted, in their order. With several workers, as many candidates at
+/// once, each fit on one (a fit's own batches of replays leave a second core idle between
+/// them); the fits are the same either way (each fit's replays do not depend on how many run
+/// beside them). Each candidate's stage is reported as it ends.
+fn fit_candidates(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    current: &ModelFit,
+    candidates: Vec<Candidate>,
+    round: usize,
+    fits: &mut FitCount,
+) -> Result<Vec<Hypothesis>, LabError> {
+    let workers = if options.workers == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        options.workers
+    };
+    if workers < 2 || candidates.len() < 2 {
+        return candidates
+            .into_iter()
+            .map(|c| {
+                fits.starting(c.effect);
+                fit_candidate(recording, noise, options, current, c, round)
+                    .inspect(|_| fits.done += 1)
+            })
+            .collect();
+    }
+    let one = DiagnoseOptions {
+        workers: 1,
+        ..options.clone()
+    };
+    fits.starting(&format!(
+        "{} candidates, {} at once",
+        candidates.len(),
+        workers.min(candidates.len())
+    ));
+    let shared = std::sync::Mutex::new(&mut *fits);
+    let results = crate::sweep::parallel_map(
+        &candidates,
+        workers,
+        |c| {
+            let h = fit_candidate(recording, noise, &one, current, c.clone(), round);
+            if let (Ok(h), Ok(mut fits)) = (&h, shared.lock()) {
+                fits.finished(
+                    &super::catalogue::effect_label(c.effect, &c.variant),
+                    h.seconds,
+                );
+            }
+            h
+        },
+        &|_| {},
+    );
+    results.into_iter().collect()
+}
+
 fn fit_candidate(
     recording: &Recording,
     noise: &Noise,
@@ -177,9 +239,7 @@ fn fit_candidate(
     current: &ModelFit,
     c: Candidate,
     round: usize,
-    fits: &mut FitCount,
 ) -> Result<Hypothesis, LabError> {
-    fits.starting(c.effect);
     let started = std::time::Instant::now();
     let k = current.k + own_params(&c.params); // the modulus is refitted, not added
     let budget = options.candidate_evaluations_per_param * c.params.len();
@@ -200,7 +260,6 @@ fn fit_candidate(
     );
     // A cancelled fit is the diagnosis's end, not a candidate that failed.
     check_cancel()?;
-    fits.done += 1;
     let (score, explained) = match &fit {
         Ok(f) => (f.bic - current.bic, 1.0 - f.rss / current.rss),
         Err(_) => (f64::INFINITY, 0.0),

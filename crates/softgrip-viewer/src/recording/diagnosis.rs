@@ -200,11 +200,20 @@ impl DiagnosisSection {
                 ),
             );
             progress_with_stop(ui, job, bar);
-            // The stages as they finish, each with its seconds.
+            // The stages as they finish, each with its seconds; a candidate's fit that ends
+            // inside a stage fitting several at once is listed under it.
             let stages = self.stages.lock().map(|s| s.clone()).unwrap_or_default();
             let now = job.started.elapsed().as_secs_f64();
+            let inside = |what: &str| what.starts_with(diagnose::FITTED);
             for (k, (what, at)) in stages.iter().enumerate() {
-                let end = stages.get(k + 1).map(|(_, t)| *t);
+                if inside(what) {
+                    ui.small(format!("    {what}"));
+                    continue;
+                }
+                let end = stages[k + 1..]
+                    .iter()
+                    .find(|(w, _)| !inside(w))
+                    .map(|(_, t)| *t);
                 let line = match end {
                     Some(end) => format!("done: {what}, {:.1} s", end - at),
                     None => format!("running: {what}, {:.0} s so far", now - at),
