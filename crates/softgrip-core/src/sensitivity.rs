@@ -105,10 +105,12 @@ impl Simulation {
                 ),
             });
         }
-        steps
+        let solved = steps
             .iter()
             .map(|step| sensitivity_to(&mut fixed, step, options))
-            .collect()
+            .collect();
+        self.keep_solver(fixed);
+        solved
     }
 }
 

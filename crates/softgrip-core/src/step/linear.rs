@@ -79,6 +79,12 @@ impl FixedState {
     /// Holds `state` (velocities set to zero) and assembles the tangent of `model` (a
     /// [`static_model`]) there.
     pub fn new(model: Arc<Model>, state: &State) -> FixedState {
+        FixedState::reusing(model, state, None)
+    }
+
+    /// As [`FixedState::new`], factorising with `solver` where the model asks for a factor: its
+    /// symbolic analysis is kept while the tangent's pattern fits it (one simulation's loads).
+    pub fn reusing(model: Arc<Model>, state: &State, solver: Option<DirectSolver>) -> FixedState {
         let mut state = state.clone();
         state.velocities.fill(DVec3::ZERO);
         for f in &mut state.fingers {
@@ -116,7 +122,7 @@ impl FixedState {
         fixed.work.clone_from(&fixed.state);
         assemble(&fixed.model, &mut fixed.work, &mut fixed.tangent);
         if fixed.model.linear_solver == LinearSolver::Direct {
-            let mut direct = DirectSolver::default();
+            let mut direct = solver.unwrap_or_default();
             let factorised = system_of(&fixed.tangent, |s| {
                 direct.factorise(&fixed.model, s).is_ok()
             });
@@ -134,6 +140,11 @@ impl FixedState {
             }
         }
         fixed
+    }
+
+    /// The factorisation, to be reused by the next state held on the same mesh.
+    pub fn into_solver(self) -> Option<DirectSolver> {
+        self.direct
     }
 
     /// Whether the tangent is factorised ([`FixedState::solve`] is then exact to rounding).
@@ -335,10 +346,31 @@ fn system_of<T>(scratch: &Scratch, read: impl FnOnce(&crate::solver::System) -> 
     read(&parallel.system())
 }
 
+/// The factorisation a simulation keeps between its states held fixed (the sensitivities of
+/// each load of a replay): a clone of the simulation starts without one, so that what a solve
+/// reuses never depends on another simulation's history.
+#[derive(Debug, Default)]
+pub struct TangentSolver(std::sync::Mutex<Option<DirectSolver>>);
+
+impl Clone for TangentSolver {
+    fn clone(&self) -> Self {
+        TangentSolver::default()
+    }
+}
+
 impl Simulation {
-    /// The present state held fixed, with the [`static_model`] of the simulation's model.
+    /// The present state held fixed, with the [`static_model`] of the simulation's model (and
+    /// the factorisation the last one left, [`Simulation::keep_solver`]).
     pub fn fixed_state(&self) -> FixedState {
-        FixedState::new(Arc::new(static_model(&self.model)), &self.state)
+        let solver = self.tangent_solver.0.lock().ok().and_then(|mut s| s.take());
+        FixedState::reusing(Arc::new(static_model(&self.model)), &self.state, solver)
+    }
+
+    /// Keeps `fixed`'s factorisation for the next [`Simulation::fixed_state`].
+    pub fn keep_solver(&self, fixed: FixedState) {
+        if let (Some(solver), Ok(mut kept)) = (fixed.into_solver(), self.tangent_solver.0.lock()) {
+            *kept = Some(solver);
+        }
     }
 
     /// The force at the present state (N, particles then fingers), zero on the fixed

@@ -172,6 +172,8 @@ pub struct Simulation {
     scratch: Scratch,
     /// Wall-clock seconds spent in `step` so far.
     pub wall_seconds: f64,
+    /// The static tangent's factorisation between states held fixed.
+    tangent_solver: linear::TangentSolver,
 }
 
 impl Simulation {
@@ -194,6 +196,7 @@ impl Simulation {
             state,
             scratch: Scratch::default(),
             wall_seconds: 0.0,
+            tangent_solver: linear::TangentSolver::default(),
         }
     }
 
