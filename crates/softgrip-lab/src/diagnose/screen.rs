@@ -113,19 +113,10 @@ pub(super) fn screen(
     if recording.mode != Mode::QuasiStatic || candidates.is_empty() {
         return None;
     }
-    // Every tested parameter in one replay of the current model: the modulus, then each
-    // candidate's, in their null scenes.
     let nulls: Vec<Option<(Scene, Vec<&'static str>)>> = candidates
         .iter()
         .map(|c| tested(c).map(|t| (null_scene(c), t)))
         .collect();
-    let mut targets: Vec<(&Scene, &str)> = vec![(&current.scene, "young_modulus")];
-    for (scene, names) in nulls.iter().flatten() {
-        for n in names {
-            targets.push((scene, n));
-        }
-    }
-    // The grid candidates' replays beside it (the most friction first: the longest).
     let grids: Vec<Vec<(f64, Scene)>> = candidates
         .iter()
         .map(|c| {
@@ -134,12 +125,76 @@ pub(super) fn screen(
                 .unwrap_or_default()
         })
         .collect();
-    let mut jobs: Vec<(&Scene, Vec<(&Scene, &str)>)> = vec![(&current.scene, targets)];
-    for (c, grid) in candidates.iter().zip(&grids) {
-        for (_, s) in grid {
-            let name = on_a_grid(c).unwrap_or("friction");
-            jobs.push((s, vec![(s, "young_modulus"), (s, name)]));
+    let ((r, columns), grid_solved) = replay_all(
+        recording, noise, current, candidates, &nulls, &grids, workers,
+    )?;
+    let rss: f64 = r.iter().map(|x| x * x).sum();
+    let s2 = rss / r.len().saturating_sub(current.k).max(1) as f64;
+    let e = &columns[0];
+    let mut next = 1;
+    let mut out = Vec::with_capacity(candidates.len());
+    for ((c, null), grid) in candidates.iter().zip(&nulls).zip(&grid_solved) {
+        let screen = match (on_a_grid(c), null) {
+            (Some(name), _) => best_on_a_grid(c, name, grid, rss, s2),
+            (None, Some((scene, names))) => {
+                let projected: Vec<Vec<f64>> = columns[next..next + names.len()]
+                    .iter()
+                    .map(|col| project_out(col, e))
+                    .collect();
+                next += names.len();
+                Some(nested(c, scene, names, &projected, &r, s2))
+            }
+            (None, None) => None,
+        };
+        out.push(screen.unwrap_or_else(|| Screen::untested(c)));
+    }
+    // An effect's variants are fitted together (their Vuong threshold counts them all).
+    let kept_effects: Vec<&str> = out.iter().filter(|s| s.kept).map(|s| s.effect).collect();
+    for s in &mut out {
+        s.kept |= kept_effects.contains(&s.effect);
+    }
+    Some(out)
+}
+
+impl Screen {
+    /// A candidate whose test could not be had: fitted.
+    fn untested(c: &Candidate) -> Screen {
+        Screen {
+            effect: c.effect,
+            variant: c.variant.clone(),
+            tested: Vec::new(),
+            statistic: f64::INFINITY,
+            dof: 0,
+            p_value: 0.0,
+            predicted_share: f64::NAN,
+            kept: true,
         }
+    }
+}
+
+/// One replay of the current model with the sensitivities to the modulus and every nested
+/// candidate's parameters at their nulls, and beside it the grid candidates' replays (the most
+/// friction first: the longest), on `workers`: the current model's columns, then each grid's.
+fn replay_all(
+    recording: &Recording,
+    noise: &Noise,
+    current: &ModelFit,
+    candidates: &[Candidate],
+    nulls: &[Option<(Scene, Vec<&'static str>)>],
+    grids: &[Vec<(f64, Scene)>],
+    workers: usize,
+) -> Option<(Columns, Vec<Vec<(f64, Option<Columns>)>>)> {
+    let mut targets: Vec<(&Scene, &str)> = vec![(&current.scene, "young_modulus")];
+    for (scene, names) in nulls.iter().flatten() {
+        targets.extend(names.iter().map(|n| (scene, *n)));
+    }
+    let mut jobs: Vec<(&Scene, Vec<(&Scene, &str)>)> = vec![(&current.scene, targets)];
+    for (c, grid) in candidates.iter().zip(grids) {
+        let name = on_a_grid(c).unwrap_or("friction");
+        jobs.extend(
+            grid.iter()
+                .map(|(_, s)| (s, vec![(s, "young_modulus"), (s, name)])),
+        );
     }
     // The main replay second, after the first grid point (a friction of 0.3 on a table is the
     // longest replay).
@@ -156,8 +211,8 @@ pub(super) fn screen(
         solved.swap(0, 1);
     }
     let mut solved = solved.into_iter();
-    let (r, columns) = solved.next().flatten()?;
-    let grid_solved: Vec<Vec<(f64, Option<Columns>)>> = grids
+    let main = solved.next().flatten()?;
+    let grids = grids
         .iter()
         .map(|grid| {
             grid.iter()
@@ -165,75 +220,42 @@ pub(super) fn screen(
                 .collect()
         })
         .collect();
-    let column = |j: usize| -> Vec<f64> { columns[j].clone() };
+    Some((main, grids))
+}
+
+/// A nested candidate's score test in `names` at their values in its null `scene`, from its
+/// columns with the modulus projected out.
+fn nested(
+    c: &Candidate,
+    scene: &Scene,
+    names: &[&'static str],
+    columns: &[Vec<f64>],
+    r: &[f64],
+    s2: f64,
+) -> Screen {
     let rss: f64 = r.iter().map(|x| x * x).sum();
-    let n = r.len();
-    let s2 = rss / n.saturating_sub(current.k).max(1) as f64;
-    let e = column(0);
-    let mut next = 1;
-    let mut out = Vec::with_capacity(candidates.len());
-    for ((c, null), grid) in candidates.iter().zip(&nulls).zip(&grid_solved) {
-        if let Some(name) = on_a_grid(c) {
-            out.push(
-                best_on_a_grid(c, name, grid, rss, s2).unwrap_or_else(|| Screen {
-                    effect: c.effect,
-                    variant: c.variant.clone(),
-                    tested: Vec::new(),
-                    statistic: f64::INFINITY,
-                    dof: 0,
-                    p_value: 0.0,
-                    predicted_share: f64::NAN,
-                    kept: true,
-                }),
-            );
-            continue;
-        }
-        let Some((scene, names)) = null else {
-            out.push(Screen {
-                effect: c.effect,
-                variant: c.variant.clone(),
-                tested: Vec::new(),
-                statistic: f64::INFINITY,
-                dof: 0,
-                p_value: 0.0,
-                predicted_share: f64::NAN,
-                kept: true,
-            });
-            continue;
-        };
-        let columns: Vec<Vec<f64>> = (0..names.len())
-            .map(|i| project_out(&column(next + i), &e))
-            .collect();
-        next += names.len();
-        let values: Vec<(&'static str, f64)> = names
-            .iter()
-            .map(|n| {
-                (
-                    *n,
-                    crate::params::get(scene, n).ok().flatten().unwrap_or(0.0),
-                )
-            })
-            .collect();
-        let one_sided = names.len() == 1 && at_lower_end(c, names[0], values[0].1);
-        let statistic = score_statistic(&columns, &r, s2, one_sided);
-        let p_value = chi_square_tail(statistic, names.len()) * if one_sided { 0.5 } else { 1.0 };
-        out.push(Screen {
-            effect: c.effect,
-            variant: c.variant.clone(),
-            tested: values,
-            statistic,
-            dof: names.len(),
-            p_value,
-            predicted_share: statistic * s2 / rss.max(f64::MIN_POSITIVE),
-            kept: p_value < SCREEN_LEVEL,
-        });
+    let values: Vec<(&'static str, f64)> = names
+        .iter()
+        .map(|n| {
+            (
+                *n,
+                crate::params::get(scene, n).ok().flatten().unwrap_or(0.0),
+            )
+        })
+        .collect();
+    let one_sided = names.len() == 1 && at_lower_end(c, names[0], values[0].1);
+    let statistic = score_statistic(columns, r, s2, one_sided);
+    let p_value = chi_square_tail(statistic, names.len()) * if one_sided { 0.5 } else { 1.0 };
+    Screen {
+        effect: c.effect,
+        variant: c.variant.clone(),
+        tested: values,
+        statistic,
+        dof: names.len(),
+        p_value,
+        predicted_share: statistic * s2 / rss.max(f64::MIN_POSITIVE),
+        kept: p_value < SCREEN_LEVEL,
     }
-    // An effect's variants are fitted together (their Vuong threshold counts them all).
-    let kept_effects: Vec<&str> = out.iter().filter(|s| s.kept).map(|s| s.effect).collect();
-    for s in &mut out {
-        s.kept |= kept_effects.contains(&s.effect);
-    }
-    Some(out)
 }
 
 /// The frictions a grid candidate ([`on_a_grid`]) is tried at, a decade in three steps below a

@@ -200,24 +200,8 @@ impl DiagnosisSection {
                 ),
             );
             progress_with_stop(ui, job, bar);
-            // The stages as they finish, each with its seconds; a candidate's fit that ends
-            // inside a stage fitting several at once is listed under it.
             let stages = self.stages.lock().map(|s| s.clone()).unwrap_or_default();
-            let now = job.started.elapsed().as_secs_f64();
-            let inside = |what: &str| what.starts_with(diagnose::FITTED);
-            for (k, (what, at)) in stages.iter().enumerate() {
-                if inside(what) {
-                    ui.small(format!("    {what}"));
-                    continue;
-                }
-                let end = stages[k + 1..]
-                    .iter()
-                    .find(|(w, _)| !inside(w))
-                    .map(|(_, t)| *t);
-                let line = match end {
-                    Some(end) => format!("done: {what}, {:.1} s", end - at),
-                    None => format!("running: {what}, {:.0} s so far", now - at),
-                };
+            for line in stage_lines(&stages, job.started.elapsed().as_secs_f64()) {
                 ui.small(line);
             }
         }
@@ -378,5 +362,53 @@ fn ranking(ui: &mut egui::Ui, d: &Diagnosis) {
             egui::FontId::proportional(10.0),
             text,
         );
+    }
+}
+
+/// The stages as they finish, each with its seconds (`stages`: each progress message with the
+/// seconds since the start when it came; `now` the seconds so far); a candidate's fit that ends
+/// inside a stage fitting several at once is listed under it.
+fn stage_lines(stages: &[(String, f64)], now: f64) -> Vec<String> {
+    let inside = |what: &str| what.starts_with(diagnose::FITTED);
+    stages
+        .iter()
+        .enumerate()
+        .map(|(k, (what, at))| {
+            if inside(what) {
+                return format!("    {what}");
+            }
+            let end = stages[k + 1..]
+                .iter()
+                .find(|(w, _)| !inside(w))
+                .map(|(_, t)| *t);
+            match end {
+                Some(end) => format!("done: {what}, {:.1} s", end - at),
+                None => format!("running: {what}, {:.0} s so far", now - at),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_candidate_fitted_inside_a_stage_is_listed_under_it_and_does_not_end_it() {
+        let stages = vec![
+            ("baseline".to_string(), 0.0),
+            ("7 candidates, 2 at once".to_string(), 2.0),
+            (
+                format!("{}strain-stiffening (9.4 s)", diagnose::FITTED),
+                11.5,
+            ),
+            ("done".to_string(), 26.0),
+        ];
+        let lines = stage_lines(&stages, 30.0);
+        assert_eq!(lines[0], "done: baseline, 2.0 s");
+        // The batch lasts until the next stage, not until its first candidate's end.
+        assert_eq!(lines[1], "done: 7 candidates, 2 at once, 24.0 s");
+        assert_eq!(lines[2], "    fitted: strain-stiffening (9.4 s)");
+        assert_eq!(lines[3], "running: done, 4 s so far");
     }
 }
