@@ -183,7 +183,7 @@ fn replay_all(
     nulls: &[Option<(Scene, Vec<&'static str>)>],
     grids: &[Vec<(f64, Scene)>],
     workers: usize,
-) -> Option<(Columns, Vec<Vec<(f64, Option<Columns>)>>)> {
+) -> Option<(Columns, Vec<GridColumns>)> {
     let mut targets: Vec<(&Scene, &str)> = vec![(&current.scene, "young_modulus")];
     for (scene, names) in nulls.iter().flatten() {
         targets.extend(names.iter().map(|n| (scene, *n)));
@@ -292,6 +292,9 @@ fn friction_grid(current: &ModelFit, c: &Candidate, name: &str) -> Vec<(f64, Sce
 
 /// A replay's noise-weighted residual and its derivative in each parameter, column by column.
 type Columns = (Vec<f64>, Vec<Vec<f64>>);
+
+/// A grid candidate's replays: each friction with its columns, `None` where the replay failed.
+type GridColumns = Vec<(f64, Option<Columns>)>;
 
 /// A replay of `scene` with the sensitivities to `targets`: the noise-weighted residual and its
 /// derivative in each target, column by column.
