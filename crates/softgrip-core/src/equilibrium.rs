@@ -67,10 +67,7 @@ pub enum StaticSolver {
     Direct,
 }
 
-/// Free unknowns up to which [`StaticSolver::Auto`] may factorise: the 4 mm cuboid's 2,536
-/// take 8.5 ms a factorisation, the 4 mm cylinder's 12,910 460 ms (its CG replay is 8 times
-/// faster than its direct one).
-pub const DIRECT_UNKNOWNS: usize = 8000;
+pub use crate::solver::direct::DIRECT_UNKNOWNS;
 
 /// Whether [`StaticSolver::Auto`] solves `model` by factorisation: a continuum on a table with
 /// friction, of at most [`DIRECT_UNKNOWNS`] unknowns. There CG's tangent leaves out the friction

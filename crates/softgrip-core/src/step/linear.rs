@@ -41,7 +41,7 @@ pub const TANGENT_CG_TOLERANCE: f64 = 1e-12;
 /// `model` as the static tangent sees it: a step of [`STATIC_DT`], the exact tangent (the
 /// whole of it, [`Model::full_tangent`]), the static solver's friction (a return mapping to
 /// anchors held), and a factorised solve where the mesh is small enough
-/// ([`crate::equilibrium::DIRECT_UNKNOWNS`]) and has no self-collision.
+/// ([`crate::solver::direct::DIRECT_UNKNOWNS`]) and has no self-collision.
 pub fn static_model(model: &Model) -> Model {
     let mut m = model.clone();
     m.dt = STATIC_DT;
@@ -49,7 +49,7 @@ pub fn static_model(model: &Model) -> Model {
     m.full_tangent = true;
     m.quasi_static = true;
     let unknowns = 3 * m.fixed.iter().filter(|f| !**f).count();
-    if unknowns <= crate::equilibrium::DIRECT_UNKNOWNS && m.self_collision.is_none() {
+    if unknowns <= crate::solver::direct::DIRECT_UNKNOWNS && m.self_collision.is_none() {
         m.linear_solver = crate::model::LinearSolver::Direct;
     }
     m
@@ -346,30 +346,18 @@ fn system_of<T>(scratch: &Scratch, read: impl FnOnce(&crate::solver::System) -> 
     read(&parallel.system())
 }
 
-/// The factorisation a simulation keeps between its states held fixed (the sensitivities of
-/// each load of a replay): a clone of the simulation starts without one, so that what a solve
-/// reuses never depends on another simulation's history.
-#[derive(Debug, Default)]
-pub struct TangentSolver(std::sync::Mutex<Option<DirectSolver>>);
-
-impl Clone for TangentSolver {
-    fn clone(&self) -> Self {
-        TangentSolver::default()
-    }
-}
-
 impl Simulation {
     /// The present state held fixed, with the [`static_model`] of the simulation's model (and
     /// the factorisation the last one left, [`Simulation::keep_solver`]).
     pub fn fixed_state(&self) -> FixedState {
-        let solver = self.tangent_solver.0.lock().ok().and_then(|mut s| s.take());
+        let solver = self.tangent_solver.take();
         FixedState::reusing(Arc::new(static_model(&self.model)), &self.state, solver)
     }
 
     /// Keeps `fixed`'s factorisation for the next [`Simulation::fixed_state`].
     pub fn keep_solver(&self, fixed: FixedState) {
-        if let (Some(solver), Ok(mut kept)) = (fixed.into_solver(), self.tangent_solver.0.lock()) {
-            *kept = Some(solver);
+        if let Some(solver) = fixed.into_solver() {
+            self.tangent_solver.keep(solver);
         }
     }
 

@@ -173,7 +173,7 @@ pub struct Simulation {
     /// Wall-clock seconds spent in `step` so far.
     pub wall_seconds: f64,
     /// The static tangent's factorisation between states held fixed.
-    tangent_solver: linear::TangentSolver,
+    tangent_solver: crate::solver::direct::KeptSolver,
 }
 
 impl Simulation {
@@ -196,7 +196,7 @@ impl Simulation {
             state,
             scratch: Scratch::default(),
             wall_seconds: 0.0,
-            tangent_solver: linear::TangentSolver::default(),
+            tangent_solver: crate::solver::direct::KeptSolver::default(),
         }
     }
 
