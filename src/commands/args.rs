@@ -139,6 +139,17 @@ pub fn seed(s: &str) -> Result<u64, String> {
     parsed.map_err(|_| format!("{s}: give a whole number from 0 to 2^64-1, decimal or 0x-hex"))
 }
 
+/// A value as a user would type it, to six significant digits: plain between 1e-3 and 1e6, with
+/// an exponent outside (a sweep's `dt = 1e-9` printed with six decimals read `0.000000`).
+pub fn number(v: f64) -> String {
+    let v: f64 = format!("{v:.5e}").parse().unwrap_or(v);
+    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -151,5 +162,16 @@ mod tests {
         assert_eq!(super::seed("17"), Ok(17));
         assert!(super::seed("-1").is_err());
         assert!(super::seed("0xg").is_err());
+    }
+
+    #[test]
+    fn a_number_keeps_six_significant_digits_at_any_scale() {
+        use super::number;
+        assert_eq!(number(1e-9), "1e-9");
+        assert_eq!(number(1e-3), "0.001");
+        assert_eq!(number(0.1 + 0.2), "0.3");
+        assert_eq!(number(2.5e7), "2.5e7");
+        assert_eq!(number(-123.4567891), "-123.457");
+        assert_eq!(number(0.0), "0");
     }
 }

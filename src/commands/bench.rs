@@ -14,7 +14,7 @@ pub struct Args {
     edges: Vec<f64>,
     /// Threads per simulation: 1, or 2 (a helper thread takes half the
     /// work; same results bit for bit). Default: 2 where there are two cores.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = threads)]
     threads: usize,
     /// Simulated seconds per measurement.
     #[arg(long, default_value_t = 1.0, value_parser = super::args::positive)]
@@ -35,6 +35,16 @@ pub struct Args {
     /// equilibria per second.
     #[arg(long, value_delimiter = ',')]
     statics: Vec<std::path::PathBuf>,
+}
+
+/// `--threads`: a simulation runs on its own thread and at most one helper.
+fn threads(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n @ 0..=2) => Ok(n),
+        _ => Err(format!(
+            "{s}: give 1 (one thread), 2 (a helper thread takes half the work) or 0 (2 where there are two cores): a simulation uses at most two threads"
+        )),
+    }
 }
 
 pub fn run(args: Args) -> Result<()> {

@@ -18,6 +18,10 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let scene = load_scene(args.scene.as_deref())?;
+    super::outputs::Outputs::new()
+        .scene(&scene)
+        .file("--json", args.json.as_deref())
+        .check()?;
     if scene.defaults_applied.is_empty() {
         println!("every key is set explicitly");
     } else {

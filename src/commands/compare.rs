@@ -31,6 +31,9 @@ pub struct Args {
     discretisation: bool,
     #[command(flatten)]
     settle: SettleArgs,
+    /// With --settle dynamic: simulated seconds each load may take to come to rest.
+    #[arg(long, default_value_t = 20.0, value_parser = super::args::positive)]
+    max_seconds: f64,
     #[command(flatten)]
     report: ReportArgs,
 }
@@ -39,6 +42,11 @@ pub fn run(args: Args) -> Result<()> {
     let (path, json) = (args.recording.as_path(), args.json.as_deref());
     let (discretisation, report) = (args.discretisation, &args.report);
     let recording = Recording::load(path)?;
+    super::outputs::Outputs::new()
+        .recording(&recording)
+        .file("--json", json)
+        .dir("--report", report.dir("compare", path).as_deref())
+        .check()?;
     describe(path, &recording);
     let bar = progress_bar(recording.samples.len() as u64, "samples");
     let run = softgrip_lab::replay::replay(
@@ -46,6 +54,10 @@ pub fn run(args: Args) -> Result<()> {
         &recording.scene,
         softgrip_lab::replay::ReplayOptions {
             settle: args.settle.settle.map(SettleMode::replay),
+            rest: softgrip_core::quasi_static::RestTolerance {
+                max_seconds: args.max_seconds,
+                ..Default::default()
+            },
             ..Default::default()
         },
         |n| bar.set_position(n as u64),

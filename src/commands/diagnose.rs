@@ -34,7 +34,7 @@ pub struct Args {
     bound: Vec<String>,
     /// Simulations at most for the baseline fit (each candidate's fit
     /// gets 20 per parameter).
-    #[arg(long, default_value_t = 80)]
+    #[arg(long, default_value_t = 80, value_parser = baseline_budget)]
     max_evaluations: usize,
     #[command(flatten)]
     workers: WorkersArgs,
@@ -58,6 +58,17 @@ pub struct Args {
     report: ReportArgs,
 }
 
+/// `--max-evaluations`: the baseline's Levenberg-Marquardt fit needs a few steps of a
+/// Jacobian each (two simulations for E alone).
+fn baseline_budget(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 10 => Ok(n),
+        _ => Err(format!(
+            "{s}: give a whole number of simulations, 10 or more (default 80): the baseline fit takes a few Levenberg-Marquardt steps of a Jacobian each"
+        )),
+    }
+}
+
 pub fn run(args: Args) -> Result<()> {
     let (recording_path, lock, bound) = (args.recording.as_path(), &args.lock, &args.bound);
     let (max_evaluations, workers) = (args.max_evaluations, args.workers.workers);
@@ -68,6 +79,14 @@ pub fn run(args: Args) -> Result<()> {
         .collect::<Result<Vec<_>, _>>()
         .map_err(anyhow::Error::msg)?;
     let recording = Recording::load(recording_path)?;
+    super::outputs::Outputs::new()
+        .recording(&recording)
+        .file("--json", json)
+        .dir(
+            "--report",
+            report.dir("diagnose", recording_path).as_deref(),
+        )
+        .check()?;
     println!(
         "{}: {} ({} samples, {} markers)",
         recording_path.display(),
@@ -111,6 +130,13 @@ pub fn run(args: Args) -> Result<()> {
             "resumed: {} fits taken from {} ({saved} of fitting saved)",
             c.reused(),
             c.path().display()
+        );
+    }
+    if let Some(c) = options.checkpoint.as_ref().filter(|c| c.damaged() > 0) {
+        eprintln!(
+            "warning: {}: {} saved fit(s) not as softgrip wrote them (a line edited or damaged, or values outside their bounds) were fitted again; delete the file to start afresh",
+            c.path().display(),
+            c.damaged()
         );
     }
     if let Some(e) = options.checkpoint.as_ref().and_then(|c| c.failed()) {

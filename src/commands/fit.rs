@@ -60,6 +60,12 @@ pub fn run(args: Args) -> Result<()> {
     let (json, scene_out) = (args.json.as_deref(), args.scene_out.as_deref());
     let report = &args.report;
     let recording = Recording::load(path)?;
+    super::outputs::Outputs::new()
+        .recording(&recording)
+        .file("--json", json)
+        .file("--scene-out", scene_out)
+        .dir("--report", report.dir("fit", path).as_deref())
+        .check()?;
     let params = fit::parse_params(params, &recording.scene).map_err(anyhow::Error::msg)?;
     describe(path, &recording);
     for p in &params {
@@ -165,6 +171,16 @@ fn run_many(args: Args) -> Result<()> {
         .iter()
         .map(|p| Recording::load(p).with_context(|| format!("reading {}", p.display())))
         .collect::<Result<_>>()?;
+    let mut outputs = super::outputs::Outputs::new()
+        .file("--json", args.json.as_deref())
+        .dir("--report", args.report.dir_many("fit", paths).as_deref());
+    for r in &recordings {
+        outputs = outputs.recording(r);
+    }
+    if args.scene_out.as_deref().is_some_and(|d| !d.is_file()) {
+        outputs = outputs.dir("--scene-out", args.scene_out.as_deref());
+    }
+    outputs.check()?;
     for (path, recording) in paths.iter().zip(&recordings) {
         describe(path, recording);
     }

@@ -38,6 +38,10 @@ pub fn run(args: Args) -> Result<()> {
     let scene = &load_scene(Some(&args.scene))?;
     let (hold, slip_bound) = (args.hold, args.slip_bound);
     let (boundary, json) = (args.boundary, args.json.as_deref());
+    super::outputs::Outputs::new()
+        .scene(scene)
+        .file("--json", json)
+        .check()?;
     anyhow::ensure!(
         hold.is_finite() && hold >= 0.0,
         "--hold {hold}: must be >= 0 s"

@@ -23,12 +23,22 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    let mut outputs = super::outputs::Outputs::new()
+        .file("--csv", args.csv.as_deref())
+        .file("--json", args.json.as_deref());
+    for p in &args.parts {
+        outputs = outputs.input(p);
+    }
+    outputs.check()?;
     let parts = args
         .parts
         .iter()
         .map(|p| {
-            let text = std::fs::read_to_string(p)
+            let bytes = softgrip_core::files::read_at_most(p, 1_000_000_000)
                 .with_context(|| format!("cannot read {}", p.display()))?;
+            let text = String::from_utf8(bytes).with_context(|| {
+                format!("{}: not text (a file `sweep --shard` wrote?)", p.display())
+            })?;
             let value: serde_json::Value = serde_json::from_str(&text).with_context(|| {
                 format!("{}: not JSON (a file `sweep --shard` wrote?)", p.display())
             })?;

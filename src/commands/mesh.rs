@@ -43,7 +43,59 @@ enum Action {
     },
 }
 
+/// The files a mesh path stands for: a TetGen mesh is a `.node` and an `.ele` (and a `.face`).
+fn mesh_files(path: &Path) -> Vec<PathBuf> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if ["node", "ele", "face"]
+        .iter()
+        .any(|e| ext.eq_ignore_ascii_case(e))
+    {
+        ["node", "ele", "face"]
+            .iter()
+            .map(|e| path.with_extension(e))
+            .collect()
+    } else {
+        vec![path.to_path_buf()]
+    }
+}
+
+/// Refuses an output over an input, or one that cannot be written, before any work.
+fn check_outputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> Result<()> {
+    let mut o = super::outputs::Outputs::new();
+    for i in inputs {
+        for f in mesh_files(i) {
+            o = o.input(&f);
+        }
+    }
+    for (option, path) in outputs {
+        for f in path.map(mesh_files).unwrap_or_default() {
+            // A TetGen output writes no .face.
+            if f.extension().is_some_and(|e| e == "face") {
+                continue;
+            }
+            o = o.file(option, Some(&f));
+        }
+    }
+    o.check()
+}
+
 pub fn run(args: Args) -> Result<()> {
+    match &args.action {
+        Action::Info { file, json } => check_outputs(&[file], &[("--json", json.as_deref())])?,
+        Action::Convert { input, output, .. } => {
+            check_outputs(&[input], &[("the output", Some(output))])?
+        }
+        Action::Make { scene, output, .. } => {
+            let mut inputs = vec![scene.as_path()];
+            let loaded = Scene::load(scene).ok();
+            if let Some(softgrip_core::scene::Shape::Mesh { path, .. }) =
+                loaded.as_ref().map(|s| &s.object.shape)
+            {
+                inputs.push(path);
+            }
+            check_outputs(&inputs, &[("the output", Some(output))])?
+        }
+    }
     match args.action {
         Action::Info { file, json } if io::is_surface(&file) => {
             info_surface(&file, json.as_deref())
@@ -65,7 +117,8 @@ pub fn run(args: Args) -> Result<()> {
 /// A closed surface (.stl, .obj): its figures and checks.
 fn info_surface(file: &Path, json: Option<&Path>) -> Result<()> {
     let surface = softgrip_core::mesh::surface::read(
-        &std::fs::read(file).with_context(|| format!("reading {}", file.display()))?,
+        &softgrip_core::files::read_at_most(file, io::MAX_MESH_BYTES)
+            .with_context(|| format!("reading {}", file.display()))?,
         &file.display().to_string(),
         file.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("obj")),
@@ -161,6 +214,14 @@ fn info_tets(file: &Path, json: Option<&Path>) -> Result<()> {
 }
 
 fn convert(input: &Path, output: &Path, format: Option<io::Format>) -> Result<()> {
+    if io::is_surface(input) {
+        anyhow::bail!(
+            "{}: a surface (triangles), not tetrahedra: `mesh convert` converts tetrahedral meshes. To fill it with tetrahedra, name it in a scene ([object] shape = \"mesh\", path = \"{}\", edge_length = ...) and run `softgrip mesh make SCENE {}` (TetGen: docs/meshes.md)",
+            input.display(),
+            input.display(),
+            output.display()
+        );
+    }
     let format = format_for(output, format)?;
     let imported = io::read(input)?;
     for w in &imported.warnings {

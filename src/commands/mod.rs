@@ -6,7 +6,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod args;
 mod bench;
@@ -21,6 +21,7 @@ mod load;
 mod merge;
 mod mesh;
 mod modulus;
+mod outputs;
 mod progress;
 mod prove;
 mod ramp;
@@ -73,8 +74,21 @@ enum Command {
     Bench(bench::Args),
 }
 
+/// Every option that takes a value takes a negative number too (`--loads -3`, `--offset -0.01`):
+/// clap would otherwise read `-3` as a flag and advise `-- -3`, which does not work after an
+/// option.
+fn with_negative_numbers(command: clap::Command) -> clap::Command {
+    command
+        .mut_args(|a| {
+            let takes = a.get_action().takes_values();
+            a.allow_negative_numbers(takes)
+        })
+        .mut_subcommands(with_negative_numbers)
+}
+
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let matches = with_negative_numbers(Cli::command()).get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     softgrip_core::mesh::budget::set_max_tetrahedra(cli.max_tetrahedra);
     let result = match cli.command {
         #[cfg(feature = "gui")]

@@ -23,6 +23,11 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let (path, json, report) = (args.recording.as_path(), args.json.as_deref(), &args.report);
     let recording = softgrip_lab::recording::Recording::load(path)?;
+    super::outputs::Outputs::new()
+        .recording(&recording)
+        .file("--json", json)
+        .dir("--report", report.dir("modulus", path).as_deref())
+        .check()?;
     let fit = softgrip_lab::modulus::from_recording(&recording)?;
     println!(
         "{}: {} levels; area {:.4e} m^2, initial length {:.4} m",

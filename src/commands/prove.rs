@@ -67,6 +67,10 @@ pub fn run(args: Args) -> Result<()> {
             "--truth-edge-length {h}: give an edge length in metres between 0.002 and 0.01 (the suite's is 0.002, the diagnosis's 0.004)"
         );
     }
+    super::outputs::Outputs::new()
+        .dir("--out", Some(out))
+        .file("--report", Some(report))
+        .check()?;
     let seeds = if args.seed.is_empty() {
         softgrip_lab::prove::SCORED_SEEDS.to_vec()
     } else {

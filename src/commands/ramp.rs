@@ -51,7 +51,17 @@ const CSV_HEADER: &str =
 
 pub fn run(args: Args) -> Result<()> {
     let (loads, max_seconds, rest_speed) = (&args.loads, args.max_seconds, args.rest_speed);
+    if let Some(bad) = loads.iter().find(|l| **l < 0.0) {
+        anyhow::bail!(
+            "--loads {bad}: a negative load pulls the finger away from the object, and a contact only pushes; give loads of 0 or more (their direction is the finger's `force` in the scene)"
+        );
+    }
     let scene = load_scene(args.scene.as_deref())?;
+    super::outputs::Outputs::new()
+        .scene(&scene)
+        .file("--csv", args.csv.as_deref())
+        .file("--json", args.json.as_deref())
+        .check()?;
     let mut sim = simulation(&scene)?;
     let Some(k) = sim.load_finger() else {
         anyhow::bail!(

@@ -28,7 +28,7 @@ pub struct Args {
     fps: f64,
     /// With --out: also write each frame's deformed surface
     /// (surface_NNNNN.stl or .obj).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, requires = "out")]
     surface: Option<softgrip_core::output::surface::SurfaceFormat>,
     /// Fail (exit 1) when a physical check finds the result unphysical (a finger through the
     /// object, a load not carried, spring limits not held, energy gained, elements inside
@@ -72,6 +72,11 @@ pub fn run(args: Args) -> Result<()> {
     let (scene_path, out) = (args.scene.as_deref(), args.out.as_deref());
     let (duration, fps, surface) = (args.duration, args.fps, args.surface);
     let scene = load_scene(scene_path)?;
+    super::outputs::Outputs::new()
+        .scene(&scene)
+        .dir("--out", out)
+        .file("--json", args.json.as_deref())
+        .check()?;
     let mut sim = simulation(&scene)?;
     let duration = duration.unwrap_or(scene.simulation.duration);
     let name = scene_path
@@ -117,6 +122,8 @@ pub fn run(args: Args) -> Result<()> {
     let bar = progress_bar(steps, "steps");
     let mut cg_total = 0u64;
     let mut watch = softgrip_core::watch::Watch::new();
+    // Whether each finger touched the object at any step.
+    let mut touched = vec![false; sim.state.fingers.len()];
     for i in 0..steps {
         let stepped = sim.step();
         if stepped.is_ok() {
@@ -136,6 +143,9 @@ pub fn run(args: Args) -> Result<()> {
             }
             let e = check_the_advice(&scene, e);
             return Err(e).with_context(|| format!("while running {name}"));
+        }
+        for (t, f) in touched.iter_mut().zip(&sim.state.fingers) {
+            *t |= f.max_penetration > 0.0 || f.normal_force > 0.0;
         }
         cg_total += sim.state.stats.cg_iterations as u64;
         if let Some(w) = writer.as_mut() {
@@ -159,8 +169,20 @@ pub fn run(args: Args) -> Result<()> {
         sim.wall_seconds,
         sim.state.time / sim.wall_seconds.max(1e-12)
     );
+    let mut untouched = Vec::new();
     for (k, f) in sim.state.fingers.iter().enumerate() {
         let moved = f.position - sim.model.fingers[k].initial_position;
+        if !touched[k] {
+            println!(
+                "finger {}: never touched the object; moved ({:.3}, {:.3}, {:.3}) mm",
+                k + 1,
+                moved.x * 1e3,
+                moved.y * 1e3,
+                moved.z * 1e3
+            );
+            untouched.push(k + 1);
+            continue;
+        }
         println!(
             "finger {}: indentation depth {:.3} mm, moved ({:.3}, {:.3}, {:.3}) mm, contact force ({:.4}, {:.4}, {:.4}) N (normal {:.4} N), deepest penetration {:.3} mm",
             k + 1,
@@ -187,6 +209,12 @@ pub fn run(args: Args) -> Result<()> {
             None => f.message.clone(),
         })
         .collect();
+    for k in untouched {
+        warnings.push(format!(
+            "finger {k} never touched the object in {:.3} s: no indentation or contact force to report; check its position, its path and its start_time",
+            sim.state.time
+        ));
+    }
     let inverted = sim.state.inverted_elements(&sim.model);
     if inverted > 0 {
         let remedy = if scene.model.bulk_modulus == 0.0 {

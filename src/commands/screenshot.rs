@@ -75,6 +75,10 @@ fn render(
         "--at {at}: the simulated time must be 0 or more (s)"
     );
     let scene = load_scene(scene_path)?;
+    super::outputs::Outputs::new()
+        .scene(&scene)
+        .file("--out", Some(out))
+        .check()?;
     let mut sim = simulation(&scene)?;
     let steps = (at / sim.model.dt).round() as u64;
     let bar = progress_bar(steps, "steps");

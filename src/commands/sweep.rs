@@ -52,6 +52,12 @@ pub fn run(args: Args) -> Result<()> {
     let (json, report) = (args.json.as_deref(), &args.report);
     let axes = softgrip_lab::shard::parse_axes(params)?;
     let recording = Recording::load(path)?;
+    super::outputs::Outputs::new()
+        .recording(&recording)
+        .file("--csv", csv)
+        .file("--json", json)
+        .dir("--report", report.dir("sweep", path).as_deref())
+        .check()?;
     let total = sweep::grid(&axes).len();
     println!(
         "{}: {} points of {}",
@@ -87,7 +93,7 @@ pub fn run(args: Args) -> Result<()> {
     let at = axes
         .iter()
         .zip(&best.values)
-        .map(|(a, v)| format!("{} = {v:.6}", a.param.name))
+        .map(|(a, v)| format!("{} = {}", a.param.name, super::args::number(*v)))
         .collect::<Vec<_>>()
         .join(", ");
     println!(
@@ -120,6 +126,10 @@ fn run_shard(args: &Args, shard: &str, part: &std::path::Path) -> Result<()> {
     let path = args.recording.as_path();
     let axes = shard::parse_axes(&args.params)?;
     let recording = Recording::load(path)?;
+    super::outputs::Outputs::new()
+        .recording(&recording)
+        .file("--part", Some(part))
+        .check()?;
     let total = softgrip_lab::sweep::grid(&axes).len();
     let mine = shard.indices(total).len();
     println!(

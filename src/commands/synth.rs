@@ -45,6 +45,13 @@ pub fn run(args: Args) -> Result<()> {
     use softgrip_lab::recording::{Mode, Start};
     use softgrip_lab::synth::{Synthesis, cuboid_markers, synthesize};
     let scene = &load_scene(args.scene.as_deref())?;
+    super::outputs::Outputs::new()
+        .scene(scene)
+        .dir("--out", Some(&args.out))
+        .file("--out", Some(&args.out.join("scene.toml")))
+        .file("--out", Some(&args.out.join("samples.csv")))
+        .file("--out", Some(&args.out.join("recording.toml")))
+        .check()?;
     let (loads, markers, axes) = (&args.loads, &args.markers, &args.axes);
     let (noise, seed, out) = (args.noise, args.seed, args.out.as_path());
     anyhow::ensure!(

@@ -293,6 +293,14 @@ impl Simulation {
             Err(e) => return Err(e),
         };
         *why = format!("{why}; {dynamics}");
+        // Time steps were tried: the advice is the cause, where one shows, not them again.
+        if let SimError::NoEquilibrium { advice, .. } = &mut failure {
+            *advice = loose_finger(&self.model, &self.state).unwrap_or_else(|| {
+                advice
+                    .replace(", or replay with --settle dynamic", "")
+                    .replace("; check its supports", ": check its supports and the load")
+            });
+        }
         Err(failure)
     }
 
@@ -825,6 +833,55 @@ fn contacts_made(model: &Model, state: &crate::state::State) -> bool {
             .iter()
             .any(|c| c.mode != crate::state::TableMode::Free);
     fingers && table
+}
+
+/// A force-controlled finger with a load that touches nothing, and why: its load pulls it away
+/// from the object, the object is not in its path, or it starts far from it. What to change.
+fn loose_finger(model: &Model, state: &crate::state::State) -> Option<String> {
+    for (k, (f, s)) in model.fingers.iter().zip(&state.fingers).enumerate() {
+        let load = s.applied_force.length();
+        if !f.is_force_controlled() || load == 0.0 || s.normal_force > 0.0 {
+            continue;
+        }
+        let d = s.applied_force / load;
+        // Where the scene puts it, against the undeformed object: what the scene can change.
+        let (reach, at) = (f.shape.lateral_reach(), f.initial_position);
+        // The object's nodes in the finger's path (within its reach of its line of action)...
+        let in_path: Vec<f64> = model
+            .rest_positions
+            .iter()
+            .filter(|p| (**p - at).reject_from_normalized(d).length() <= reach)
+            .map(|p| (*p - at).dot(d))
+            .collect();
+        let name = format!(
+            "finger {} carries a load of {load:.4} N but touches nothing",
+            k + 1
+        );
+        let why = if in_path.is_empty() {
+            format!(
+                "{name}: the object is not in its path (it pushes along ({:.3}, {:.3}, {:.3})); place the finger over the object",
+                d.x, d.y, d.z
+            )
+        } else if in_path.iter().all(|x| *x < 0.0) {
+            format!(
+                "{name}: its load points away from the object, and a contact only pushes; give loads of 0 or more (the direction is the finger's `force`)"
+            )
+        } else {
+            let gap = in_path
+                .iter()
+                .filter(|x| **x >= 0.0)
+                .fold(f64::INFINITY, |a, b| a.min(*b))
+                - f.shape.reach_along(d);
+            format!(
+                "{name}: the scene puts it {gap:.4} m from the object along its load; place it touching the object: position = [{:.4}, {:.4}, {:.4}]",
+                at.x + gap * d.x,
+                at.y + gap * d.y,
+                at.z + gap * d.z
+            )
+        };
+        return Some(why);
+    }
+    None
 }
 
 fn no_equilibrium(

@@ -47,7 +47,7 @@ pub enum SimError {
     },
 
     #[error(
-        "{file}: edge_length = {edge_length:e} m makes {count} tetrahedra of this {shape} (about {gib} GiB), over the limit of {limit}: set edge_length = {suggest_edge:e} or larger in [object], or raise the limit with `softgrip --max-tetrahedra N`"
+        "{file}: edge_length = {edge_length:e} m makes {count} tetrahedra of this {shape} (about {gib} GiB), over {limit}: {advice}"
     )]
     TooManyTetrahedra {
         file: String,
@@ -59,7 +59,22 @@ pub enum SimError {
         gib: String,
         /// The limit, in words.
         limit: String,
-        suggest_edge: f64,
+        /// What to do, in words: a coarser edge, or a higher limit.
+        advice: String,
+    },
+
+    #[error(
+        "{file}: the mesh spans {extent:.3e} m (at scale = {scale}), {ratio} its {against}: are its units not metres? Set scale = {suggest} in [object] (it would then span {scaled:.3e} m)"
+    )]
+    MeshUnits {
+        file: String,
+        extent: f64,
+        scale: f64,
+        /// "4000 times the size of finger 1" or "more than any lab object".
+        ratio: String,
+        against: String,
+        suggest: f64,
+        scaled: f64,
     },
 
     #[error("not supported yet: {what}")]
@@ -116,10 +131,12 @@ pub enum SimError {
     },
 
     #[error(
-        "the quasi-static solve did not come to rest within {seconds} s of simulated time ({steps} steps; max speed still {max_speed:.3e} m/s > {tolerance:.1e} m/s); raise damping_ratio, or pass a larger time budget"
+        "the quasi-static solve did not come to rest within {seconds} s of simulated time ({steps} steps; max speed still {max_speed:.3e} m/s > {tolerance:.1e} m/s); {advice}"
     )]
     NoRest {
         seconds: f64,
+        /// What to do: more time where the motion decays (with how much), else more damping.
+        advice: String,
         steps: u64,
         max_speed: f64,
         tolerance: f64,

@@ -10,7 +10,7 @@
 //! [`mesh`] -> [`scene`] -> [`model`] -> [`state`] -> [`solver`] -> [`forces`], [`contact`]
 //! -> [`step`] -> [`quasi_static`], [`equilibrium`], [`live`], [`output`], [`fields`], [`mod@bench`]
 //! -> [`sensitivity`].
-//! [`error`] and [`cancel`] are shared by all.
+//! [`error`], [`cancel`] and [`files`] are shared by all.
 
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
@@ -20,6 +20,7 @@ pub mod contact;
 pub mod equilibrium;
 pub mod error;
 pub mod fields;
+pub mod files;
 pub mod forces;
 pub mod geometry;
 pub mod live;

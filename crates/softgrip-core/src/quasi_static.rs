@@ -163,8 +163,22 @@ impl Simulation {
                     && last > HOPELESS_DECAY * before
             });
             if elapsed > tol.max_seconds || hopeless {
+                // The time the last seconds' decay needs to reach the rest speed, where it
+                // decays: advice with a budget that works, else none.
+                let rate = (before / last).ln();
+                let needed = (last / tol.speed).ln() / rate;
+                let advice = if rate.is_finite() && rate > 0.01 && needed.is_finite() {
+                    let s = (elapsed + 1.5 * needed.max(1.0)).ceil();
+                    format!(
+                        "the motion decays, by {:.0} % a second: allow each load more simulated time (`softgrip ramp` and `compare`: --max-seconds {s}), or raise [model] damping_ratio",
+                        100.0 * (1.0 - (-rate).exp())
+                    )
+                } else {
+                    "the motion is not dying out (no decay over the last second): more time will not help; raise [model] damping_ratio, or check that the object is held (supports, table friction) and the load is one it can carry".to_string()
+                };
                 return Err(SimError::NoRest {
                     seconds: if hopeless { elapsed } else { tol.max_seconds },
+                    advice,
                     steps: self.state.step - start_step,
                     max_speed: speed,
                     tolerance: tol.speed,
@@ -189,15 +203,23 @@ impl Simulation {
     }
 
     /// How far finger `k`'s leading point is past the undeformed object's
-    /// surface along its press direction (m); 0 when it is not.
+    /// surface along its press direction (m), the surface under the finger (the object's nodes
+    /// within its reach of its line of action); 0 when it is not, or when the object is not in
+    /// its path (a finger beside the block is not "25 mm deep").
     pub fn indentation(&self, k: usize) -> f64 {
         let d = self.press_direction(k);
+        let at = self.state.fingers[k].position;
+        let reach = self.model.fingers[k].shape.lateral_reach();
         let surface = self
             .model
             .rest_positions
             .iter()
+            .filter(|p| (**p - at).reject_from_normalized(d).length() <= reach)
             .map(|p| p.dot(d))
             .fold(f64::INFINITY, f64::min);
+        if !surface.is_finite() {
+            return 0.0;
+        }
         let reach = self.model.fingers[k].shape.reach_along(d);
         ((self.state.fingers[k].position.dot(d) + reach) - surface).max(0.0)
     }

@@ -196,6 +196,12 @@ impl FitOptions {
     fn design_points(&self, params: usize) -> usize {
         self.design_per_param * params
     }
+
+    /// The fewest simulations a fit of `params` parameters takes: the start, the design and
+    /// the fitted point. A smaller `max_evaluations` is refused, not silently exceeded.
+    pub fn least_evaluations(&self, params: usize) -> usize {
+        2 + self.design_points(params)
+    }
 }
 
 impl Default for FitOptions {
@@ -468,6 +474,15 @@ pub fn fit_many(
         return Err(LabError::input("a fit needs at least one recording"));
     };
     check_params(recordings, params)?;
+    let least = options.least_evaluations(params.len());
+    if options.max_evaluations < least {
+        return Err(LabError::input(format!(
+            "--max-evaluations {}: a fit of {} parameter(s) takes at least {least} simulations (the start, a space-filling design of {}, and the fitted point); give {least} or more (default 400)",
+            options.max_evaluations,
+            params.len(),
+            options.design_points(params.len())
+        )));
+    }
     let several = recordings.len() > 1;
     let scene = &first_recording.scene;
     let start: Vec<f64> = params

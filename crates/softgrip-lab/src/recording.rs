@@ -140,18 +140,76 @@ pub fn finger_marker(name: &str) -> Option<usize> {
     rest.parse::<usize>().ok()
 }
 
+/// The largest recording.toml read (bytes).
+pub const MAX_HEADER_BYTES: u64 = 10_000_000;
+/// The largest samples CSV read (bytes): a million rows of 30 markers.
+pub const MAX_SAMPLES_BYTES: u64 = 500_000_000;
+
+/// What a recording may point to: its `scene` and `samples` are relative paths (a recording is
+/// shared as a directory; `../scene.toml` may name a scene its takes share) of a `.toml` scene
+/// and a `.csv` table. An absolute path, or a file of another kind, is refused before it is
+/// opened, so that a recording from elsewhere cannot have softgrip read (and quote) any file
+/// (`docs/recordings.md`, "What a recording may name").
+fn within_reach<'a>(key: &str, rel: &'a str, extension: &str) -> Result<&'a str, String> {
+    let p = Path::new(rel);
+    if p.is_absolute() || rel.starts_with('~') {
+        return Err(format!(
+            "{key} = {rel:?}: give the path relative to this recording file (a recording is shared as a directory; absolute paths are refused)"
+        ));
+    }
+    let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !ext.eq_ignore_ascii_case(extension) {
+        return Err(format!(
+            "{key} = {rel:?}: a recording's {key} is a .{extension} file (docs/recordings.md)"
+        ));
+    }
+    Ok(rel)
+}
+
+/// A text file of the recording, read at most `max` bytes; a file of another kind (a mesh, an
+/// image) is said to be one.
+fn read_text(path: &Path, max: u64, what: &str) -> Result<String, RecordingError> {
+    use softgrip_core::files::{ReadError, kind_of, read_at_most};
+    let file = path.display().to_string();
+    let bytes = read_at_most(path, max).map_err(|e| match e {
+        ReadError::Io(source) => RecordingError::Read {
+            path: path.to_path_buf(),
+            source,
+        },
+        e @ ReadError::TooLarge { .. } => RecordingError::Header {
+            file: file.clone(),
+            message: format!("{e} ({what} is read whole, at most {} MB)", max / 1_000_000),
+        },
+    })?;
+    if let Some(kind) = kind_of(&bytes) {
+        return Err(RecordingError::Header {
+            file,
+            message: format!("this is {kind}, not {what} (docs/recordings.md)"),
+        });
+    }
+    let text = String::from_utf8(bytes).map_err(|e| RecordingError::Header {
+        file: file.clone(),
+        message: format!(
+            "not UTF-8 text (byte {}): {what} is a text file; save it as UTF-8",
+            e.utf8_error().valid_up_to()
+        ),
+    })?;
+    // A byte-order mark (spreadsheets write one) is not part of the first column's name.
+    Ok(text
+        .strip_prefix('\u{feff}')
+        .map(str::to_string)
+        .unwrap_or(text))
+}
+
 impl Recording {
     /// Reads the header, its scene and its samples.
     pub fn load(path: &Path) -> Result<Recording, RecordingError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| RecordingError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
         let header = |message: String| RecordingError::Header {
             file: file.clone(),
             message,
         };
+        let text = read_text(path, MAX_HEADER_BYTES, "a recording.toml")?;
         let table = text.parse::<toml::Table>().ok();
         if table.is_some_and(|t| t.contains_key("object") && !t.contains_key("samples")) {
             return Err(header(
@@ -223,14 +281,10 @@ impl Recording {
                 reference: DVec3::new(p[0], p[1], p[2]),
             });
         }
-        let scene_path = dir.join(&scene_rel);
+        let scene_path = dir.join(within_reach("scene", &scene_rel, "toml").map_err(header)?);
         let scene = Scene::load(&scene_path)?;
-        let samples_path = dir.join(&samples_rel);
-        let csv =
-            std::fs::read_to_string(&samples_path).map_err(|source| RecordingError::Read {
-                path: samples_path.clone(),
-                source,
-            })?;
+        let samples_path = dir.join(within_reach("samples", &samples_rel, "csv").map_err(header)?);
+        let csv = read_text(&samples_path, MAX_SAMPLES_BYTES, "a samples CSV")?;
         let samples = parse_samples(
             &csv,
             &samples_path.display().to_string(),
@@ -315,7 +369,8 @@ pub fn parse_samples(
             [] => Err(err(
                 header_line,
                 format!(
-                    "no `{name}` column in the header {header:?}; required: time,load,marker,x,y,z"
+                    "no `{name}` column in the header {:?}; required: time,load,marker,x,y,z",
+                    softgrip_core::files::quote(header, 60)
                 ),
             )),
             _ => Err(err(

@@ -138,7 +138,8 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
         })
         .unwrap_or_default();
     let axes = parse_axes(&specs)?;
-    let total = grid(&axes).len();
+    let grid_values = grid(&axes);
+    let total = grid_values.len();
     let mut slots: Vec<Option<SweepPoint>> = vec![None; total];
     for (name, part) in parts {
         let bad = |why: String| LabError::input(format!("{name}: {why}"));
@@ -160,8 +161,30 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
                     "point {index} is in two shards: merge each shard once"
                 )));
             }
-            slots[index] =
-                Some(point(row).ok_or_else(|| bad(format!("point {index} is malformed")))?);
+            let p = point(row).ok_or_else(|| bad(format!("point {index} is malformed")))?;
+            // What `sweep --shard` writes, and nothing else: its grid point's values, errors
+            // that are errors (a changed file is refused, not merged into a best point).
+            if p.values != grid_values[index] {
+                return Err(bad(format!(
+                    "point {index} has values {:?}, not the grid's {:?}: the file was changed since `sweep --shard` wrote it",
+                    p.values, grid_values[index]
+                )));
+            }
+            if let Ok(e) = &p.result {
+                for (name, v) in [
+                    ("nrmse", e.nrmse),
+                    ("rmse_m", e.rmse_m),
+                    ("nrmse_all", e.nrmse_all),
+                    ("rmse_all_m", e.rmse_all_m),
+                ] {
+                    if !(v.is_finite() && v >= 0.0) {
+                        return Err(bad(format!(
+                            "point {index}: {name} = {v} is not an error (finite, 0 or more): the file was changed since `sweep --shard` wrote it"
+                        )));
+                    }
+                }
+            }
+            slots[index] = Some(p);
         }
     }
     let missing: Vec<usize> = (0..total).filter(|&i| slots[i].is_none()).collect();
@@ -224,7 +247,7 @@ mod tests {
         let part = |i: usize| {
             json!({"softgrip_sweep_part": PART_VERSION, "recording": "r.toml",
                    "params": ["young_modulus=1e4:2e4:3"], "grid": 3,
-                   "points": [{"index": i, "values": [1e4], "error": "failed"}]})
+                   "points": [{"index": i, "values": [1e4 + 5e3 * i as f64], "error": "failed"}]})
         };
         let e = merge(&[("a".into(), part(0)), ("b".into(), part(2))]).expect_err("gap");
         assert!(
@@ -233,6 +256,28 @@ mod tests {
         );
         let e = merge(&[("a".into(), part(0)), ("b".into(), part(0))]).expect_err("twice");
         assert!(e.to_string().contains("point 0 is in two shards"), "{e}");
+    }
+
+    /// A shard edited after `sweep --shard` wrote it (a negative NRMSE, a value off its grid
+    /// point) is refused, not merged into a best point.
+    #[test]
+    fn a_changed_shard_is_refused() {
+        let part = |values: f64, nrmse: f64| {
+            json!({"softgrip_sweep_part": PART_VERSION, "recording": "r.toml",
+                   "params": ["young_modulus=1e4:2e4:2"], "grid": 2,
+                   "points": [{"index": 0, "values": [1e4], "nrmse": 0.1, "rmse_m": 1e-4,
+                               "nrmse_all": 0.1, "rmse_all_m": 1e-4, "observations": 10},
+                              {"index": 1, "values": [values], "nrmse": nrmse, "rmse_m": 1e-4,
+                               "nrmse_all": 0.1, "rmse_all_m": 1e-4, "observations": 10}]})
+        };
+        assert!(merge(&[("a".into(), part(2e4, 0.05))]).is_ok());
+        let e = merge(&[("a".into(), part(2e4, -0.5))]).expect_err("negative NRMSE");
+        assert!(
+            e.to_string().contains("nrmse = -0.5 is not an error"),
+            "{e}"
+        );
+        let e = merge(&[("a".into(), part(1.5e4, 0.05))]).expect_err("off the grid");
+        assert!(e.to_string().contains("not the grid's [20000.0]"), "{e}");
     }
 
     /// A point's figures survive the file exactly, an error by its message.

@@ -26,6 +26,14 @@ pub const DUPLICATE_TOLERANCE: f64 = 1e-9;
 /// A tetrahedron with less volume than this fraction of the mean is flat.
 pub const DEGENERATE_FRACTION: f64 = 1e-12;
 
+/// A tetrahedron of shape quality (`TetMesh::tet_quality`) below this is flat: an error (a
+/// dihedral angle of about 0.01 degrees).
+pub const FLAT_QUALITY: f64 = 1e-4;
+
+/// ... and below this a sliver: a warning (a dihedral angle of about 1 degree; Gmsh's and
+/// TetGen's meshes stay above 0.05).
+pub const SLIVER_QUALITY: f64 = 0.01;
+
 /// Makes `mesh` fit for a model, or says why it cannot be.
 pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
     if mesh.tets.is_empty() {
@@ -128,6 +136,45 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         }
     }
 
+    // Slivers: flat ones are an error, thin ones a warning, each named.
+    let mut slivers = 0;
+    let mut worst: Option<(usize, f64)> = None;
+    for t in 0..mesh.tets.len() {
+        let q = mesh.tet_quality(t);
+        if q < SLIVER_QUALITY {
+            slivers += 1;
+            if worst.is_none_or(|(_, w)| q < w) {
+                worst = Some((t, q));
+            }
+        }
+    }
+    if let Some((t, q)) = worst {
+        let c = mesh.tet_positions(t).iter().sum::<DVec3>() / 4.0;
+        if q < FLAT_QUALITY {
+            return Err(MeshError::Flat {
+                tet: t,
+                quality: q,
+                x: c.x,
+                y: c.y,
+                z: c.z,
+            });
+        }
+        report.warnings.push(format!(
+            "{slivers} sliver tetrahedra (shape quality below {SLIVER_QUALITY}; the worst, tetrahedron {t}, {q:.1e} near ({:.4}, {:.4}, {:.4})): they make the step stiff and the contact rough; remesh (Gmsh: Mesh > Optimize 3D)",
+            c.x, c.y, c.z
+        ));
+    }
+    if let Some((count, node)) = non_manifold_nodes(mesh) {
+        let p = mesh.nodes[node];
+        return Err(MeshError::NonManifold {
+            count,
+            node,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
+    }
+
     report.parts = parts(mesh);
     if report.reordered > 0 {
         report.warnings.push(format!(
@@ -154,6 +201,58 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         ));
     }
     Ok(report)
+}
+
+/// Nodes around which the tetrahedra do not form one piece through their shared faces (two
+/// tetrahedra meeting only at a node or an edge): how many, and the first.
+pub fn non_manifold_nodes(mesh: &TetMesh) -> Option<(usize, usize)> {
+    // A union-find over (tetrahedron, corner) incidences: two tetrahedra sharing a face join
+    // their corners at its three nodes.
+    let n = 4 * mesh.tets.len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            let up = parent[parent[i as usize] as usize];
+            parent[i as usize] = up;
+            i = up;
+        }
+        i
+    }
+    let mut faces: HashMap<[u32; 3], (u32, [u8; 3])> = HashMap::with_capacity(2 * n);
+    for (t, tet) in mesh.tets.iter().enumerate() {
+        for skip in 0..4u8 {
+            let mut corners: Vec<u8> = (0..4u8).filter(|&c| c != skip).collect();
+            corners.sort_by_key(|&c| tet[c as usize]);
+            let key = [0, 1, 2].map(|k| tet[corners[k] as usize]);
+            let mine = [corners[0], corners[1], corners[2]];
+            match faces.remove(&key) {
+                Some((other, theirs)) => {
+                    for k in 0..3 {
+                        let a = root(&mut parent, 4 * t as u32 + mine[k] as u32);
+                        let b = root(&mut parent, 4 * other + theirs[k] as u32);
+                        parent[a as usize] = b;
+                    }
+                }
+                None => {
+                    faces.insert(key, (t as u32, mine));
+                }
+            }
+        }
+    }
+    let mut first_root = vec![u32::MAX; mesh.nodes.len()];
+    let mut bad = vec![false; mesh.nodes.len()];
+    for (t, tet) in mesh.tets.iter().enumerate() {
+        for (c, &node) in tet.iter().enumerate() {
+            let r = root(&mut parent, 4 * t as u32 + c as u32);
+            match first_root[node as usize] {
+                u32::MAX => first_root[node as usize] = r,
+                f if f != r => bad[node as usize] = true,
+                _ => {}
+            }
+        }
+    }
+    let count = bad.iter().filter(|b| **b).count();
+    bad.iter().position(|b| *b).map(|first| (count, first))
 }
 
 /// Connected parts of the node graph of the tetrahedra (union-find).
@@ -262,6 +361,72 @@ mod tests {
         assert!(
             (aspect - 2.0 / (2.0 * (2.0f64 / 3.0).sqrt())).abs() < 1e-9,
             "{aspect}"
+        );
+    }
+
+    /// Two unit tetrahedra, of `second`'s nodes.
+    fn two(second: [DVec3; 4]) -> TetMesh {
+        let mut nodes = vec![
+            DVec3::ZERO,
+            DVec3::X * 0.01,
+            DVec3::Y * 0.01,
+            DVec3::Z * 0.01,
+        ];
+        nodes.extend(second);
+        TetMesh {
+            nodes,
+            tets: vec![[0, 1, 2, 3], [4, 5, 6, 7]],
+        }
+    }
+
+    #[test]
+    fn tetrahedra_meeting_only_at_a_node_are_not_a_manifold() {
+        // The second's first node on the first's apex: merged into one node by the checks.
+        let apex = DVec3::Z * 0.01;
+        let mut mesh = two([
+            apex,
+            apex + DVec3::X * 0.01,
+            apex + DVec3::Y * 0.01,
+            apex + DVec3::Z * 0.01,
+        ]);
+        let e = checks::repair(&mut mesh)
+            .expect_err("a hinge at a node")
+            .to_string();
+        assert!(e.contains("not a manifold") && e.contains("1 node"), "{e}");
+        // Sharing a face instead, they are one piece.
+        let mut mesh = TetMesh {
+            nodes: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z, DVec3::ONE],
+            tets: vec![[0, 1, 2, 3], [1, 2, 3, 4]],
+        };
+        assert!(checks::repair(&mut mesh).is_ok());
+    }
+
+    #[test]
+    fn a_flat_tetrahedron_is_an_error_and_a_thin_one_a_warning_each_named() {
+        let far = DVec3::new(0.05, 0.0, 0.0);
+        // 1e-12 m thick: flat.
+        let mut flat = two([
+            far,
+            far + DVec3::X * 0.01,
+            far + DVec3::Y * 0.01,
+            far + DVec3::new(0.005, 0.005, 1e-12),
+        ]);
+        let e = checks::repair(&mut flat).expect_err("flat").to_string();
+        assert!(e.contains("tetrahedron 1 is flat"), "{e}");
+        // 0.05 mm thick over 10 mm: quality about 0.005, a sliver.
+        let mut thin = two([
+            far,
+            far + DVec3::X * 0.01,
+            far + DVec3::Y * 0.01,
+            far + DVec3::new(0.004, 0.004, 5e-5),
+        ]);
+        let r = checks::repair(&mut thin).expect("a sliver is kept");
+        assert!(
+            r.warnings
+                .iter()
+                .any(|w| w.contains("1 sliver") && w.contains("tetrahedron 1")),
+            "{:?}",
+            r.warnings
         );
     }
 }

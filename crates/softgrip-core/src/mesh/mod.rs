@@ -57,6 +57,26 @@ pub enum MeshError {
         y: f64,
         z: f64,
     },
+    #[error(
+        "tetrahedron {tet} is flat (shape quality {quality:.1e}, 1 for a regular one; near ({x:.4}, {y:.4}, {z:.4})): no step can integrate a sliver so thin; remesh (Gmsh: Mesh > Optimize 3D) or remove it"
+    )]
+    Flat {
+        tet: usize,
+        quality: f64,
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+    #[error(
+        "the mesh is not a manifold: {count} node(s) where tetrahedra meet only at a point or an edge, e.g. node {node} at ({x:.4}, {y:.4}, {z:.4}); parts joined so hinge there: join them by shared faces or separate them"
+    )]
+    NonManifold {
+        count: usize,
+        node: usize,
+        x: f64,
+        y: f64,
+        z: f64,
+    },
 }
 
 /// The six edges of a tetrahedron as local node pairs.
@@ -199,6 +219,18 @@ impl TetMesh {
         edges.sort_unstable();
         edges.dedup();
         edges
+    }
+
+    /// Shape quality of tetrahedron `t`: `6 sqrt(2) V / l_rms^3`, 1 for a regular one, 0 for a
+    /// flat one.
+    pub fn tet_quality(&self, t: usize) -> f64 {
+        let p = self.tet_positions(t);
+        let sum_sq: f64 = TET_EDGES
+            .iter()
+            .map(|[a, b]| p[*a].distance_squared(p[*b]))
+            .sum();
+        let l_rms = (sum_sq / 6.0).sqrt();
+        6.0 * std::f64::consts::SQRT_2 * self.tet_volume(t).abs() / l_rms.powi(3)
     }
 
     pub fn stats(&self) -> MeshStats {

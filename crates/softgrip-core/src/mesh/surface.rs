@@ -362,17 +362,32 @@ fn first_crossing(s: &Surface) -> Option<(usize, usize, DVec3)> {
             (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
         })
         .collect();
+    // A triangle over many cells (a cube's face beside fine detail) is tested against every
+    // other whose box meets its own, outside the grid.
+    let mut large = Vec::new();
     for (k, (lo, hi)) in boxes.iter().enumerate() {
         let a = (*lo / cell).floor().as_i64vec3();
         let b = (*hi / cell).floor().as_i64vec3();
         if (b - a).max_element() > 64 {
-            continue; // a huge triangle: skip the broad phase's cost
+            large.push(k);
+            continue;
         }
         for x in a.x..=b.x {
             for y in a.y..=b.y {
                 for z in a.z..=b.z {
                     grid.entry([x, y, z]).or_default().push(k as u32);
                 }
+            }
+        }
+    }
+    for &i in &large {
+        for j in 0..s.triangles.len() {
+            let (bi, bj) = (boxes[i], boxes[j]);
+            if i == j || bi.0.cmpgt(bj.1).any() || bj.0.cmpgt(bi.1).any() {
+                continue;
+            }
+            if let Some(at) = crossing(s, i.min(j), i.max(j)) {
+                return Some((i.min(j), i.max(j), at));
             }
         }
     }
@@ -422,7 +437,9 @@ fn crossing(s: &Surface, i: usize, j: usize) -> Option<DVec3> {
     None
 }
 
-/// Where segment `a b` passes strictly through triangle `t`.
+/// Where segment `a b` meets triangle `t`, its edges included (to a relative 1e-9): a segment
+/// through the diagonal two triangles share hits both on their boundary, and a strict test
+/// missed it (two overlapping cubes passed as not self-intersecting).
 fn segment_hits(a: DVec3, b: DVec3, t: [DVec3; 3]) -> Option<DVec3> {
     let d = b - a;
     let e1 = t[1] - t[0];
@@ -439,5 +456,5 @@ fn segment_hits(a: DVec3, b: DVec3, t: [DVec3; 3]) -> Option<DVec3> {
     let v = d.dot(q) / det;
     let w = e2.dot(q) / det;
     let eps = 1e-9;
-    (u > eps && v > eps && u + v < 1.0 - eps && w > eps && w < 1.0 - eps).then(|| a + w * d)
+    (u >= -eps && v >= -eps && u + v <= 1.0 + eps && w >= -eps && w <= 1.0 + eps).then(|| a + w * d)
 }

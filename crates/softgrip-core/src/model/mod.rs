@@ -301,6 +301,17 @@ impl Model {
             _ if count < 1e15 => thousands(count as u64),
             _ => format!("{count:.2e}"),
         };
+        let advice = match r.edge {
+            Some(e) if r.by_memory => format!("set edge_length = {e:e} or larger in [object]"),
+            Some(e) => format!(
+                "set edge_length = {e:e} or larger in [object], or raise the limit with `softgrip --max-tetrahedra N`"
+            ),
+            None => format!(
+                "the coarsest mesh of this {shape} has {} tetrahedra: raise the limit to at least that with `softgrip --max-tetrahedra {}`",
+                thousands(r.coarsest as u64),
+                r.coarsest.ceil() as u64
+            ),
+        };
         Err(SimError::TooManyTetrahedra {
             file: scene
                 .source
@@ -314,8 +325,16 @@ impl Model {
                 g if g < 1e15 => thousands(g.round() as u64),
                 g => format!("{g:.1e}"),
             },
-            limit: thousands(r.limit),
-            suggest_edge: r.edge,
+            limit: if r.by_memory {
+                format!(
+                    "the {} tetrahedra this machine's {:.1} GiB of memory holds",
+                    thousands(r.limit),
+                    r.memory_gib.unwrap_or(0.0)
+                )
+            } else {
+                format!("the limit of {}", thousands(r.limit))
+            },
+            advice,
         })
     }
 
@@ -326,7 +345,73 @@ impl Model {
 
     /// The mesh of `scene` and what loading it changed or noticed (a mesh
     /// file's skipped cells, reordered tetrahedra, merged nodes...).
+    /// Refuses a mesh whose size at its `scale` is thousands of times its fingers' (or, without
+    /// fingers, outside 0.1 mm .. 100 m): a file in millimetres read as metres, or the reverse.
+    /// Suggests the scale (a power of ten, or inches) that brings it to its fingers' size.
+    fn check_units(scene: &Scene, extent_at_scale: f64) -> Result<(), SimError> {
+        let Shape::Mesh { path, scale, .. } = &scene.object.shape else {
+            return Ok(());
+        };
+        let finger = scene
+            .fingers
+            .iter()
+            .enumerate()
+            .map(|(k, f)| (k, f.shape.size()))
+            .filter(|(_, size)| *size > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let (target, too_far, against) = match finger {
+            Some((k, size)) => {
+                let r = extent_at_scale / size;
+                (
+                    3.0 * size,
+                    !(1.0 / 500.0..=500.0).contains(&r),
+                    format!("finger {}'s size ({size:.3e} m)", k + 1),
+                )
+            }
+            None => (
+                0.05,
+                !(1e-4..=100.0).contains(&extent_at_scale),
+                "plausible size (0.1 mm to 100 m)".to_string(),
+            ),
+        };
+        if !too_far || extent_at_scale.is_nan() || extent_at_scale <= 0.0 {
+            return Ok(());
+        }
+        // The unit that brings it nearest the target, as a factor on the present scale.
+        let suggest = [1e-3, 1e-2, 0.0254, 1e3, 1e2, 1.0 / 0.0254]
+            .iter()
+            .map(|f| scale * f)
+            .min_by(|a, b| {
+                let d = |s: f64| (extent_at_scale / scale * s / target).ln().abs();
+                d(*a).total_cmp(&d(*b))
+            })
+            .unwrap_or(*scale);
+        let ratio = match finger {
+            Some((_, size)) if extent_at_scale > size => {
+                format!("{:.0} times", extent_at_scale / size)
+            }
+            Some((_, size)) => format!("1/{:.0} of", size / extent_at_scale),
+            None => "outside the".to_string(),
+        };
+        Err(SimError::MeshUnits {
+            file: path.display().to_string(),
+            extent: extent_at_scale,
+            scale: *scale,
+            ratio,
+            against,
+            suggest,
+            scaled: extent_at_scale / scale * suggest,
+        })
+    }
+
     pub fn load_mesh(scene: &Scene) -> Result<(TetMesh, Vec<String>), SimError> {
+        if let Shape::Mesh { path, scale, .. } = &scene.object.shape
+            && crate::mesh::io::is_surface(path)
+        {
+            let s = crate::mesh::io::read_surface(path)?;
+            let (lo, hi) = crate::mesh::bounds_of(&s.vertices);
+            Model::check_units(scene, (hi - lo).max_element() * scale)?;
+        }
         Model::check_budget(scene)?;
         Ok(match &scene.object.shape {
             Shape::Cuboid { size } => (TetMesh::cuboid(*size, scene.object.edge_length), vec![]),
@@ -372,6 +457,8 @@ impl Model {
                     })?;
                 warnings.extend(report.warnings);
                 mesh.place(*scale, *position);
+                let (lo, hi) = mesh.bounds();
+                Model::check_units(scene, (hi - lo).max_element())?;
                 (
                     mesh,
                     warnings

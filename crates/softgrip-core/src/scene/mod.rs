@@ -270,6 +270,25 @@ impl FingerShape {
         self.reach_along(DVec3::NEG_Z)
     }
 
+    /// How far the finger reaches sideways from its line of action (m): the sphere's radius,
+    /// the half diagonal of a plate or of a box's face (what lies under it when it presses).
+    pub fn lateral_reach(&self) -> f64 {
+        match *self {
+            FingerShape::Sphere { radius } => radius,
+            FingerShape::Plate { half_size } => half_size[0].hypot(half_size[1]),
+            FingerShape::Box { half_size } => half_size[0].hypot(half_size[1]),
+        }
+    }
+
+    /// Its largest extent (m): a sphere's diameter, a plate's or box's longest side.
+    pub fn size(&self) -> f64 {
+        match *self {
+            FingerShape::Sphere { radius } => 2.0 * radius,
+            FingerShape::Plate { half_size } => 2.0 * half_size[0].max(half_size[1]),
+            FingerShape::Box { half_size } => 2.0 * half_size.iter().fold(0.0f64, |a, b| a.max(*b)),
+        }
+    }
+
     /// How far the finger's surface lies from its centre along the unit
     /// direction `d` (m): the radius, 0 for a plate, the box's support
     /// distance `sum |d_i| h_i` (its half height for -z).

@@ -2,7 +2,20 @@
 //! (`deny_unknown_fields`), so a typo is an error that names the key. The field order is the one
 //! serde's unknown-key message lists. `to_toml` serializes these same structs.
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize};
+
+/// A point or vector, `[x, y, z]`: exactly three numbers (serde's own `[f64; 3]` reads the first
+/// three of a longer list and drops the rest without a word).
+fn three<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 3], D::Error> {
+    let v = Vec::<f64>::deserialize(d)?;
+    <[f64; 3]>::try_from(v.as_slice())
+        .map_err(|_| serde::de::Error::invalid_length(v.len(), &"three numbers, [x, y, z]"))
+}
+
+/// [`three`], for a key that may be left out.
+fn maybe_three<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    three(d).map(Some)
+}
 
 #[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -28,6 +41,7 @@ pub(super) struct RawScene {
 pub(super) struct RawSimulation {
     pub(super) dt: Option<f64>,
     pub(super) duration: Option<f64>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) gravity: Option<[f64; 3]>,
     pub(super) cg_tolerance: Option<f64>,
     pub(super) cg_max_iterations: Option<i64>,
@@ -38,11 +52,13 @@ pub(super) struct RawSimulation {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawObject {
     pub(super) shape: Option<String>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) size: Option<[f64; 3]>,
     pub(super) radius: Option<f64>,
     pub(super) height: Option<f64>,
     pub(super) path: Option<String>,
     pub(super) scale: Option<f64>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) position: Option<[f64; 3]>,
     pub(super) edge_length: Option<f64>,
     pub(super) density: Option<f64>,
@@ -84,16 +100,21 @@ pub(super) struct RawSupport {
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawBox {
+    #[serde(deserialize_with = "three")]
     pub(super) min: [f64; 3],
+    #[serde(deserialize_with = "three")]
     pub(super) max: [f64; 3],
 }
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawLoad {
+    #[serde(deserialize_with = "three")]
     pub(super) min: [f64; 3],
+    #[serde(deserialize_with = "three")]
     pub(super) max: [f64; 3],
     pub(super) mass: Option<f64>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) force: Option<[f64; 3]>,
 }
 
@@ -106,10 +127,13 @@ pub(super) struct RawFinger {
     pub(super) size: Option<Vec<f64>>,
     /// `[[finger.part]]`: more rigid shapes moving with the finger.
     pub(super) part: Option<Vec<RawPart>>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) position: Option<[f64; 3]>,
     pub(super) free_axes: Option<String>,
     pub(super) control: Option<String>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) force: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) velocity: Option<[f64; 3]>,
     pub(super) mass: Option<f64>,
     pub(super) young_modulus: Option<f64>,
@@ -130,7 +154,9 @@ pub(super) struct RawFinger {
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawRegion {
+    #[serde(deserialize_with = "three")]
     pub(super) min: [f64; 3],
+    #[serde(deserialize_with = "three")]
     pub(super) max: [f64; 3],
     pub(super) young_modulus: Option<f64>,
     pub(super) density: Option<f64>,
@@ -142,5 +168,6 @@ pub(super) struct RawPart {
     pub(super) shape: Option<String>,
     pub(super) radius: Option<f64>,
     pub(super) size: Option<Vec<f64>>,
+    #[serde(default, deserialize_with = "maybe_three")]
     pub(super) offset: Option<[f64; 3]>,
 }

@@ -26,19 +26,31 @@ impl Scene {
             path: path.to_path_buf(),
             source,
         };
-        // A scene is a few KB of TOML: a huge file is the wrong file, not one to read whole.
-        let size = std::fs::metadata(path).map_err(read_err)?.len();
-        if size > MAX_SCENE_BYTES {
+        // A scene is a few KB of TOML: a huge file is the wrong file, not one to read whole; the
+        // bytes read bound it, not the size it reports (`/dev/zero` reports none).
+        let bytes = crate::files::read_at_most(path, MAX_SCENE_BYTES).map_err(|e| match e {
+            crate::files::ReadError::Io(source) => read_err(source),
+            crate::files::ReadError::TooLarge { .. } => SceneError::Invalid {
+                file: file.clone(),
+                message: format!(
+                    "more than {} MB: a scene is a few KB of TOML; is this the right file?",
+                    MAX_SCENE_BYTES / 1_000_000
+                ),
+            },
+        })?;
+        if let Some(kind) = crate::files::kind_of(&bytes) {
             return Err(SceneError::Invalid {
                 file,
                 message: format!(
-                    "{:.1} MB: a scene is a few KB of TOML (at most {} MB); is this the right file?",
-                    size as f64 / 1e6,
-                    MAX_SCENE_BYTES / 1_000_000
+                    "this is {kind}, not a scene: a scene is TOML (`softgrip scene` prints one to start from){}",
+                    if kind.contains("mesh") || kind.contains("surface") {
+                        "; a mesh is named in a scene's [object] as shape = \"mesh\", path = \"...\" (docs/meshes.md)"
+                    } else {
+                        ""
+                    }
                 ),
             });
         }
-        let bytes = std::fs::read(path).map_err(read_err)?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
             let line = e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() + 1;

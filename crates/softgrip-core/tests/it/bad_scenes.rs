@@ -53,7 +53,7 @@ fn unknown_table() {
 fn negative_modulus() {
     expect(
         &format!("{BASE}young_modulus = -5.0\n"),
-        &["young_modulus", "-5", "> 0 Pa", ":6"],
+        &["young_modulus", "-5", "from 1 Pa to 1e12 Pa", ":6"],
     );
 }
 

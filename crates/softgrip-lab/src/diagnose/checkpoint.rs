@@ -1,8 +1,9 @@
 //! Fits saved as they end, so that a diagnosis stopped midway (Ctrl-C, a cluster's preemption,
 //! a closed laptop: a beam's takes hours) resumes where it was instead of from the start.
 //!
-//! Each line of the file is one fit: a key, its simulations, its seconds and its fitted values
-//! (their bits, so exactly). The key hashes what the fit depends on: the build, the recording, the options
+//! Each line of the file is one fit: a key, its simulations, its seconds, its fitted values
+//! (their bits, so exactly) and a checksum of the line, so that a line edited or damaged is
+//! told from one softgrip wrote, and fitted again (with a word saying so). The key hashes what the fit depends on: the build, the recording, the options
 //! and the fit's own task (its scene, parameters, search, budget, starts and the values of the
 //! model it extends). A fit is taken from the file only when its key is there, so a changed
 //! recording, option or binary fits again; a line cut short by a kill is skipped. A saved fit is
@@ -20,7 +21,10 @@ use std::sync::{Arc, Mutex};
 use crate::error::LabError;
 
 /// The first word of every line: a file of another layout is not read as this one.
-const VERSION: &str = "fit2";
+const VERSION: &str = "fit3";
+
+/// The most a checkpoint file is read (bytes): a diagnosis saves tens of lines of 100 bytes.
+const MAX_BYTES: u64 = 100_000_000;
 
 /// A fit as saved: its simulations, its wall time and its values.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,6 +44,9 @@ pub struct Checkpoint {
     reused: Arc<Mutex<(usize, f64)>>,
     /// The first save that failed (a full disk): the diagnosis goes on, its fits unsaved.
     failed: Arc<Mutex<Option<String>>>,
+    /// Lines that are not as softgrip wrote them (their checksum differs, or they are not
+    /// text), and saved fits found outside their parameters' bounds: fitted again.
+    damaged: Arc<Mutex<usize>>,
 }
 
 impl Debug for Checkpoint {
@@ -71,20 +78,50 @@ impl Checkpoint {
             std::fs::create_dir_all(dir).map_err(unusable)?;
         }
         append(path).map_err(unusable)?;
-        let text = std::fs::read_to_string(path).map_err(unusable)?;
-        let saved = text.lines().filter_map(parse).collect();
+        let bytes = softgrip_core::files::read_at_most(path, MAX_BYTES).map_err(|e| {
+            LabError::Input(format!(
+                "{}: {e} (where the diagnosis saves its fits: delete it to start afresh)",
+                path.display()
+            ))
+        })?;
+        let mut damaged = 0;
+        let mut saved = HashMap::new();
+        // Line by line: bytes that are not text damage their line, not the file.
+        for line in bytes.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+            match std::str::from_utf8(line).map(parse) {
+                Ok(Line::Fit(key, fit)) => {
+                    saved.insert(key, fit);
+                }
+                Ok(Line::Other) => {}
+                Ok(Line::Damaged) | Err(_) => damaged += 1,
+            }
+        }
         Ok(Checkpoint {
             path: path.to_path_buf(),
             build: build.to_string(),
             saved: Arc::new(Mutex::new(saved)),
             reused: Arc::default(),
             failed: Arc::default(),
+            damaged: Arc::new(Mutex::new(damaged)),
         })
     }
 
     /// Why a fit could not be saved, if one could not (the first such).
     pub fn failed(&self) -> Option<String> {
         self.failed.lock().ok()?.clone()
+    }
+
+    /// Lines of the file not as softgrip wrote them, and saved fits outside their bounds: each
+    /// fitted again rather than trusted.
+    pub fn damaged(&self) -> usize {
+        self.damaged.lock().map_or(0, |d| *d)
+    }
+
+    /// Counts a saved fit refused on use (its values outside their parameters' bounds).
+    pub(super) fn refused(&self) {
+        if let Ok(mut d) = self.damaged.lock() {
+            *d += 1;
+        }
     }
 
     /// The file.
@@ -195,35 +232,68 @@ fn format_line(key: u64, fit: &Saved) -> String {
     for v in &fit.values {
         line.push_str(&format!(" {:016x}", v.to_bits()));
     }
-    line.push('\n');
+    line.push_str(&format!(" {:016x}\n", checksum(&line)));
     line
 }
 
-/// A line of the file, or `None` for one of another layout or cut short mid-word (one cut
-/// between words is caught on use: its values are fewer than the fit's parameters).
-fn parse(line: &str) -> Option<(u64, Saved)> {
-    let mut words = line.split_ascii_whitespace();
-    if words.next()? != VERSION {
-        return None;
+/// FNV-1a over a line's text before its checksum: the same on every build and platform.
+fn checksum(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// A line of the file.
+#[derive(Debug, PartialEq)]
+enum Line {
+    Fit(u64, Saved),
+    /// Of another layout (an older softgrip's): not read, not damaged.
+    Other,
+    /// This layout, but not as it was written: cut short by a kill, edited, or damaged.
+    Damaged,
+}
+
+fn parse(line: &str) -> Line {
+    let line = line.trim_end_matches('\r');
+    match line.split_ascii_whitespace().next() {
+        Some(VERSION) => {}
+        // An older softgrip's layout.
+        Some(w)
+            if w.strip_prefix("fit")
+                .is_some_and(|n| n.parse::<u32>().is_ok()) =>
+        {
+            return Line::Other;
+        }
+        _ => return Line::Damaged,
     }
-    let key = u64::from_str_radix(words.next()?, 16).ok()?;
-    let evaluations = words.next()?.parse().ok()?;
+    let Some((body, sum)) = line.rsplit_once(' ') else {
+        return Line::Damaged;
+    };
+    if u64::from_str_radix(sum, 16).ok() != Some(checksum(body)) || sum.len() != 16 {
+        return Line::Damaged;
+    }
+    let mut words = body.split_ascii_whitespace().skip(1);
     let number = |w: &str| {
         (w.len() == 16)
             .then(|| u64::from_str_radix(w, 16).ok())
             .flatten()
             .map(f64::from_bits)
     };
-    let seconds = number(words.next()?)?;
-    let values = words.map(number).collect::<Option<Vec<f64>>>()?;
-    Some((
-        key,
-        Saved {
-            evaluations,
-            seconds,
-            values,
-        },
-    ))
+    let fit = (|| {
+        let key = u64::from_str_radix(words.next()?, 16).ok()?;
+        let evaluations = words.next()?.parse().ok()?;
+        let seconds = number(words.next()?)?;
+        let values = words.map(number).collect::<Option<Vec<f64>>>()?;
+        Some((
+            key,
+            Saved {
+                evaluations,
+                seconds,
+                values,
+            },
+        ))
+    })();
+    fit.map_or(Line::Damaged, |(k, f)| Line::Fit(k, f))
 }
 
 #[cfg(test)]
@@ -258,12 +328,13 @@ mod tests {
             .append(true)
             .open(&path)
             .expect("append");
-        f.write_all(b"fit2 00000000000000ab 3 3ff00000000")
+        f.write_all(b"fit3 00000000000000ab 3 3ff00000000")
             .expect("write");
         drop(f);
 
         let again = Checkpoint::open(&path, "build-a").expect("reopen");
         assert_eq!(again.len(), 2, "the line cut short is skipped");
+        assert_eq!(again.damaged(), 1, "and counted as not as written");
         let back = again.get(again.key(&("scene", 0.25, [1.0, 2.0])));
         assert_eq!(back, Some(fit.clone()));
         again.taken(back.as_ref().expect("saved"));
@@ -310,6 +381,37 @@ mod tests {
             e.contains("fits.checkpoint") && e.contains("saves its fits"),
             "{e}"
         );
+        let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
+    }
+
+    /// A value edited in place breaks its line's checksum; bytes that are not text damage
+    /// their lines, not the file: both are counted and fitted again, the rest kept.
+    #[test]
+    fn an_edited_or_damaged_line_is_told_from_one_softgrip_wrote() {
+        let path = temp("damaged");
+        let c = Checkpoint::open(&path, "b").expect("open");
+        let fit = Saved {
+            evaluations: 5,
+            seconds: 1.0,
+            values: vec![0.3],
+        };
+        c.save(1, fit.clone());
+        c.save(2, fit.clone());
+        let text = std::fs::read_to_string(&path).expect("read");
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        // 0.3 -> 1.8e308 in the first line, checksum untouched.
+        lines[0] = lines[0].replace(
+            &format!("{:016x}", 0.3f64.to_bits()),
+            &format!("{:016x}", f64::MAX.to_bits()),
+        );
+        let mut bytes = (lines.join("\n") + "\n").into_bytes();
+        bytes.extend_from_slice(&[0xff, 0xfe, 0x00, 0x9c, b'\n']);
+        std::fs::write(&path, bytes).expect("write");
+        let again = Checkpoint::open(&path, "b").expect("reopen");
+        assert_eq!(again.len(), 1);
+        assert_eq!(again.get(2), Some(fit));
+        assert_eq!(again.get(1), None);
+        assert_eq!(again.damaged(), 2);
         let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
     }
 }

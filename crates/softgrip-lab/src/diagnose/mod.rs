@@ -54,6 +54,27 @@ use options::FitCount;
 use softgrip_core::quasi_static::RestTolerance;
 
 /// Runs the diagnosis.
+/// Refuses a recording too short to measure its noise: the noise is taken from second
+/// differences along the samples within each run of loads moving one way, so some run needs
+/// three samples. Without it every verdict would be measured against a noise level of nothing.
+fn enough_samples(recording: &Recording) -> Result<(), LabError> {
+    let n = recording.samples.len();
+    let mut starts = vec![0];
+    starts.extend(noise::load_turns(recording));
+    starts.push(n);
+    let differences: usize = starts
+        .windows(2)
+        .map(|w| w[1].saturating_sub(w[0]).saturating_sub(2))
+        .sum();
+    if n >= 3 && differences > 0 {
+        return Ok(());
+    }
+    Err(LabError::Input(format!(
+        "{}: {n} sample(s): the diagnosis measures the noise from second differences along the samples, so it needs at least 3 in a run of loads moving one way (or 3 times of a time series); record more, or compare the model with `softgrip compare` instead",
+        recording.source.display()
+    )))
+}
+
 pub fn diagnose(
     recording: &Recording,
     options: &DiagnoseOptions,
@@ -64,6 +85,7 @@ pub fn diagnose(
         ..recording.clone()
     });
     let recording = remodelled.as_ref().unwrap_or(recording);
+    enough_samples(recording)?;
     let (repaired, model_finding) = nominal::carries_the_loads(recording)?;
     let recording = repaired.as_ref().unwrap_or(recording);
     let base_params = baseline::search_params(&recording.scene, options)?;

@@ -136,10 +136,21 @@ pub(super) fn fit_model(
         ))
     };
     let (scene, params, k_total) = (task.scene, task.params, task.k_total);
-    if let Some(saved) = checkpoint
+    let saved = checkpoint
         .get(key)
-        .filter(|s| s.values.len() == params.len())
-    {
+        .filter(|s| s.values.len() == params.len());
+    // A saved fit is trusted only within its search's bounds (a file edited by hand, or damaged
+    // past its checksum, is fitted again).
+    let within = |s: &Saved| {
+        params
+            .iter()
+            .zip(&s.values)
+            .all(|(p, v)| v.is_finite() && (p.lower..=p.upper).contains(v))
+    };
+    if saved.as_ref().is_some_and(|s| !within(s)) {
+        checkpoint.refused();
+    }
+    if let Some(saved) = saved.filter(within) {
         // Replayed from rest at its values; a replay that fails so (it ran from a neighbour's
         // equilibrium before) is fitted again.
         let at = |values: &[f64]| -> Result<ModelFit, LabError> {

@@ -84,8 +84,9 @@ impl Default for RecordingPanel {
 /// A recording's header is TOML with a `samples` key, which a scene file
 /// never has: how the scene box's Open tells the two apart.
 pub fn is_recording_file(path: &Path) -> bool {
-    std::fs::read_to_string(path)
+    softgrip_core::files::read_at_most(path, softgrip_lab::recording::MAX_HEADER_BYTES)
         .ok()
+        .and_then(|bytes| String::from_utf8(bytes).ok())
         .and_then(|text| text.parse::<toml::Table>().ok())
         .is_some_and(|t| t.contains_key("samples") && t.contains_key("mode"))
 }

@@ -76,12 +76,21 @@ pub fn is_surface(path: &Path) -> bool {
 /// Extensions [`read`] takes.
 pub const READ_EXTENSIONS: &[&str] = &["msh", "node", "ele", "vtk", "vtu"];
 
+/// The largest mesh file read (bytes): a 2-million-tetrahedron ASCII mesh is about 200 MB.
+pub const MAX_MESH_BYTES: u64 = 512_000_000;
+
 fn read_bytes(path: &Path) -> Result<Vec<u8>, ImportError> {
-    std::fs::read(path).map_err(|e| {
+    crate::files::read_at_most(path, MAX_MESH_BYTES).map_err(|e| {
         ImportError::at(
             &path.display().to_string(),
             None,
-            format!("cannot read the file: {e}"),
+            match e {
+                crate::files::ReadError::Io(e) => format!("cannot read the file: {e}"),
+                e => format!(
+                    "{e} (a mesh file is read whole, at most {} MB)",
+                    MAX_MESH_BYTES / 1_000_000
+                ),
+            },
         )
     })
 }

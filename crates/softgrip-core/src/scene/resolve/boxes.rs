@@ -60,15 +60,15 @@ impl Resolver<'_> {
                 at("young_modulus"),
                 r.young_modulus,
                 object.young_modulus,
-                |x| x > 0.0,
-                "must be > 0 Pa",
+                |x| (1.0..=1e12).contains(&x),
+                "must be a modulus from 1 Pa to 1e12 Pa (Ecoflex 00-20 is 57.6e3 Pa, steel 2e11)",
             )?;
             let density = self.number(
                 at("density"),
                 r.density,
                 object.density,
-                |x| x > 0.0,
-                "must be > 0 kg/m^3",
+                |x| (1.0..=1e5).contains(&x),
+                "must be a density from 1 to 1e5 kg/m^3",
             )?;
             regions.push(Region {
                 region,

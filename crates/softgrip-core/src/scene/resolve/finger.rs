@@ -152,8 +152,8 @@ impl Resolver<'_> {
             at("young_modulus"),
             f.young_modulus,
             2e9,
-            |x| x > 0.0,
-            "must be > 0 Pa",
+            |x| (1.0..=1e13).contains(&x),
+            "must be a modulus from 1 Pa to 1e13 Pa (a steel finger is 2e11)",
         )?;
         let poisson_ratio = self.number(
             at("poisson_ratio"),
@@ -180,8 +180,8 @@ impl Resolver<'_> {
             at("stick_velocity"),
             f.stick_velocity,
             1e-3,
-            |x| x > 0.0,
-            "must be > 0 m/s",
+            |x| (1e-9..=10.0).contains(&x),
+            "must be a speed from 1e-9 to 10 m/s (the slip speed under which a contact sticks; 1e-3 by default)",
         )?;
         let stick_stiffness = self.number(
             at("stick_stiffness"),

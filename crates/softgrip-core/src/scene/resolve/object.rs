@@ -51,15 +51,15 @@ impl Resolver<'_> {
             at("density"),
             o.density,
             1070.0,
-            |x| x > 0.0,
-            "must be > 0 kg/m^3 (silicone rubbers are about 1070)",
+            |x| (1.0..=1e5).contains(&x),
+            "must be a density from 1 to 1e5 kg/m^3 (silicone rubbers are about 1070)",
         )?;
         let young_modulus = self.number(
             at("young_modulus"),
             o.young_modulus,
             57.6e3,
-            |x| x > 0.0,
-            "must be > 0 Pa (Ecoflex 00-20 is 57.6e3 Pa)",
+            |x| (1.0..=1e12).contains(&x),
+            "must be a modulus from 1 Pa to 1e12 Pa (Ecoflex 00-20 is 57.6e3 Pa, steel 2e11)",
         )?;
         let poisson_ratio = self.number(
             at("poisson_ratio"),

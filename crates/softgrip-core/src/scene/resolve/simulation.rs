@@ -28,6 +28,13 @@ impl Resolver<'_> {
             "must be >= 0 s",
         )?;
         let gravity = self.vec3(at("gravity"), s.gravity, [0.0, 0.0, -9.81])?;
+        if gravity.length() > MAX_GRAVITY {
+            return Err(self.err(
+                at("gravity"),
+                format!("{:?}", gravity.to_array()),
+                "must be at most 1e4 m/s^2 (1000 g) in size; Earth's is [0, 0, -9.81]",
+            ));
+        }
         let cg_tolerance = self.number(
             at("cg_tolerance"),
             s.cg_tolerance,
@@ -65,3 +72,7 @@ impl Resolver<'_> {
         })
     }
 }
+
+/// The largest gravity a scene may have (m/s^2): a thousand g, past any lab's (a centrifuge's
+/// included); a larger one is a typo, and only diverges.
+const MAX_GRAVITY: f64 = 1e4;
