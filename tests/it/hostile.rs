@@ -29,6 +29,12 @@ struct Case {
     says: Vec<String>,
     /// Strings that must not appear (a warning gone once its advice is followed).
     never: Vec<String>,
+    /// Advice the message gives, word for word, and the run that follows it: the advice (or
+    /// `applied`, where it is a rule rather than a value) must appear in its arguments or in a
+    /// file they name, and it must end as its case says.
+    advice: Option<String>,
+    applied: Option<String>,
+    followed: Option<Box<Case>>,
 }
 
 fn cases() -> Vec<Case> {
@@ -48,17 +54,35 @@ fn cases() -> Vec<Case> {
             })
             .collect()
     };
+    fn case(c: &toml::Value, strings: &dyn Fn(&toml::Value) -> Vec<String>) -> Case {
+        let name = c
+            .get("name")
+            .and_then(|n| n.as_str())
+            .unwrap_or("")
+            .to_string();
+        Case {
+            followed: c.get("followed").map(|f| {
+                let mut f = case(f, strings);
+                f.name = format!("{name}, its advice followed");
+                Box::new(f)
+            }),
+            name,
+            args: strings(&c["args"]),
+            exit: c["exit"].as_integer().expect("exit") as i32,
+            says: c.get("says").map(strings).unwrap_or_default(),
+            never: c.get("never").map(strings).unwrap_or_default(),
+            advice: c.get("advice").and_then(|a| a.as_str()).map(str::to_string),
+            applied: c
+                .get("applied")
+                .and_then(|a| a.as_str())
+                .map(str::to_string),
+        }
+    }
     table["case"]
         .as_array()
         .expect("[[case]] entries")
         .iter()
-        .map(|c| Case {
-            name: c["name"].as_str().expect("name").to_string(),
-            args: strings(&c["args"]),
-            exit: c["exit"].as_integer().expect("exit") as i32,
-            says: c.get("says").map(&strings).unwrap_or_default(),
-            never: c.get("never").map(&strings).unwrap_or_default(),
-        })
+        .map(|c| case(c, &strings))
         .collect()
 }
 
@@ -74,6 +98,12 @@ fn generate(dir: &Path) {
         .flatten()
     {
         let s = |k: &str| g[k].as_str().expect("a string").to_string();
+        // A copy of a corpus file, for a case that must not be able to damage the original.
+        if let Some(from) = g.get("copy").and_then(|c| c.as_str()) {
+            std::fs::copy(corpus().join("files").join(from), dir.join(s("file")))
+                .expect("a copied file");
+            continue;
+        }
         let count = g["count"].as_integer().expect("count") as usize;
         let body = format!("{}{}{}", s("start"), s("repeat").repeat(count), s("end"));
         std::fs::write(dir.join(s("file")), body).expect("a generated file");
@@ -146,7 +176,41 @@ fn no_hostile_input_crashes_hangs_or_answers_silently() {
     let cwd = crate::support::scratch_dir("softgrip-hostile");
     generate(&cwd);
     let mut failures = Vec::new();
-    for case in &cases {
+    let followed: Vec<(&Case, &Case)> = cases
+        .iter()
+        .filter_map(|c| c.followed.as_deref().map(|f| (c, f)))
+        .collect();
+    let advised = followed.len();
+    for (case, follow) in followed {
+        let Some(advice) = case.applied.as_ref().or(case.advice.as_ref()) else {
+            failures.push(format!("{}: a followed run without its advice", case.name));
+            continue;
+        };
+        // The run follows the advice: it is in its arguments or in a file they name.
+        let applied = follow.args.join(" ").contains(advice.as_str())
+            || follow.args.iter().any(|a| {
+                a.contains(advice.as_str())
+                    || std::fs::read_to_string(a).is_ok_and(|t| t.contains(advice.as_str()))
+                    || std::fs::read_to_string(cwd.join(a))
+                        .is_ok_and(|t| t.contains(advice.as_str()))
+            });
+        if !applied {
+            failures.push(format!(
+                "{}: the followed run ({}) does not apply the advice {advice:?}",
+                case.name,
+                follow.args.join(" ")
+            ));
+        }
+    }
+    let all: Vec<&Case> = cases
+        .iter()
+        .flat_map(|c| std::iter::once(c).chain(c.followed.as_deref()))
+        .collect();
+    eprintln!(
+        "{} cases, {advised} with their advice followed",
+        cases.len()
+    );
+    for case in all {
         let ran = run(&case.args, &cwd);
         let (code, text) = (ran.code, format!("{}{}", ran.stdout, ran.stderr));
         eprintln!(
@@ -155,6 +219,11 @@ fn no_hostile_input_crashes_hangs_or_answers_silently() {
             ran.took.as_secs_f64()
         );
         let mut wrong = Vec::new();
+        if let Some(advice) = &case.advice
+            && !text.contains(advice.as_str())
+        {
+            wrong.push(format!("does not give the advice {advice:?}"));
+        }
         match code {
             None => wrong.push(format!("killed (time limit {TIME_LIMIT:?} or a signal)")),
             Some(101) => wrong.push("panicked".to_string()),

@@ -307,9 +307,9 @@ impl Model {
                 "set edge_length = {e:e} or larger in [object], or raise the limit with `softgrip --max-tetrahedra N`"
             ),
             None => format!(
-                "the coarsest mesh of this {shape} has {} tetrahedra: raise the limit to at least that with `softgrip --max-tetrahedra {}`",
+                "even the coarsest mesh of this {shape} has {} tetrahedra: raise the limit to this edge length's count with `softgrip --max-tetrahedra {}`",
                 thousands(r.coarsest as u64),
-                r.coarsest.ceil() as u64
+                r.count.ceil() as u64
             ),
         };
         Err(SimError::TooManyTetrahedra {

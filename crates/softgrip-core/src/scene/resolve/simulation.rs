@@ -32,7 +32,7 @@ impl Resolver<'_> {
             return Err(self.err(
                 at("gravity"),
                 format!("{:?}", gravity.to_array()),
-                "must be at most 1e4 m/s^2 (1000 g) in size; Earth's is [0, 0, -9.81]",
+                "must be at most 1e4 m/s^2 (1000 g) in size; on Earth, gravity = [0.0, 0.0, -9.81]",
             ));
         }
         let cg_tolerance = self.number(
