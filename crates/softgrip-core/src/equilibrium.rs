@@ -293,13 +293,12 @@ impl Simulation {
             Err(e) => return Err(e),
         };
         *why = format!("{why}; {dynamics}");
-        // Time steps were tried: the advice is the cause, where one shows, not them again.
+        // The advice is the cause, where one shows: a finger that carries a load and touches
+        // nothing is not a matter of supports.
         if let SimError::NoEquilibrium { advice, .. } = &mut failure {
-            *advice = loose_finger(&self.model, &self.state).unwrap_or_else(|| {
-                advice
-                    .replace(", or replay with --settle dynamic", "")
-                    .replace("; check its supports", ": check its supports and the load")
-            });
+            if let Some(cause) = loose_finger(&self.model, &self.state) {
+                *advice = cause;
+            }
         }
         Err(failure)
     }
@@ -962,7 +961,7 @@ fn no_equilibrium(
                 Vec::new(),
                 near,
                 "The object may be free to move (no support, a frictionless table) or at a \
-                 buckling load; check its supports, or replay with --settle dynamic"
+                 buckling load: check its supports and the load"
                     .to_string(),
             )
         }
