@@ -295,10 +295,10 @@ impl Simulation {
         *why = format!("{why}; {dynamics}");
         // The advice is the cause, where one shows: a finger that carries a load and touches
         // nothing is not a matter of supports.
-        if let SimError::NoEquilibrium { advice, .. } = &mut failure {
-            if let Some(cause) = loose_finger(&self.model, &self.state) {
-                *advice = cause;
-            }
+        if let SimError::NoEquilibrium { advice, .. } = &mut failure
+            && let Some(cause) = loose_finger(&self.model, &self.state)
+        {
+            *advice = cause;
         }
         Err(failure)
     }
