@@ -167,7 +167,13 @@ impl Simulation {
                 // decays: advice with a budget that works, else none.
                 let rate = (before / last).ln();
                 let needed = (last / tol.speed).ln() / rate;
-                let advice = if rate.is_finite() && rate > 0.01 && needed.is_finite() {
+                let advice = if !(before.is_finite() && last.is_finite()) {
+                    // Under two whole seconds watched: no decay to read yet.
+                    format!(
+                        "it was watched for {elapsed:.2} s only: allow each load more simulated time (`softgrip ramp` and `compare`: --max-seconds {}), or raise [model] damping_ratio",
+                        (4.0 * elapsed).max(2.0).ceil()
+                    )
+                } else if rate.is_finite() && rate > 0.01 && needed.is_finite() {
                     let s = (elapsed + 1.5 * needed.max(1.0)).ceil();
                     format!(
                         "the motion decays, by {:.0} % a second: allow each load more simulated time (`softgrip ramp` and `compare`: --max-seconds {s}), or raise [model] damping_ratio",
