@@ -61,9 +61,18 @@ pub fn run(args: Args) -> Result<()> {
         .as_object()
         .into_iter()
         .flatten()
-        .map(|(k, v)| format!("{k} = {v}"))
+        .map(|(k, v)| match v.as_f64() {
+            Some(x) => format!("{k} = {}", super::args::number(x)),
+            None => format!("{k} = {v}"),
+        })
         .collect();
-    println!("best: {}: NRMSE {}", at.join(", "), value["nrmse"]);
+    println!(
+        "best: {}: NRMSE {}",
+        at.join(", "),
+        value["nrmse"]
+            .as_f64()
+            .map_or_else(|| value["nrmse"].to_string(), |x| format!("{x:.5}"))
+    );
     if let Some(csv) = &args.csv {
         std::fs::write(csv, softgrip_lab::sweep::to_csv(&merged.axes, points))
             .with_context(|| format!("writing {}", csv.display()))?;

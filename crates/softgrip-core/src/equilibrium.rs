@@ -871,6 +871,11 @@ fn loose_finger(model: &Model, state: &crate::state::State) -> Option<String> {
                 .filter(|x| **x >= 0.0)
                 .fold(f64::INFINITY, |a, b| a.min(*b))
                 - f.shape.reach_along(d);
+            // Placed on the object: it lost touch because the object moved away (no support),
+            // which is the object's matter, not the finger's.
+            if gap <= 1e-4 {
+                continue;
+            }
             format!(
                 "{name}: the scene puts it {gap:.4} m from the object along its load; place it touching the object: position = [{:.4}, {:.4}, {:.4}]",
                 at.x + gap * d.x,
