@@ -7,6 +7,7 @@ import json
 import subprocess
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -226,3 +227,38 @@ def test_ctrl_c_stops_a_long_run(tmp_path):
     out, _ = p.communicate(timeout=60)
     assert p.returncode == 0 and out.startswith("interrupted at"), out
     assert float(out.split()[-1]) < 1000.0
+
+
+ONE_SAMPLE = Path(__file__).resolve().parents[3] / "tests" / "hostile" / "files" / "i55" / "rec_one_sample" / "recording.toml"
+
+
+def test_every_error_with_advice_is_followed_and_the_advice_works(tmp_path):
+    """Each message of the API that says what to do (tests/hostile/ADVICE.md), then what it
+    says done: the call works (or gets past that check to the next one)."""
+    sim = Simulation(Scene.thesis())
+    with pytest.raises(SoftgripError, match="give a number of simulated seconds, 0 or more"):
+        sim.run(-1.0)
+    sim.run(0.002)
+    with pytest.raises(SoftgripError, match="give the simulated seconds between callbacks, above 0"):
+        sim.run(0.002, callback=lambda s: None, every=0.0)
+    sim.run(0.002, callback=lambda s: None, every=0.001)
+    pushed = Scene.thesis().to_toml().replace("force = [0.0, 0.0, 0.0]", "force = [0.0, 0.0, -1.0]")
+    pushed = pushed.replace("mass = 0.992", "mass = 0.0")
+    with pytest.raises(SoftgripError, match="give a load in N"):
+        Simulation(Scene.from_toml(pushed)).equilibrium(float("nan"))
+    Simulation(Scene.from_toml(pushed)).equilibrium(1.0)
+    with pytest.raises(SoftgripError, match=r"give it a force \(e.g. \[0, 0, -1\]\)"):
+        Simulation(Scene.thesis()).equilibrium(1.0)
+    driven = Scene.thesis().to_toml().replace('control = "force"', 'control = "velocity"')
+    with pytest.raises(SoftgripError, match=r'add a \[\[finger\]\] with control = "force"'):
+        Simulation(Scene.from_toml(driven)).equilibrium(1.0)
+    one = Recording.load(ONE_SAMPLE)
+    with pytest.raises(SoftgripError, match='give "continuum", "lattice" or "scene"'):
+        softgrip.diagnose(one, model="springs")
+    # Followed, the call gets past the model to the recording's own refusal (one sample).
+    with pytest.raises(SoftgripError, match=r"1 sample\(s\)"):
+        softgrip.diagnose(one, model="continuum")
+    with pytest.raises(SoftgripError, match="give a file you can write"):
+        softgrip.diagnose(one, checkpoint=tmp_path)  # a directory
+    with pytest.raises(SoftgripError, match=r"1 sample\(s\)"):
+        softgrip.diagnose(one, checkpoint=tmp_path / "fits.checkpoint")
