@@ -201,15 +201,22 @@ pub fn run(args: Args) -> Result<()> {
         "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J; top particle speed {:.1e} m/s",
         st.volume_error, st.contacts, st.limit_violation, st.energy, st.max_speed
     );
-    let mut warnings: Vec<String> = watch
-        .finish(&sim.model, &sim.state)
+    let findings = watch.finish(&sim.model, &sim.state);
+    let mut warnings: Vec<String> = findings
         .iter()
         .map(|f| match f.try_dt {
             Some(dt) => format!("{} {}", f.message, check_tunnelling(&scene, f, dt)),
             None => f.message.clone(),
         })
         .collect();
-    for k in untouched {
+    // A finger that passed through is said so, with its own cause:
+    // "check its position" is for one that never reached the object.
+    let explained = |k: usize| {
+        findings.iter().any(|f| {
+            f.finger == Some(k - 1) && f.kind == softgrip_core::watch::Kind::Tunnelled
+        })
+    };
+    for k in untouched.into_iter().filter(|k| !explained(*k)) {
         warnings.push(format!(
             "finger {k} never touched the object in {:.3} s: no indentation or contact force to report; check its position, its path and its start_time",
             sim.state.time
