@@ -212,9 +212,9 @@ pub fn run(args: Args) -> Result<()> {
     // A finger that passed through is said so, with its own cause:
     // "check its position" is for one that never reached the object.
     let explained = |k: usize| {
-        findings.iter().any(|f| {
-            f.finger == Some(k - 1) && f.kind == softgrip_core::watch::Kind::Tunnelled
-        })
+        findings
+            .iter()
+            .any(|f| f.finger == Some(k - 1) && f.kind == softgrip_core::watch::Kind::Tunnelled)
     };
     for k in untouched.into_iter().filter(|k| !explained(*k)) {
         warnings.push(format!(
