@@ -208,7 +208,9 @@ pub fn boundary_friction(
     };
     if held_at(low, &mut tries)? {
         return Err(SimError::NotSupported {
-            what: format!("grasp: the object is held even at friction {low}: lower the bound"),
+            what: format!(
+                "grasp: the object is held even at friction {low}: friction is not what holds it (the fingers' shape or squeeze carry it), so there is no least friction to find"
+            ),
         });
     }
     if !held_at(high, &mut tries)? {
