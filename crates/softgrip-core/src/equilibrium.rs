@@ -888,6 +888,37 @@ fn loose_finger(model: &Model, state: &crate::state::State) -> Option<String> {
     None
 }
 
+/// What can hold Newton's iterations in a stall, and what to do, for `model`: spring limits
+/// held by the projection (a lattice's, without limit springs), or contacts switching between
+/// sticking and sliding (friction), or on and off. A continuum has no springs to blame.
+fn stall_words(model: &Model) -> (&'static str, &'static str) {
+    let limits_held = model.fem.is_none()
+        && model.limit_stiffness == 0.0
+        && (model.tau_s.is_some() || model.tau_c.is_some());
+    let friction = model.table.as_ref().is_some_and(|t| t.friction > 0.0)
+        || model.fingers.iter().any(|f| f.friction > 0.0);
+    if limits_held {
+        (
+            "springs held at their tau_s / tau_c limits by the projection (whose reaction is no \
+             force of the model), or contacts switching",
+            "Give the spring limits a stiffness ([model] limit_stiffness, default 1000) so that \
+             they act as forces Newton can balance",
+        )
+    } else if friction {
+        (
+            "contacts switching between sticking and sliding",
+            "No rest found where the contacts hold: check the supports and the load's size; a \
+             friction that lets the object slide (a table's) may leave it none",
+        )
+    } else {
+        (
+            "contacts switching on and off",
+            "No rest found under this load: check the supports (a frictionless one lets the \
+             object slide) and the load's size",
+        )
+    }
+}
+
 fn no_equilibrium(
     model: &Model,
     state: &crate::state::State,
@@ -938,24 +969,19 @@ fn no_equilibrium(
                 "Check the scene's supports (is the object held?) and its loads".to_string(),
             )
         }
-        Failure::Stalled(residual, near) => (
-            format!(
-                "Newton's iterations stall with {residual:.2e} N unbalanced, moving most near \
-                     ({:.4}, {:.4}, {:.4}) m: springs held at their tau_s / tau_c limits by the \
-                     projection (whose reaction is no force of the model), or contacts switching",
-                near.x, near.y, near.z
-            ),
-            Vec::new(),
-            near,
-            if model.limit_stiffness == 0.0 && (model.tau_s.is_some() || model.tau_c.is_some()) {
-                "Give the spring limits a stiffness ([model] limit_stiffness, default 1000) so \
-                 that they act as forces Newton can balance"
-            } else {
-                "The lattice finds no rest under this load: check the supports (a frictionless \
-                 one lets the object slide) and the load's size"
-            }
-            .to_string(),
-        ),
+        Failure::Stalled(residual, near) => {
+            let (cause, advice) = stall_words(model);
+            (
+                format!(
+                    "Newton's iterations stall with {residual:.2e} N unbalanced, moving most near \
+                     ({:.4}, {:.4}, {:.4}) m: {cause}",
+                    near.x, near.y, near.z
+                ),
+                Vec::new(),
+                near,
+                advice.to_string(),
+            )
+        }
         Failure::Still(_) | Failure::Moved(_) => {
             let near = centre(&mut state.positions.iter().copied());
             (
@@ -978,5 +1004,36 @@ fn no_equilibrium(
         near: near.to_array(),
         advice,
         stalled,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Elasticity, Scene};
+
+    /// A stall names springs only where a lattice holds them by the projection; a continuum's
+    /// names its contacts (once it blamed "springs held at their tau_s / tau_c limits" on a
+    /// neo-Hookean model, which has none).
+    #[test]
+    fn a_stall_blames_springs_only_on_a_lattice_with_projected_limits() {
+        let mut lattice = Scene::thesis();
+        lattice.model.limit_stiffness = 0.0;
+        lattice.model.tau_s = Some(0.16);
+        let model = Model::from_scene(&lattice).expect("lattice");
+        assert!(stall_words(&model).0.contains("tau_s"));
+        assert!(stall_words(&model).1.contains("limit_stiffness"));
+        let mut continuum = lattice.clone();
+        continuum.model.elasticity = Elasticity::NeoHookean;
+        let model = Model::from_scene(&continuum).expect("continuum");
+        let (cause, advice) = stall_words(&model);
+        assert!(
+            !cause.contains("spring") && !advice.contains("spring"),
+            "{cause} / {advice}"
+        );
+        assert!(
+            cause.contains("sticking and sliding"),
+            "the finger's friction 0.5: {cause}"
+        );
     }
 }
