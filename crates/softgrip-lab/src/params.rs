@@ -105,6 +105,12 @@ pub const PARAMS: &[Param] = &[
         about: "[model] softening, the early softening of the neo-Hookean elements before stiffening_cubic (softgrip)",
     },
     Param {
+        name: "gent_limit",
+        unit: "",
+        log: true,
+        about: "[model] gent_limit, Gent's J_m: the I1 - 3 where the neo-Hookean elements lock (softgrip)",
+    },
+    Param {
         name: "compression_ratio",
         unit: "",
         log: true,
@@ -196,6 +202,7 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, LabError> {
         "stiffening" => Some(scene.model.stiffening),
         "stiffening_cubic" => Some(scene.model.stiffening_cubic),
         "softening" => Some(scene.model.softening),
+        "gent_limit" => Some(scene.model.gent_limit),
         "compression_ratio" => Some(scene.model.compression_ratio),
         "prony_g" => Some(scene.model.prony_g),
         "prony_tau" => Some(scene.model.prony_tau),
@@ -231,6 +238,7 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
         "stiffening" => s.model.stiffening = value,
         "stiffening_cubic" => s.model.stiffening_cubic = value,
         "softening" => s.model.softening = value,
+        "gent_limit" => s.model.gent_limit = value,
         "compression_ratio" => s.model.compression_ratio = value,
         "prony_g" => s.model.prony_g = value,
         "prony_tau" => s.model.prony_tau = value,

@@ -326,6 +326,7 @@ pub fn energy(model: &Model, fem: &FemModel, state: &State) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::fem::GENT_CAP;
 
     /// The forces are the energy's gradient (central differences), with
     /// and without stiffening, and the stress vanishes at rest.
@@ -401,6 +402,89 @@ mod tests {
                             analytic[k]
                         );
                     }
+                }
+            }
+        }
+    }
+
+    /// Gent's locking (Gent 1996): under an isochoric uniaxial stretch `l` (`F = diag(l,
+    /// l^-1/2, l^-1/2)`, `J = 1`) the energy's derivative along the path is Gent's nominal
+    /// stress `mu J_m / (J_m - s) (l - l^-2)`, `s = l^2 + 2 / l - 3`, written out here; and the
+    /// forces are the gradient of Gent's energy, written out here too, below its cap and past
+    /// it (where it goes on along its tangent).
+    #[test]
+    fn gent_follows_its_analytic_uniaxial_stress_and_its_forces_its_energy() {
+        let (mu, lambda, jm) = (20e3, 1e6, 2.0);
+        let gent = Yeoh::default().with_gent_limit(jm);
+        let along = |l: f64| DMat3::from_diagonal(DVec3::new(l, l.powf(-0.5), l.powf(-0.5)));
+        for l in [1.05, 1.2, 1.4, 0.8, 0.7] {
+            let s: f64 = l * l + 2.0 / l - 3.0;
+            assert!(s < GENT_CAP * jm, "below the cap: {s}");
+            let h = 1e-6;
+            let numeric = (energy_density(mu, lambda, gent, along(l + h))
+                - energy_density(mu, lambda, gent, along(l - h)))
+                / (2.0 * h);
+            let analytic = mu * jm / (jm - s) * (l - 1.0 / (l * l));
+            assert!(
+                (numeric - analytic).abs() < 1e-6 * analytic.abs(),
+                "stretch {l}: {numeric} against Gent's {analytic}"
+            );
+        }
+        // The forces, at a stretch below the cap and one past it.
+        let nodes = vec![
+            DVec3::ZERO,
+            DVec3::new(0.01, 0.0, 0.0),
+            DVec3::new(0.0, 0.012, 0.0),
+            DVec3::new(0.002, 0.001, 0.009),
+        ];
+        let fem = FemModel::new(&nodes, &[[0u32, 1, 2, 3]], &[60e3], 0.45);
+        let (mu, lambda) = (fem.mu[0], fem.lambda[0]);
+        let f_at = |pos: &[DVec3]| {
+            deformation_gradient(&fem.gradients[0], [pos[0], pos[1], pos[2], pos[3]])
+        };
+        let gent_energy = |k: f64, s: f64| {
+            let cap = GENT_CAP / k;
+            let curve = |s: f64| -(1.0 - k * s).ln() / k - s;
+            if s <= cap {
+                curve(s)
+            } else {
+                let (g, dg) = (k * cap / (1.0 - k * cap), k / (1.0 - k * cap).powi(2));
+                curve(cap) + g * (s - cap) + 0.5 * dg * (s - cap) * (s - cap)
+            }
+        };
+        for (limit, stretch) in [(5.0, 1.3), (0.3, 1.4)] {
+            let gent = Yeoh::default().with_gent_limit(limit);
+            let deformed: Vec<DVec3> = nodes
+                .iter()
+                .map(|p| DVec3::new(p.x * stretch, p.y / stretch.sqrt(), p.z / stretch.sqrt()))
+                .collect();
+            let v0 = 0.01 * 0.012 * 0.009 / 6.0;
+            let energy_at = |pos: &[DVec3]| {
+                let f = f_at(pos);
+                let i1 = f.x_axis.length_squared()
+                    + f.y_axis.length_squared()
+                    + f.z_axis.length_squared();
+                let alpha = 1.0 + mu / lambda;
+                let s = (f.determinant().powf(-2.0 / 3.0) * i1 - 3.0).max(0.0);
+                v0 * (0.5 * mu * (i1 - 3.0)
+                    + 0.5 * mu * gent_energy(1.0 / limit, s)
+                    + 0.5 * lambda * (f.determinant() - alpha).powi(2))
+            };
+            let p = stress(mu, lambda, gent, f_at(&deformed));
+            for a in 0..4 {
+                let analytic = -(p * fem.gradients[0][a]) * v0;
+                for k in 0..3 {
+                    let h = 1e-9;
+                    let mut plus = deformed.clone();
+                    plus[a][k] += h;
+                    let mut minus = deformed.clone();
+                    minus[a][k] -= h;
+                    let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
+                    assert!(
+                        (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
+                        "J_m {limit}, node {a} axis {k}: {numeric} against {}",
+                        analytic[k]
+                    );
                 }
             }
         }

@@ -59,14 +59,24 @@ impl FemModel {
     }
 }
 
-/// The elements' strain-stiffening terms (see the module docs).
+/// The elements' strain-stiffening terms (see the module docs): Yeoh's second and third
+/// order, and Gent's locking. Each adds to the shear factor `phi(s)` of `s = I1bar - 3`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Yeoh {
     /// beta with the softening's share: `stiffening - 2 q sqrt(gamma)`.
     pub beta: f64,
     /// gamma, `stiffening_cubic`.
     pub gamma: f64,
+    /// Gent's `k = 1 / J_m` (`[model] gent_limit` = J_m; 0: none): the factor gains
+    /// `g(s) = k s / (1 - k s)`, the energy `mu / 2 (-ln(1 - k s) / k - s)` (Gent 1996), which
+    /// locks as `s` nears `J_m`. Past `k s = GENT_CAP` it goes on along its tangent, so that a
+    /// trial state past the lock has a finite energy and a Newton step can come back.
+    pub gent: f64,
 }
+
+/// Where Gent's term leaves its curve for its tangent: `k s = 0.9`, a shear modulus ten times
+/// the small-strain one.
+pub const GENT_CAP: f64 = 0.9;
 
 impl Yeoh {
     /// From `[model] stiffening`, `stiffening_cubic` and `softening`.
@@ -74,36 +84,71 @@ impl Yeoh {
         Yeoh {
             beta: stiffening - 2.0 * softening * stiffening_cubic.sqrt(),
             gamma: stiffening_cubic,
+            gent: 0.0,
+        }
+    }
+
+    /// With Gent's locking at `I1bar - 3 = limit` (0: none).
+    pub fn with_gent_limit(self, limit: f64) -> Yeoh {
+        Yeoh {
+            gent: if limit > 0.0 { 1.0 / limit } else { 0.0 },
+            ..self
         }
     }
 
     /// No term: the plain energy.
     pub fn is_plain(&self) -> bool {
-        self.beta == 0.0 && self.gamma == 0.0
+        self.beta == 0.0 && self.gamma == 0.0 && self.gent == 0.0
     }
 
-    /// `phi(s) = 1 + beta s / 3 + gamma s^2 / 9`, the shear modulus over mu.
+    /// Gent's `g(s)`, `g'(s)` and `G(s) = integral of g` (see [`Yeoh::gent`]); zeros without it.
+    #[inline]
+    fn gent_terms(&self, s: f64) -> (f64, f64, f64) {
+        let k = self.gent;
+        if k == 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let curve = |s: f64| {
+            let u = k * s;
+            (
+                u / (1.0 - u),
+                k / ((1.0 - u) * (1.0 - u)),
+                -(1.0 - u).ln() / k - s,
+            )
+        };
+        let cap = GENT_CAP / k;
+        if s <= cap {
+            return curve(s);
+        }
+        let (g, dg, big_g) = curve(cap);
+        let d = s - cap;
+        (g + dg * d, dg, big_g + g * d + 0.5 * dg * d * d)
+    }
+
+    /// `phi(s) = 1 + beta s / 3 + gamma s^2 / 9 + g(s)`, the shear modulus over mu.
     #[inline]
     pub fn factor(&self, s: f64) -> f64 {
-        1.0 + self.beta * s / 3.0 + self.gamma * s * s / 9.0
+        1.0 + self.beta * s / 3.0 + self.gamma * s * s / 9.0 + self.gent_terms(s).0
     }
 
     /// `V0 2 mu phi'(s)`, the weight of the Jacobian's term, 0 where
     /// negative (see the module docs).
     #[inline]
     pub(crate) fn slope_weight(&self, v0: f64, mu: f64, s: f64) -> f64 {
-        (v0 * 2.0 * mu * self.beta / 3.0 + v0 * 2.0 * mu * 2.0 * self.gamma * s / 9.0).max(0.0)
+        self.slope_weight_signed(v0, mu, s).max(0.0)
     }
 
     /// `V0 2 mu phi'(s)` with its sign: the exact Hessian's weight.
     #[inline]
     pub(crate) fn slope_weight_signed(&self, v0: f64, mu: f64, s: f64) -> f64 {
-        v0 * 2.0 * mu * (self.beta / 3.0 + 2.0 * self.gamma * s / 9.0)
+        v0 * 2.0 * mu * (self.beta / 3.0 + 2.0 * self.gamma * s / 9.0 + self.gent_terms(s).1)
     }
 
     /// `Psi_s`, the terms' energy per unit rest volume.
     #[inline]
     pub(crate) fn energy(&self, mu: f64, s: f64) -> f64 {
-        mu * self.beta / 12.0 * s * s + mu * self.gamma / 54.0 * s * s * s
+        mu * self.beta / 12.0 * s * s
+            + mu * self.gamma / 54.0 * s * s * s
+            + 0.5 * mu * self.gent_terms(s).2
     }
 }

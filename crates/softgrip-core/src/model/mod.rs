@@ -655,7 +655,8 @@ impl Model {
                 scene.model.stiffening,
                 scene.model.stiffening_cubic,
                 scene.model.softening,
-            );
+            )
+            .with_gent_limit(scene.model.gent_limit);
             // A Prony term: the share g of the shear modulus is the Maxwell arms'
             // (`forces::viscosity::accumulate_arms`); lambda does not relax.
             for mu in &mut fem.mu {

@@ -158,6 +158,10 @@ pub struct ModelParams {
     /// with C20 < 0 < C30); never below zero for any q < 1
     /// (`forces::fem`). 0 = none (softgrip).
     pub softening: f64,
+    /// Neo-Hookean elements only: Gent's limit J_m of `I1bar - 3`, where the material locks
+    /// (its energy `-mu J_m / 2 ln(1 - (I1bar - 3) / J_m)` in place of the neo-Hookean term's
+    /// growth; the shear modulus is `mu J_m / (J_m - s)`). 0 = none (softgrip).
+    pub gent_limit: f64,
     /// A spring's stiffness in compression over its stiffness in tension;
     /// 1 = symmetric, the thesis (softgrip).
     pub compression_ratio: f64,

@@ -83,6 +83,7 @@ pub(super) struct RawModel {
     pub(super) stiffening: Option<f64>,
     pub(super) stiffening_cubic: Option<f64>,
     pub(super) softening: Option<f64>,
+    pub(super) gent_limit: Option<f64>,
     pub(super) compression_ratio: Option<f64>,
     pub(super) prony_g: Option<f64>,
     pub(super) prony_tau: Option<f64>,

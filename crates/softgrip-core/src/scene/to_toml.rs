@@ -194,6 +194,7 @@ fn raw_model(m: &ModelParams) -> RawModel {
         stiffening: Some(m.stiffening),
         stiffening_cubic: nonzero(m.stiffening_cubic),
         softening: nonzero(m.softening),
+        gent_limit: nonzero(m.gent_limit),
         compression_ratio: Some(m.compression_ratio),
         prony_g: Some(m.prony_g),
         prony_tau: Some(m.prony_tau),

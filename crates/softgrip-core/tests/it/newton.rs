@@ -100,7 +100,25 @@ fn the_full_tangent_is_the_static_forces_derivative_and_the_factorised_solve_inv
     scene.model.softening = 0.3;
     scene.support.kind = SupportKind::Table;
     scene.support.friction = 0.3;
-    let sim = solved(&scene, &[3.0, 9.0], StaticSolver::Direct);
+    tangent_against_differences(&scene);
+}
+
+#[test]
+fn with_gents_locking_the_full_tangent_is_still_the_forces_derivative() {
+    // Gent's law (J_m 0.5: the loaded elements stiffened by their locking) on the same
+    // continuum and table.
+    let mut scene = continuum(0.008, 0.5);
+    scene.model.gent_limit = 0.5;
+    scene.support.kind = SupportKind::Table;
+    scene.support.friction = 0.3;
+    tangent_against_differences(&scene);
+}
+
+/// At the equilibrium of `scene` under 3 then 9 N: `Kp v` against central differences of the
+/// force along a smooth `v`, asserted within 1e-5, and the factorised solve of `Kp y = Kp v`
+/// giving back `v` (its residual within 1e-9).
+fn tangent_against_differences(scene: &softgrip_core::Scene) {
+    let sim = solved(scene, &[3.0, 9.0], StaticSolver::Direct);
     let mut fixed = sim.fixed_state();
     assert!(fixed.is_factorised(), "the 8 mm cuboid is factorised");
     let model = std::sync::Arc::clone(fixed.model());

@@ -55,6 +55,7 @@ fn thesis_scene_has_the_thesis_values() {
                 "stiffening",
                 "stiffening_cubic",
                 "softening",
+                "gent_limit",
                 "compression_ratio",
                 "prony_g",
                 "prony_tau",

@@ -139,6 +139,13 @@ impl Resolver<'_> {
             |x| (0.0..1.0).contains(&x),
             "must be in [0, 1) (the early softening of a two-term Yeoh solid: the shear modulus dips to 1 - softening^2 of mu before stiffening_cubic lifts it; 0 = none)",
         )?;
+        let gent_limit = self.number(
+            at("gent_limit"),
+            m.gent_limit,
+            0.0,
+            |x| x == 0.0 || (0.1..=1e6).contains(&x),
+            "must be 0 (none) or in [0.1, 1e6] (Gent's J_m, the I1 - 3 where the material locks: the shear modulus is mu J_m / (J_m - (I1 - 3)); rubbers about 30 to 100)",
+        )?;
         let compression_ratio = self.number(
             at("compression_ratio"),
             m.compression_ratio,
@@ -164,6 +171,7 @@ impl Resolver<'_> {
             for (key, value) in [
                 ("stiffening_cubic", stiffening_cubic),
                 ("softening", softening),
+                ("gent_limit", gent_limit),
             ] {
                 if value != 0.0 {
                     return Err(self.err(
@@ -203,6 +211,7 @@ impl Resolver<'_> {
             stiffening,
             stiffening_cubic,
             softening,
+            gent_limit,
             compression_ratio,
             prony_g,
             prony_tau,
