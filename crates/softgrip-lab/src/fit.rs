@@ -87,6 +87,7 @@ pub fn default_bounds(param: &Param, scene: &Scene) -> Result<(f64, f64), LabErr
         "stiffening" => Ok((0.0, 1000.0)),
         "compression_ratio" => Ok((0.2, 5.0)),
         "gent_limit" => Ok((0.5, 100.0)),
+        "gent_stiffening" => Ok((0.0, 2.0)),
         "prony_g" => Ok((0.0, 0.9)),
         "prony_tau" => Ok((0.01, 100.0)),
         "guide_friction" => Ok((0.0, 5.0)),

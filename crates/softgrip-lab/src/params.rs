@@ -111,6 +111,12 @@ pub const PARAMS: &[Param] = &[
         about: "[model] gent_limit, Gent's J_m: the I1 - 3 where the neo-Hookean elements lock (softgrip)",
     },
     Param {
+        name: "gent_stiffening",
+        unit: "",
+        log: false,
+        about: "1 / [model] gent_limit, Gent's locking as a stiffening: 0 = none (the neo-Hookean solid), 1 = locking at I1 - 3 = 1 (softgrip)",
+    },
+    Param {
         name: "compression_ratio",
         unit: "",
         log: true,
@@ -203,6 +209,11 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, LabError> {
         "stiffening_cubic" => Some(scene.model.stiffening_cubic),
         "softening" => Some(scene.model.softening),
         "gent_limit" => Some(scene.model.gent_limit),
+        "gent_stiffening" => Some(if scene.model.gent_limit > 0.0 {
+            1.0 / scene.model.gent_limit
+        } else {
+            0.0
+        }),
         "compression_ratio" => Some(scene.model.compression_ratio),
         "prony_g" => Some(scene.model.prony_g),
         "prony_tau" => Some(scene.model.prony_tau),
@@ -239,6 +250,12 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
         "stiffening_cubic" => s.model.stiffening_cubic = value,
         "softening" => s.model.softening = value,
         "gent_limit" => s.model.gent_limit = value,
+        "gent_stiffening" => {
+            // 0 is the neo-Hookean solid; a negative one is no Gent solid (the file's rule
+            // refuses the limit it would give).
+            // Below 1e-12 it is the neo-Hookean solid to every digit: off.
+            s.model.gent_limit = if value.abs() < 1e-12 { 0.0 } else { 1.0 / value };
+        }
         "compression_ratio" => s.model.compression_ratio = value,
         "prony_g" => s.model.prony_g = value,
         "prony_tau" => s.model.prony_tau = value,

@@ -143,8 +143,8 @@ impl Resolver<'_> {
             at("gent_limit"),
             m.gent_limit,
             0.0,
-            |x| x == 0.0 || (0.1..=1e6).contains(&x),
-            "must be 0 (none) or in [0.1, 1e6] (Gent's J_m, the I1 - 3 where the material locks: the shear modulus is mu J_m / (J_m - (I1 - 3)); rubbers about 30 to 100)",
+            |x| x == 0.0 || (0.1..=1e12).contains(&x),
+            "must be 0 (none) or in [0.1, 1e12] (Gent's J_m, the I1 - 3 where the material locks: the shear modulus is mu J_m / (J_m - (I1 - 3)); rubbers about 30 to 100)",
         )?;
         let compression_ratio = self.number(
             at("compression_ratio"),
