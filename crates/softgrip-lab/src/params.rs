@@ -254,7 +254,11 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
             // 0 is the neo-Hookean solid; a negative one is no Gent solid (the file's rule
             // refuses the limit it would give).
             // Below 1e-12 it is the neo-Hookean solid to every digit: off.
-            s.model.gent_limit = if value.abs() < 1e-12 { 0.0 } else { 1.0 / value };
+            s.model.gent_limit = if value.abs() < 1e-12 {
+                0.0
+            } else {
+                1.0 / value
+            };
         }
         "compression_ratio" => s.model.compression_ratio = value,
         "prony_g" => s.model.prony_g = value,
