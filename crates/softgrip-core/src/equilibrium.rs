@@ -240,7 +240,17 @@ impl Simulation {
                     self.state = saved;
                     increment *= 0.5;
                 }
-                Err(e) => {
+                Err(mut e) => {
+                    // The load that failed is a step on the way: said with the one asked.
+                    if let SimError::NoEquilibrium { why, load, .. } = &mut e {
+                        let sum = |v: &[DVec3]| v.iter().map(|f| f.length()).sum::<f64>();
+                        let (start, asked) = (sum(from), sum(&to));
+                        if (asked - *load).abs() > 1e-9 * asked.max(1.0) {
+                            *why = format!(
+                                "{why} (a step on the way from {start:.4} N to the {asked:.4} N asked)"
+                            );
+                        }
+                    }
                     // A caller's dynamic fallback goes on under the asked load from a stalled
                     // iteration (near rest), else from the last equilibrium on the way.
                     if !matches!(e, SimError::NoEquilibrium { stalled: true, .. }) {
