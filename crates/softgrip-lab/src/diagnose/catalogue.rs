@@ -123,18 +123,6 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             off: None,
         });
     }
-    // ... or stiffen by a law that locks (Gent's: rubbers and strongly stiffening silicones),
-    // which neither Yeoh form follows near the lock. 1 / J_m from 0 (the neo-Hookean solid, so
-    // the score test nests it) to 2 (locking at I1 - 3 = 0.5, a 45 % uniaxial stretch).
-    if scene.model.elasticity == softgrip_core::scene::Elasticity::NeoHookean {
-        out.push(Candidate {
-            effect: "strain-stiffening",
-            variant: "gent".into(),
-            scene: scene.clone(),
-            params: with_modulus(vec![param("gent_stiffening", 0.0, 2.0, false)]),
-            off: None,
-        });
-    }
     if recording.mode == Mode::TimeSeries {
         out.push(Candidate {
             effect: "viscoelastic-creep",

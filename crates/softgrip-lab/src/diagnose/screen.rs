@@ -60,8 +60,6 @@ fn tested(c: &Candidate) -> Option<Vec<&'static str>> {
         // effect (and without derivative) where that term is absent, so the score is taken in
         // the two coefficients themselves.
         ("strain-stiffening", "two-term") => Some(vec!["stiffening", "stiffening_cubic"]),
-        // Gent at its null: 1 / J_m = 0, the neo-Hookean solid.
-        ("strain-stiffening", "gent") => Some(vec!["gent_stiffening"]),
         ("heterogeneous-stiffness", _) => Some(vec!["region_young_modulus"]),
         ("load-loss", _) => Some(vec!["guide_friction"]),
         _ => None,
