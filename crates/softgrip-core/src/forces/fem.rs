@@ -385,24 +385,37 @@ mod tests {
                         + mu * gamma / 54.0 * s * s * s
                         + 0.5 * lambda * (f.determinant() - alpha).powi(2))
                 };
-                // f_a = -V0 P b_a
                 let p = stress(mu, lambda, yeoh, f_at(&deformed));
-                for a in 0..4 {
-                    let analytic = -(p * fem.gradients[0][a]) * v0;
-                    for k in 0..3 {
-                        let h = 1e-9;
-                        let mut plus = deformed.clone();
-                        plus[a][k] += h;
-                        let mut minus = deformed.clone();
-                        minus[a][k] -= h;
-                        let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
-                        assert!(
-                            (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
-                            "beta {beta} gamma {gamma} q {q}, node {a} axis {k}: {numeric} against {}",
-                            analytic[k]
-                        );
-                    }
-                }
+                let case = format!("beta {beta} gamma {gamma} q {q}");
+                assert_forces_are_the_energys_gradient(&fem, v0, p, &deformed, &energy_at, &case);
+            }
+        }
+    }
+
+    /// The forces of stress `p` on the element at `deformed`, `f_a = -V0 P b_a`, against central
+    /// differences of `energy_at`, to 1e-6 of their size.
+    fn assert_forces_are_the_energys_gradient(
+        fem: &FemModel,
+        v0: f64,
+        p: DMat3,
+        deformed: &[DVec3],
+        energy_at: &dyn Fn(&[DVec3]) -> f64,
+        case: &str,
+    ) {
+        for a in 0..4 {
+            let analytic = -(p * fem.gradients[0][a]) * v0;
+            for k in 0..3 {
+                let h = 1e-9;
+                let mut plus = deformed.to_vec();
+                plus[a][k] += h;
+                let mut minus = deformed.to_vec();
+                minus[a][k] -= h;
+                let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
+                assert!(
+                    (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
+                    "{case}, node {a} axis {k}: {numeric} against {}",
+                    analytic[k]
+                );
             }
         }
     }
@@ -471,22 +484,8 @@ mod tests {
                     + 0.5 * lambda * (f.determinant() - alpha).powi(2))
             };
             let p = stress(mu, lambda, gent, f_at(&deformed));
-            for a in 0..4 {
-                let analytic = -(p * fem.gradients[0][a]) * v0;
-                for k in 0..3 {
-                    let h = 1e-9;
-                    let mut plus = deformed.clone();
-                    plus[a][k] += h;
-                    let mut minus = deformed.clone();
-                    minus[a][k] -= h;
-                    let numeric = -(energy_at(&plus) - energy_at(&minus)) / (2.0 * h);
-                    assert!(
-                        (numeric - analytic[k]).abs() < 1e-6 * analytic.length().max(1e-9),
-                        "J_m {limit}, node {a} axis {k}: {numeric} against {}",
-                        analytic[k]
-                    );
-                }
-            }
+            let case = format!("J_m {limit}");
+            assert_forces_are_the_energys_gradient(&fem, v0, p, &deformed, &energy_at, &case);
         }
     }
 

@@ -136,33 +136,8 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         }
     }
 
-    // Slivers: flat ones are an error, thin ones a warning, each named.
-    let mut slivers = 0;
-    let mut worst: Option<(usize, f64)> = None;
-    for t in 0..mesh.tets.len() {
-        let q = mesh.tet_quality(t);
-        if q < SLIVER_QUALITY {
-            slivers += 1;
-            if worst.is_none_or(|(_, w)| q < w) {
-                worst = Some((t, q));
-            }
-        }
-    }
-    if let Some((t, q)) = worst {
-        let c = mesh.tet_positions(t).iter().sum::<DVec3>() / 4.0;
-        if q < FLAT_QUALITY {
-            return Err(MeshError::Flat {
-                tet: t,
-                quality: q,
-                x: c.x,
-                y: c.y,
-                z: c.z,
-            });
-        }
-        report.warnings.push(format!(
-            "{slivers} sliver tetrahedra (shape quality below {SLIVER_QUALITY}; the worst, tetrahedron {t}, {q:.1e} near ({:.4}, {:.4}, {:.4})): they make the step stiff and the contact rough; remesh (Gmsh: Mesh > Optimize 3D)",
-            c.x, c.y, c.z
-        ));
+    if let Some(w) = slivers(mesh)? {
+        report.warnings.push(w);
     }
     if let Some((count, node)) = non_manifold_nodes(mesh) {
         let p = mesh.nodes[node];
@@ -203,6 +178,48 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
     Ok(report)
 }
 
+/// Flat tetrahedra (an error naming the worst) and slivers (a warning naming the worst).
+fn slivers(mesh: &TetMesh) -> Result<Option<String>, MeshError> {
+    let mut slivers = 0;
+    let mut worst: Option<(usize, f64)> = None;
+    for t in 0..mesh.tets.len() {
+        let q = mesh.tet_quality(t);
+        if q < SLIVER_QUALITY {
+            slivers += 1;
+            if worst.is_none_or(|(_, w)| q < w) {
+                worst = Some((t, q));
+            }
+        }
+    }
+    if let Some((t, q)) = worst {
+        let c = mesh.tet_positions(t).iter().sum::<DVec3>() / 4.0;
+        if q < FLAT_QUALITY {
+            return Err(MeshError::Flat {
+                tet: t,
+                quality: q,
+                x: c.x,
+                y: c.y,
+                z: c.z,
+            });
+        }
+        return Ok(Some(format!(
+            "{slivers} sliver tetrahedra (shape quality below {SLIVER_QUALITY}; the worst, tetrahedron {t}, {q:.1e} near ({:.4}, {:.4}, {:.4})): they make the step stiff and the contact rough; remesh (Gmsh: Mesh > Optimize 3D)",
+            c.x, c.y, c.z
+        )));
+    }
+    Ok(None)
+}
+
+/// The root of `i` in a union-find forest, halving the path on the way.
+fn root(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let up = parent[parent[i as usize] as usize];
+        parent[i as usize] = up;
+        i = up;
+    }
+    i
+}
+
 /// Nodes around which the tetrahedra do not form one piece through their shared faces (two
 /// tetrahedra meeting only at a node or an edge): how many, and the first.
 pub fn non_manifold_nodes(mesh: &TetMesh) -> Option<(usize, usize)> {
@@ -210,14 +227,6 @@ pub fn non_manifold_nodes(mesh: &TetMesh) -> Option<(usize, usize)> {
     // their corners at its three nodes.
     let n = 4 * mesh.tets.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let up = parent[parent[i as usize] as usize];
-            parent[i as usize] = up;
-            i = up;
-        }
-        i
-    }
     let mut faces: HashMap<[u32; 3], (u32, [u8; 3])> = HashMap::with_capacity(2 * n);
     for (t, tet) in mesh.tets.iter().enumerate() {
         for skip in 0..4u8 {
@@ -258,14 +267,6 @@ pub fn non_manifold_nodes(mesh: &TetMesh) -> Option<(usize, usize)> {
 /// Connected parts of the node graph of the tetrahedra (union-find).
 pub fn parts(mesh: &TetMesh) -> usize {
     let mut parent: Vec<u32> = (0..mesh.nodes.len() as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let up = parent[parent[i as usize] as usize];
-            parent[i as usize] = up;
-            i = up;
-        }
-        i
-    }
     for tet in &mesh.tets {
         let a = root(&mut parent, tet[0]);
         for &n in &tet[1..] {
