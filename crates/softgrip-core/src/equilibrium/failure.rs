@@ -107,12 +107,12 @@ fn stall_words(model: &Model) -> (&'static str, &'static str) {
     }
 }
 
+/// The error for `failure` after `iterations` of a solve to `tolerance`.
 pub(super) fn no_equilibrium(
     model: &Model,
     state: &crate::state::State,
     failure: Failure,
-    iterations: usize,
-    tolerance: f64,
+    (iterations, tolerance): (usize, f64),
 ) -> SimError {
     let load: f64 = model
         .fingers

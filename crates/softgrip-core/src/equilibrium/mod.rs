@@ -562,13 +562,8 @@ impl Simulation {
             }
             h = (GROWTH * h).min(largest_step);
         }
-        Err(no_equilibrium(
-            base,
-            &self.state,
-            last_failure,
-            report.iterations,
-            o.tolerance,
-        ))
+        let solve = (report.iterations, o.tolerance);
+        Err(no_equilibrium(base, &self.state, last_failure, solve))
     }
 }
 
@@ -707,13 +702,8 @@ impl Simulation {
             });
             h = (GROWTH * h).min(o.max_pseudo_step);
         }
-        Err(no_equilibrium(
-            base,
-            &self.state,
-            last_failure,
-            report.iterations,
-            o.tolerance,
-        ))
+        let solve = (report.iterations, o.tolerance);
+        Err(no_equilibrium(base, &self.state, last_failure, solve))
     }
 }
 

@@ -53,28 +53,7 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
     }
     let mut report = Report::default();
 
-    // Duplicates: nodes on the same point (to a tolerance) become one.
-    let (lo, hi) = bounds_of(&mesh.nodes);
-    let cell = ((hi - lo).max_element() * DUPLICATE_TOLERANCE).max(f64::MIN_POSITIVE);
-    let mut first: HashMap<[i64; 3], u32> = HashMap::with_capacity(mesh.nodes.len());
-    let mut remap: Vec<u32> = (0..mesh.nodes.len() as u32).collect();
-    for (i, p) in mesh.nodes.iter().enumerate() {
-        let key = ((*p - lo) / cell).round().as_i64vec3().to_array();
-        match first.get(&key) {
-            Some(&j) => {
-                remap[i] = j;
-                report.merged += 1;
-            }
-            None => {
-                first.insert(key, i as u32);
-            }
-        }
-    }
-    for tet in &mut mesh.tets {
-        for n in tet.iter_mut() {
-            *n = remap[*n as usize];
-        }
-    }
+    report.merged = merge_duplicates(mesh);
 
     // Unused nodes go (and the merged ones with them).
     let mut used = vec![false; mesh.nodes.len()];
@@ -176,6 +155,34 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         ));
     }
     Ok(report)
+}
+
+/// Nodes on the same point (to [`DUPLICATE_TOLERANCE`] of the extent) made one: how many were
+/// merged into another.
+fn merge_duplicates(mesh: &mut TetMesh) -> usize {
+    let mut merged = 0;
+    let (lo, hi) = bounds_of(&mesh.nodes);
+    let cell = ((hi - lo).max_element() * DUPLICATE_TOLERANCE).max(f64::MIN_POSITIVE);
+    let mut first: HashMap<[i64; 3], u32> = HashMap::with_capacity(mesh.nodes.len());
+    let mut remap: Vec<u32> = (0..mesh.nodes.len() as u32).collect();
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        let key = ((*p - lo) / cell).round().as_i64vec3().to_array();
+        match first.get(&key) {
+            Some(&j) => {
+                remap[i] = j;
+                merged += 1;
+            }
+            None => {
+                first.insert(key, i as u32);
+            }
+        }
+    }
+    for tet in &mut mesh.tets {
+        for n in tet.iter_mut() {
+            *n = remap[*n as usize];
+        }
+    }
+    merged
 }
 
 /// Flat tetrahedra (an error naming the worst) and slivers (a warning naming the worst).
