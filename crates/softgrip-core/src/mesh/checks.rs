@@ -51,9 +51,10 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
             }
         }
     }
-    let mut report = Report::default();
-
-    report.merged = merge_duplicates(mesh);
+    let mut report = Report {
+        merged: merge_duplicates(mesh),
+        ..Report::default()
+    };
 
     // Unused nodes go (and the merged ones with them).
     let mut used = vec![false; mesh.nodes.len()];
