@@ -46,6 +46,12 @@ pub struct Args {
     /// screened by it, and those it finds nothing for are not fitted).
     #[arg(long)]
     no_screen: bool,
+    /// Find a region of other stiffness from the data (48 layers, quarters, octants and the
+    /// inner block, scanned and the best placed by short fits) instead of trying the four
+    /// halves; quasi-static recordings, screened. Reported by its shape, bounds and modulus
+    /// ratio. Off by default: it reads some strain stiffening as a stiff top layer.
+    #[arg(long)]
+    region_scan: bool,
     /// The model to start from: `continuum` (neo-Hookean tetrahedra with nodal pressures,
     /// locking-free: the least form error to mistake for physics), `lattice` (the thesis's
     /// springs) or `scene` (the scene's own, as written)
@@ -101,6 +107,7 @@ pub fn run(args: Args) -> Result<()> {
         workers,
         sensitivities: args.sensitivities,
         screen: !args.no_screen,
+        region_scan: args.region_scan,
         model: diagnose::BaselineModel::from_name(&args.model),
         checkpoint: report
             .dir("diagnose", recording_path)
@@ -229,6 +236,9 @@ pub fn run(args: Args) -> Result<()> {
             })
             .collect();
         println!("fitted: {}", with_errors.join(", "));
+        if let Some(r) = d.region() {
+            println!("{}", r.describe());
+        }
         let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
         println!(
             "NRMSE {:.4} -> {:.4}; over all markers {:.4} -> {:.4}; over all markers beyond the noise {:.4} -> {:.4}{}",
@@ -338,9 +348,19 @@ fn screen_line(screens: &[(usize, diagnose::Screen)]) -> Option<String> {
             .map(|(_, s)| s)
             .collect();
         let fitted: Vec<String> = of.iter().filter(|s| s.kept).map(|s| label(s)).collect();
-        let out: Vec<String> = of.iter().filter(|s| !s.kept).map(|s| label(s)).collect();
+        let scanned: Vec<String> = of.iter().filter(|s| s.in_scan).map(|s| label(s)).collect();
+        let out: Vec<String> = of
+            .iter()
+            .filter(|s| !s.kept && !s.in_scan)
+            .map(|s| label(s))
+            .collect();
+        let scanned = if scanned.is_empty() {
+            String::new()
+        } else {
+            format!("; among the region scan's shapes {}", scanned.join(", "))
+        };
         parts.push(format!(
-            "round {}: fitted {}; ruled out (p >= {}) {}",
+            "round {}: fitted {}{scanned}; ruled out (p >= {}) {}",
             round + 1,
             if fitted.is_empty() {
                 "none".to_string()

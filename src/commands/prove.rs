@@ -44,6 +44,10 @@ pub struct Args {
     /// once). Default: both.
     #[arg(long, value_parser = ["lattice", "continuum"])]
     model: Vec<String>,
+    /// Diagnose with `diagnose --region-scan`: a region of other stiffness found from the data
+    /// instead of the four halves.
+    #[arg(long)]
+    region_scan: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -128,7 +132,10 @@ pub fn run(args: Args) -> Result<()> {
             seed,
             only,
             &models,
-            &softgrip_lab::diagnose::DiagnoseOptions::default(),
+            &softgrip_lab::diagnose::DiagnoseOptions {
+                region_scan: args.region_scan,
+                ..Default::default()
+            },
             options,
             &show_stages(&bar),
             &mut partial,

@@ -143,6 +143,7 @@ pub fn run(args: Args) -> Result<()> {
         description: format!(
             "made by softgrip synth: loads {loads:?} N, axes {axes}, noise {noise} m, seed {seed}"
         ),
+        distortion: None,
     };
     let rec = synthesize(scene, &spec, out)?;
     println!(

@@ -285,6 +285,7 @@ fn fit_and_sweep_write_their_figures_and_reports() {
         noise: 5e-5,
         seed: 1,
         description: "cli fit".into(),
+        distortion: None,
     };
     synthesize(&scene, &spec, &dir.join("rec")).unwrap();
     let rec = dir.join("rec/recording.toml");
@@ -360,6 +361,7 @@ fn fit_of_several_recordings_shares_the_parameters() {
         noise: 2e-5,
         seed,
         description: "cli fit of several".into(),
+        distortion: None,
     };
     let mut recs = Vec::new();
     for (name, mass, seed) in [("gravity", 0.0, 1), ("loaded", 0.05, 2)] {

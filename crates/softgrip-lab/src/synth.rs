@@ -38,6 +38,71 @@ pub struct Synthesis {
     pub noise: f64,
     pub seed: u64,
     pub description: String,
+    /// Physics softgrip has no model of, laid on the simulated positions before the noise (the
+    /// proof's out-of-catalogue cases); `None`: the simulation as it is.
+    pub distortion: Option<Distortion>,
+}
+
+/// A mismatch no model of softgrip's makes, laid on a quasi-static recording's positions.
+/// "Unloading" is every sample after the one at the largest load.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Distortion {
+    /// A permanent set: on unloading, every marker (the finger too) keeps `share` of the way
+    /// it moved from where it is to where it was at the largest load.
+    PermanentSet { share: f64 },
+    /// Adhesion: on unloading, the finger and the markers within `reach` (m, horizontally) of
+    /// it keep `share` of that way: the surface sticks to the finger.
+    Adhesion { share: f64, reach: f64 },
+    /// A marker slipping on the skin: marker `marker` moves by `rate` m per N of load along x.
+    MarkerSlip { marker: String, rate: f64 },
+}
+
+impl Distortion {
+    /// The positions `simulated` (one per residual of `placeholder`'s samples, `loads` by
+    /// sample) with the distortion laid on.
+    fn apply(
+        &self,
+        placeholder: &Recording,
+        residuals: &[crate::compare::Residual],
+        loads: &[f64],
+    ) -> Vec<DVec3> {
+        let peak = (0..loads.len())
+            .max_by(|&a, &b| loads[a].total_cmp(&loads[b]))
+            .unwrap_or(0);
+        let at_peak = |r: &crate::compare::Residual| {
+            residuals
+                .iter()
+                .find(|q| q.sample == peak && q.marker == r.marker)
+                .map_or(r.simulated, |q| q.simulated)
+        };
+        let finger_at_peak = residuals
+            .iter()
+            .find(|q| q.sample == peak && placeholder.marker_name(q.marker) == "finger")
+            .map(|q| q.simulated);
+        residuals
+            .iter()
+            .map(|r| {
+                let unloading = r.sample > peak;
+                let name = placeholder.marker_name(r.marker);
+                let keep = |share: f64| r.simulated + share * (at_peak(r) - r.simulated);
+                match self {
+                    Distortion::PermanentSet { share } if unloading => keep(*share),
+                    Distortion::Adhesion { share, reach } if unloading => {
+                        let near = name == "finger"
+                            || finger_at_peak.is_some_and(|f| {
+                                let d = at_peak(r) - f;
+                                (d.x * d.x + d.y * d.y).sqrt() <= *reach
+                            });
+                        if near { keep(*share) } else { r.simulated }
+                    }
+                    Distortion::MarkerSlip { marker, rate } if *marker == name => {
+                        r.simulated + DVec3::X * rate * loads[r.sample]
+                    }
+                    _ => r.simulated,
+                }
+            })
+            .collect()
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -195,14 +260,19 @@ fn write_samples(
     dir: &Path,
 ) -> Result<Recording, SynthError> {
     let mut noise = Gaussian::new(spec.seed);
+    let loads: Vec<f64> = spec.samples.iter().map(|s| s.1).collect();
+    let positions: Vec<DVec3> = match &spec.distortion {
+        Some(d) => d.apply(placeholder, residuals, &loads),
+        None => residuals.iter().map(|r| r.simulated).collect(),
+    };
     let mut rows = String::from("time,load,marker,x,y,z\n");
-    for r in residuals {
+    for (r, p) in residuals.iter().zip(&positions) {
         let (time, load) = spec.samples[r.sample];
         let name = placeholder.marker_name(r.marker);
         let _ = write!(rows, "{},{name}", row_start(time, load));
         for a in 0..3 {
             if spec.axes[a] {
-                let _ = write!(rows, ",{:?}", r.simulated[a] + spec.noise * noise.sample());
+                let _ = write!(rows, ",{:?}", p[a] + spec.noise * noise.sample());
             } else {
                 rows.push(',');
             }

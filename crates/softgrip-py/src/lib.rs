@@ -690,9 +690,10 @@ fn sweep_merge(parts: Vec<String>) -> PyResult<(String, String)> {
 
 /// `softgrip diagnose`'s JSON. `model`: "continuum" (default), "lattice" or "scene";
 /// `bounds`: "name=low:high"; `progress(done, planned, what)` as each fit starts; `checkpoint`:
-/// a file each fit is saved in as it ends, from which a later call resumes.
+/// a file each fit is saved in as it ends, from which a later call resumes; `region_scan`: a
+/// region of other stiffness found from the data instead of the four halves (`--region-scan`).
 #[pyfunction]
-#[pyo3(signature = (recording, model = "continuum", max_effects = 2, bounds = Vec::new(), lock = Vec::new(), workers = 0, progress = None, checkpoint = None))]
+#[pyo3(signature = (recording, model = "continuum", max_effects = 2, bounds = Vec::new(), lock = Vec::new(), workers = 0, progress = None, checkpoint = None, region_scan = false))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose(
     py: Python<'_>,
@@ -704,6 +705,7 @@ fn diagnose(
     workers: usize,
     progress: Option<Py<PyAny>>,
     checkpoint: Option<PathBuf>,
+    region_scan: bool,
 ) -> PyResult<String> {
     use softgrip_lab::diagnose::{self, BaselineModel, DiagnoseOptions};
     let model = match model {
@@ -725,6 +727,7 @@ fn diagnose(
         workers,
         max_effects,
         model,
+        region_scan,
         checkpoint: checkpoint
             .map(|path| {
                 diagnose::Checkpoint::open(&path, &build(py)?)

@@ -182,26 +182,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             ("top half", DVec3::new(lo.x, lo.y, c.z) - pad, hi + pad),
         ];
         for (name, min, max) in halves {
-            out.push(Candidate {
-                effect: "heterogeneous-stiffness",
-                variant: name.to_string(),
-                scene: with(&|s| {
-                    s.regions.push(Region {
-                        region: AaBox { min, max },
-                        young_modulus: e,
-                        density: s.object.density,
-                    })
-                }),
-                // A stiff insert in soft material (or a soft patch in
-                // stiff) can differ by more than tenfold.
-                params: with_modulus(vec![param(
-                    "region_young_modulus",
-                    e / 30.0,
-                    e * 30.0,
-                    true,
-                )]),
-                off: None,
-            });
+            out.extend(region(scene, name, AaBox { min, max }));
         }
     }
     let loads = recording.samples.iter().map(|s| s.load).fold(0.0, f64::max);
@@ -218,6 +199,30 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
     out
 }
 
+/// A region of other stiffness at `place` (named `variant`), its modulus fitted with the
+/// object's: a half of the catalogue's, or the box the screen's scan found (`super::regions`).
+pub(super) fn region(scene: &Scene, variant: &str, place: AaBox) -> Option<Candidate> {
+    let e = scene.object.young_modulus;
+    let mut s = scene.clone();
+    s.regions.push(Region {
+        region: place,
+        young_modulus: e,
+        density: s.object.density,
+    });
+    Some(Candidate {
+        effect: "heterogeneous-stiffness",
+        variant: variant.to_string(),
+        scene: s,
+        // A stiff insert in soft material (or a soft patch in stiff) can differ by more than
+        // tenfold.
+        params: vec![
+            param("young_modulus", e / 3.0, e * 3.0, true)?,
+            param("region_young_modulus", e / 30.0, e * 30.0, true)?,
+        ],
+        off: None,
+    })
+}
+
 /// The catalogue as the diagnosis fits it: each parameter searched within
 /// the user's ranges, and a locked E kept at the scene's value in the
 /// candidates' fits too (out of their parameters and off points); a
@@ -227,27 +232,30 @@ pub(super) fn candidates(
     scene: &Scene,
     options: &DiagnoseOptions,
 ) -> Vec<Candidate> {
-    let e_locked = options.lock.iter().any(|l| l == "young_modulus");
     catalogue(recording, scene)
         .into_iter()
-        .map(|mut c| {
-            if e_locked {
-                let kept: Vec<bool> = c.params.iter().map(|p| !is_modulus(p)).collect();
-                if let Some(off) = &mut c.off {
-                    *off = off
-                        .iter()
-                        .zip(&kept)
-                        .filter(|(_, k)| **k)
-                        .map(|(v, _)| *v)
-                        .collect();
-                }
-                c.params.retain(|p| !is_modulus(p));
-            }
-            c.params = within_bounds(c.params, &options.bounds);
-            c
-        })
-        .filter(|c| !c.params.is_empty())
+        .filter_map(|c| as_fitted(c, options))
         .collect()
+}
+
+/// Candidate `c` as the diagnosis fits it (see [`candidates`]): `None` when nothing is left to
+/// fit.
+pub(super) fn as_fitted(mut c: Candidate, options: &DiagnoseOptions) -> Option<Candidate> {
+    let e_locked = options.lock.iter().any(|l| l == "young_modulus");
+    if e_locked {
+        let kept: Vec<bool> = c.params.iter().map(|p| !is_modulus(p)).collect();
+        if let Some(off) = &mut c.off {
+            *off = off
+                .iter()
+                .zip(&kept)
+                .filter(|(_, k)| **k)
+                .map(|(v, _)| *v)
+                .collect();
+        }
+        c.params.retain(|p| !is_modulus(p));
+    }
+    c.params = within_bounds(c.params, &options.bounds);
+    (!c.params.is_empty()).then_some(c)
 }
 
 /// An effect with its variant, as the reports print it.

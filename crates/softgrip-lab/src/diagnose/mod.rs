@@ -20,8 +20,10 @@ mod nominal;
 mod options;
 mod output;
 mod pairs;
+mod regions;
 mod screen;
 mod search;
+mod shapes;
 mod statistics;
 mod uncertainty;
 mod verdict;
@@ -40,12 +42,14 @@ pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use options::{BaselineModel, DiagnoseOptions, FITTED, Progress, check_bounds, parse_bound};
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
+pub use regions::{CELLS, DRAWS, Grid, RegionScan, Shape};
 pub use screen::{FRICTION_GRID, SCREEN_LEVEL, Screen};
+pub use shapes::{FIRST_RATIO, Placed, SHAPES_FITTED, SHAPES_TRIED};
 pub use statistics::{
     BIC_THRESHOLD, MIN_EXPLAINED, PROMISING, UNEXPLAINED_RATIO, VUONG_Z, bic, effective_tests,
     significant, vuong, vuong_by_sample, vuong_threshold,
 };
-pub use verdict::Diagnosis;
+pub use verdict::{Diagnosis, RegionFound};
 
 use crate::error::LabError;
 use crate::recording::Recording;
@@ -142,6 +146,7 @@ pub fn diagnose(
         unexplained: found.unexplained,
         final_fit: found.current,
         standard_errors: Vec::new(),
+        correlations: Vec::new(),
         remaining,
         evidence,
         pair: found.pair,
@@ -171,7 +176,7 @@ pub fn diagnose(
     }
     fits.starting("the final model's standard errors");
     if !d.effects.is_empty() {
-        d.standard_errors =
+        (d.standard_errors, d.correlations) =
             uncertainty::standard_errors(recording, &d.noise, &d.final_fit, options.workers);
     }
     fits.done = fits.planned;

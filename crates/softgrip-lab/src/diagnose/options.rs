@@ -35,6 +35,12 @@ pub struct DiagnoseOptions {
     /// Each round's candidates screened by the score test first (`screen`): one replay with
     /// sensitivities, and only those it cannot rule out fitted. False: every candidate fitted.
     pub screen: bool,
+    /// A region of other stiffness found from the data (`regions`, `shapes`: 48 layers,
+    /// quarters, octants and the inner block scanned from the screen's replay, the best placed
+    /// by short fits) instead of the four halves, on a screened quasi-static recording. Off by
+    /// default while a stiff top layer and strain stiffening read alike (measured:
+    /// docs/results/diagnosis-history.md).
+    pub region_scan: bool,
     /// The baseline's model, in place of the scene's (`None`: the scene's own): the thesis's
     /// lattice or the continuum (`BaselineModel`). By default the continuum: its form error
     /// against a converged FE code is a few per cent at 4 mm, the lattice's 35-50 %
@@ -113,6 +119,7 @@ impl Default for DiagnoseOptions {
             max_effects: 2,
             sensitivities: false,
             screen: true,
+            region_scan: false,
             model: Some(BaselineModel::Continuum),
             checkpoint: None,
         }

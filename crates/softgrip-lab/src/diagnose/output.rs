@@ -127,6 +127,13 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
             "nrmse_all_after": d.final_fit.errors.nrmse_all,
             "nrmse_all_beyond_noise_before": beyond_noise.0,
             "nrmse_all_beyond_noise_after": beyond_noise.1,
+            "region": d.region().map(|r| serde_json::json!({
+                "variant": r.variant,
+                "min": r.region.min.to_array(),
+                "max": r.region.max.to_array(),
+                "ratio": r.ratio,
+                "ratio_standard_error": r.ratio_standard_error.is_finite().then_some(r.ratio_standard_error),
+            })),
             "evidence": d.evidence,
             "model_finding": d.model_finding,
         }

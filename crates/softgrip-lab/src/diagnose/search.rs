@@ -4,14 +4,16 @@
 //! passes all three thresholds; two that tie are fitted together (`super::pairs`). Named effects
 //! stay in and the rest are tried again, so two effects present at once are both found.
 
-use super::catalogue::{Candidate, candidates, own_params};
+use super::catalogue::{Candidate, as_fitted, candidates, own_params, region};
 use super::hypothesis::{Hypothesis, accepted};
 use super::locate::Location;
 use super::model_fit::{FitTask, ModelFit, Search, check_cancel, fit_model};
 use super::noise::{Noise, weighted_residuals};
 use super::options::{DiagnoseOptions, FitCount};
 use super::pairs::{PairTest, fit_pair, judge_pair, tied_rival};
-use super::screen::{Screen, screen};
+use super::regions::RegionScan;
+use super::screen::{Screen, scanned, screen};
+use super::shapes::place;
 use super::statistics::{PROMISING, UNEXPLAINED_RATIO, effective_tests, vuong};
 use crate::error::LabError;
 use crate::recording::Recording;
@@ -70,25 +72,43 @@ pub(super) fn explain(
     // Variants of an effect found are not tried again.
     let mut tried: Vec<&'static str> = Vec::new();
     for round in 0..options.max_effects {
+        // The scan's count of independent places, where it ran (`super::regions`).
+        let mut scan_tests: Option<f64> = None;
         let mut round_candidates = next_candidates(recording, options, &found, &tried, round);
         if round_candidates.is_empty() {
             break;
         }
         if options.screen {
             fits.starting("the score test of every candidate");
-            if let Some(screens) = screen(
+            let screened = screen(
                 recording,
                 noise,
                 &found.current,
                 &round_candidates,
-                options.workers,
-            ) {
+                (options.workers, options.region_scan),
+            );
+            if let Some((mut screens, scan)) = screened {
                 round_candidates = round_candidates
                     .into_iter()
                     .zip(&screens)
                     .filter(|(_, s)| s.kept)
                     .map(|(c, _)| c)
                     .collect();
+                if let Some(scan) = scan {
+                    scan_tests = Some(scan.tests);
+                    let screened = scanned(&scan, found.current.scene.object.young_modulus);
+                    if screened.kept {
+                        fits.starting("placing the region of other stiffness");
+                        round_candidates.extend(placed_region(
+                            recording,
+                            noise,
+                            options,
+                            &found.current,
+                            &scan,
+                        ));
+                    }
+                    screens.push(screened);
+                }
                 found
                     .screens
                     .extend(screens.into_iter().map(|s| (round, s)));
@@ -112,6 +132,13 @@ pub(super) fn explain(
         )?;
         found.hypotheses.extend(fitted);
         compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
+        // A region chosen as the best of the scan's boxes must clear the scan's bar; the halves
+        // are among its boxes.
+        for h in &mut found.hypotheses[start..] {
+            if let Some(t) = scan_tests.filter(|_| h.effect == "heterogeneous-stiffness") {
+                h.tests = h.tests.max(t);
+            }
+        }
         let Some(b) = best_of(&found.hypotheses, start) else {
             break;
         };
@@ -146,6 +173,24 @@ pub(super) fn explain(
         }
     }
     Ok(found)
+}
+
+/// The region the scan found significant, placed by `super::shapes` and offered as a candidate
+/// that starts where the shape's own fit ended.
+fn placed_region(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    current: &ModelFit,
+    scan: &RegionScan,
+) -> Option<Candidate> {
+    let placed = place(recording, noise, current, scan, options.workers)?;
+    let mut c = region(&current.scene, &placed.variant, placed.region)?;
+    c.scene.object.young_modulus = placed.moduli.0;
+    if let Some(r) = c.scene.regions.last_mut() {
+        r.young_modulus = placed.moduli.1;
+    }
+    as_fitted(c, options)
 }
 
 /// Round `round`'s candidates: the effects not yet named and, after the

@@ -17,13 +17,13 @@ use softgrip_core::quasi_static::RestTolerance;
 const STEP: f64 = 0.02;
 
 /// The standard error of each of `fit`'s parameters (their order; infinite where the residuals
-/// do not depend on it, NaN where a replay failed).
+/// do not depend on it, NaN where a replay failed), and their correlations (NaN where not had).
 pub(super) fn standard_errors(
     recording: &Recording,
     noise: &Noise,
     fit: &ModelFit,
     workers: usize,
-) -> Vec<f64> {
+) -> (Vec<f64>, Vec<Vec<f64>>) {
     let options = ReplayOptions {
         rest: RestTolerance::for_fits(),
         ..ReplayOptions::default()
@@ -73,10 +73,11 @@ pub(super) fn standard_errors(
         .collect();
     let dof = m.saturating_sub(p).max(1) as f64;
     let s2 = centre.iter().map(|r| r * r).sum::<f64>() / dof;
-    let (errors, _) = crate::fit::covariance(&columns, m, s2);
-    errors
+    let (errors, correlations) = crate::fit::covariance(&columns, m, s2);
+    let errors = errors
         .into_iter()
         .zip(&columns)
         .map(|(e, c)| if c.is_none() { f64::NAN } else { e })
-        .collect()
+        .collect();
+    (errors, correlations)
 }

@@ -28,6 +28,9 @@ pub struct Diagnosis {
     /// The standard error of each of the final fit's parameters (its order), from the noise
     /// (`uncertainty`); empty when no effect was named.
     pub standard_errors: Vec<f64>,
+    /// The correlations of the final fit's parameters (its order), beside their standard
+    /// errors; empty with them.
+    pub correlations: Vec<Vec<f64>>,
     /// Location of what is left after the effects.
     pub remaining: Location,
     pub evidence: String,
@@ -171,11 +174,86 @@ impl Diagnosis {
             .collect()
     }
 
+    /// The region of other stiffness named, with its modulus ratio and that ratio's standard
+    /// error.
+    pub fn region(&self) -> Option<RegionFound> {
+        let named = self
+            .hypotheses
+            .iter()
+            .find(|h| h.effect == "heterogeneous-stiffness" && self.named(h))?;
+        let scene = &self.final_fit.scene;
+        let region = scene.regions.last()?;
+        let ratio = region.young_modulus / scene.object.young_modulus;
+        let at = |name: &str| self.final_fit.params.iter().position(|(n, _)| n == name);
+        let relative = |i: Option<usize>, v: f64| {
+            i.map_or(0.0, |i| {
+                self.standard_errors.get(i).copied().unwrap_or(f64::NAN) / v
+            })
+        };
+        let (i, j) = (at("region_young_modulus"), at("young_modulus"));
+        let (a, b) = (
+            relative(i, region.young_modulus),
+            relative(j, scene.object.young_modulus),
+        );
+        let rho = match (i, j) {
+            (Some(i), Some(j)) => self
+                .correlations
+                .get(i)
+                .and_then(|row| row.get(j))
+                .copied()
+                .filter(|r| r.is_finite())
+                .unwrap_or(0.0),
+            _ => 0.0,
+        };
+        let spread = log_ratio_spread(a, b, rho);
+        Some(RegionFound {
+            variant: named.variant.clone(),
+            region: region.region,
+            ratio,
+            ratio_standard_error: ratio * spread,
+        })
+    }
+
     /// The standard error of fitted parameter `name` (the final fit's; `None` where it is not
     /// one of the final fit's parameters).
     pub fn standard_error(&self, name: &str) -> Option<f64> {
         let i = self.final_fit.params.iter().position(|(n, _)| n == name)?;
         self.standard_errors.get(i).copied()
+    }
+}
+
+/// A region of other stiffness the diagnosis named: where and how much.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionFound {
+    /// Its shape and place in words (`super::regions::Grid::describe`).
+    pub variant: String,
+    /// Its bounds, m.
+    pub region: softgrip_core::scene::AaBox,
+    /// Its modulus over the rest's.
+    pub ratio: f64,
+    /// The ratio's standard error (delta method on both moduli with their correlation; NaN
+    /// where the final fit's errors are not had).
+    pub ratio_standard_error: f64,
+}
+
+/// The standard deviation of `ln(x / y)` from the relative errors `a` of `x` and `b` of `y` and
+/// their correlation `rho` (delta method): `sqrt(a^2 + b^2 - 2 rho a b)`.
+fn log_ratio_spread(a: f64, b: f64, rho: f64) -> f64 {
+    (a * a + b * b - 2.0 * rho * a * b).max(0.0).sqrt()
+}
+
+impl RegionFound {
+    /// One line: where, and its modulus against the rest's with its standard error.
+    pub fn describe(&self) -> String {
+        let se = if self.ratio_standard_error.is_finite() {
+            format!(" +/- {:.2}", self.ratio_standard_error)
+        } else {
+            String::new()
+        };
+        format!(
+            "region: {}; its modulus {:.2}{se} times the rest's",
+            self.variant, self.ratio
+        )
     }
 }
 
@@ -392,6 +470,17 @@ fn pair_text(t: &PairTest) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::log_ratio_spread;
+
+    /// Two moduli that move together leave their ratio as sure as either; independent ones add
+    /// their variances; opposed ones add their errors.
+    #[test]
+    fn the_ratios_spread_follows_the_correlation_of_its_two_moduli() {
+        assert!(log_ratio_spread(0.1, 0.1, 1.0).abs() < 1e-12);
+        assert!((log_ratio_spread(0.03, 0.04, 0.0) - 0.05).abs() < 1e-12);
+        assert!((log_ratio_spread(0.1, 0.1, -1.0) - 0.2).abs() < 1e-12);
+    }
+
     use super::*;
     use crate::diagnose::hypothesis::tests::tried;
 

@@ -10,10 +10,10 @@
 mod report;
 mod suite;
 
-pub use report::report;
+pub use report::{Place, Recovery, place, recoveries, report};
 pub use suite::{
-    Case, DEVELOPMENT_SEED, E_ERROR, NOISE, QUASI_STATIC_DT, SCORED_SEEDS, case, cases, nominal,
-    nominal_plate, seeded, synthesis, thesis_markers, with_truth_edge, write_case,
+    Case, DEVELOPMENT_SEED, E_ERROR, NOISE, QUASI_STATIC_DT, SCORED_SEEDS, UNEXPLAINED, case,
+    cases, nominal, nominal_plate, seeded, synthesis, thesis_markers, with_truth_edge, write_case,
 };
 
 use std::path::{Path, PathBuf};
@@ -73,21 +73,25 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// The effects named, or [`UNEXPLAINED`] where the verdict was "unexplained".
     pub fn named(&self) -> Vec<&'static str> {
-        self.diagnosis
-            .as_ref()
-            .map(|d| d.effects.clone())
-            .unwrap_or_default()
+        match &self.diagnosis {
+            Ok(d) if d.effects.is_empty() && d.unexplained => vec![UNEXPLAINED],
+            Ok(d) => d.effects.clone(),
+            Err(_) => Vec::new(),
+        }
     }
 
-    /// Right: every hidden effect named and nothing else ("none" for a
-    /// control).
+    /// Right: every hidden effect named and nothing else ("none" for a control); for physics
+    /// softgrip has no model of, "unexplained" with the marker it moves most among those
+    /// located.
     pub fn right(&self) -> bool {
         let mut a = self.named();
         let mut b = self.case.effects.clone();
         a.sort_unstable();
         b.sort_unstable();
-        self.diagnosis.is_ok() && a == b
+        let placed = b != [UNEXPLAINED] || self.located() == Some(true);
+        self.diagnosis.is_ok() && a == b && placed
     }
 
     /// The markers the effect moves most: within half of the largest.

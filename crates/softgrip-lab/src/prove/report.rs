@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 
 use super::{Outcome, ProveOptions};
 use crate::diagnose::{self, BaselineModel};
-use softgrip_core::scene::Scene;
+use glam::DVec3;
+use softgrip_core::scene::{AaBox, Scene};
 
 /// The report: the confusion matrix, NRMSE before and after, and the
 /// recovered parameters against the hidden ones.
@@ -67,7 +68,7 @@ pub fn recoveries(o: &Outcome) -> Vec<Recovery> {
                 let truth_e = o.case.truth_scene.object.young_modulus;
                 let mut got = fitted
                     .regions
-                    .first()
+                    .last()
                     .map(|r| r.young_modulus / fitted.object.young_modulus);
                 // A stiffer bottom half on a softer rest is the same specimen as a softer top
                 // half: read from the opposite half, the hidden ratio is the inverse.
@@ -89,7 +90,7 @@ pub fn recoveries(o: &Outcome) -> Vec<Recovery> {
         .collect()
 }
 
-/// The half the diagnosis put a region in, where it named one.
+/// The region the diagnosis named (its variant's words), where it named one.
 fn place_named(o: &Outcome) -> Option<String> {
     let d = o.diagnosis.as_ref().ok()?;
     d.hypotheses
@@ -98,25 +99,57 @@ fn place_named(o: &Outcome) -> Option<String> {
         .map(|h| h.variant.clone())
 }
 
-/// The half across from `place` (its complement in the object).
-fn opposite(place: &str) -> Option<&'static str> {
-    Some(match place {
-        "left half" => "right half",
-        "right half" => "left half",
-        "top half" => "bottom half",
-        "bottom half" => "top half",
-        _ => return None,
-    })
+/// How a named region stands to the hidden one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Place {
+    /// Its centre inside the hidden region, its volume within a factor of 2.
+    Same,
+    /// The same of its complement in the object: a stiffer bottom half on a softer rest is the
+    /// same specimen as a softer top half (the baseline's E is fitted too); the ratio inverts.
+    Complement,
 }
 
-/// The diagnosis named the half opposite the hidden one: with the baseline's E fitted, the
-/// same two-modulus specimen as the hidden one, read from the other side.
+/// A box's part inside the object's bounds `(lo, hi)`: its centre and volume.
+fn clipped(b: &AaBox, (lo, hi): (DVec3, DVec3)) -> (DVec3, f64) {
+    let (min, max) = (b.min.max(lo), b.max.min(hi));
+    let size = (max - min).max(DVec3::ZERO);
+    (0.5 * (min + max), size.x * size.y * size.z)
+}
+
+/// Where `named` stands to `hidden` in an object with bounds `object` ([`Place`]).
+pub fn place_of(hidden: &AaBox, named: &AaBox, object: (DVec3, DVec3)) -> Option<Place> {
+    let (centre, volume) = clipped(named, object);
+    let (_, hidden_volume) = clipped(hidden, object);
+    let size = object.1 - object.0;
+    let (whole_centre, whole) = (0.5 * (object.0 + object.1), size.x * size.y * size.z);
+    let within_two = |v: f64| {
+        v > 0.0 && hidden_volume > 0.0 && (v / hidden_volume).max(hidden_volume / v) <= 2.0
+    };
+    let inside = |c: DVec3| hidden.contains(c);
+    if inside(centre) && within_two(volume) {
+        return Some(Place::Same);
+    }
+    let rest = whole - volume;
+    let rest_centre = (whole_centre * whole - centre * volume) / rest.max(f64::MIN_POSITIVE);
+    (rest > 0.0 && inside(rest_centre) && within_two(rest)).then_some(Place::Complement)
+}
+
+/// Where the diagnosis's region stands to the hidden one, where both are.
+pub fn place(o: &Outcome) -> Option<Place> {
+    let d = o.diagnosis.as_ref().ok()?;
+    if !d.effects.contains(&"heterogeneous-stiffness") {
+        return None;
+    }
+    let hidden = o.case.truth_scene.regions.first()?;
+    let named = d.final_fit.scene.regions.last()?;
+    let mesh = softgrip_core::model::Model::mesh_of(&o.case.truth_scene).ok()?;
+    place_of(&hidden.region, &named.region, mesh.bounds())
+}
+
+/// The diagnosis named the complement of the hidden region: the same two-modulus specimen,
+/// read from the other side.
 fn opposite_half(o: &Outcome) -> bool {
-    is_opposite(o.case.region, place_named(o).as_deref())
-}
-
-fn is_opposite(hidden: Option<&str>, named: Option<&str>) -> bool {
-    hidden.and_then(opposite).is_some_and(|p| named == Some(p))
+    place(o) == Some(Place::Complement)
 }
 
 /// After over the truth itself against the recording (the noise's floor).
@@ -131,14 +164,12 @@ pub fn above_noise(o: &Outcome) -> bool {
 }
 
 /// The model of the effect is right: every comparable parameter within 30 % and a region in
-/// its half (or the opposite half with the inverse ratio: the same specimen).
+/// its place ([`Place`]: its centre inside the hidden one, its volume within a factor of 2, or
+/// the same of its complement with the inverse ratio).
 fn modelled(o: &Outcome) -> Option<bool> {
     let r = recoveries(o);
     let checked: Vec<bool> = r.iter().filter_map(Recovery::within).collect();
-    let place = o
-        .case
-        .region
-        .map(|p| place_named(o).as_deref() == Some(p) || opposite_half(o));
+    let place = o.case.region.as_ref().map(|_| place(o).is_some());
     if checked.is_empty() && place.is_none() {
         return None;
     }
@@ -244,18 +275,61 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
         .collect();
     let _ = writeln!(
         s,
-        "\nTargets: named right in 90 % of effect cases, no false alarm, both effects in 2 of 3 seeds; after within 1.25 x the truth itself (the truth replayed against its own noisy recording: the noise's floor) in 80 % of the named cases whose effect moves a marker by more than twice the noise; the effect's parameters within 30 % (0.01 for a coefficient below 0.033) with the region in its half in 80 % of named cases (or in the opposite half with the inverse ratio: a stiffer bottom half on a softer rest is the same specimen as a softer top half, since the baseline's E is fitted too). The lattice's stiffening is another law than the truth's and is not compared. Effects at or below twice the noise: {}.\n",
+        "\nTargets: named right in 90 % of effect cases, no false alarm, both effects in 2 of 3 seeds; after within 1.25 x the truth itself (the truth replayed against its own noisy recording: the noise's floor) in 80 % of the named cases whose effect moves a marker by more than twice the noise; the effect's parameters within 30 % (0.01 for a coefficient below 0.033) with the region in its place in 80 % of named cases (its centre inside the hidden region and its volume within a factor of 2, or the same of its complement in the object with the inverse ratio: a stiffer bottom half on a softer rest is the same specimen as a softer top half, since the baseline's E is fitted too). The lattice's stiffening is another law than the truth's and is not compared. Effects at or below twice the noise: {}.\n",
         if below.is_empty() {
             "none".to_string()
         } else {
             below.join(", ")
         }
     );
+    write_modulus_bias(s, outcomes);
+}
+
+/// The baseline's E over the truth's on the controls, per model: the bias the model's own form
+/// puts into every fitted size (the truth's E is its small-strain modulus).
+fn write_modulus_bias(s: &mut String, outcomes: &[Outcome]) {
+    let mut models: Vec<BaselineModel> = outcomes.iter().map(|o| o.model).collect();
+    models.sort_by_key(|m| m.name());
+    models.dedup();
+    for model in models {
+        let ratios: Vec<(String, f64)> = outcomes
+            .iter()
+            .filter(|o| o.model == model && o.case.effects.is_empty())
+            .filter_map(|o| {
+                let d = o.diagnosis.as_ref().ok()?;
+                let e = d
+                    .baseline
+                    .params
+                    .iter()
+                    .find(|(n, _)| n == "young_modulus")?
+                    .1;
+                Some((
+                    o.case.name.clone(),
+                    e / o.case.truth_scene.object.young_modulus,
+                ))
+            })
+            .collect();
+        if ratios.is_empty() {
+            continue;
+        }
+        let mean = ratios.iter().map(|r| r.1).sum::<f64>() / ratios.len() as f64;
+        let each: Vec<String> = ratios
+            .iter()
+            .map(|(n, r)| format!("{n} {:+.1} %", 100.0 * (r - 1.0)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "The {} baseline's E against the truth's on the controls (the model's own form, in every size it fits): {:+.1} % on average; {}.\n",
+            model.name(),
+            100.0 * (mean - 1.0),
+            each.join(", ")
+        );
+    }
 }
 
 /// A case by its name, its seed, the model and, for a hidden region, its place.
 fn case_label(o: &Outcome) -> String {
-    match o.case.region {
+    match &o.case.region {
         Some(place) => format!("{} ({place}), seed {:x}", o.case.name, o.seed),
         None => format!("{}, seed {:x}", o.case.name, o.seed),
     }
@@ -322,7 +396,7 @@ fn write_table(s: &mut String, outcomes: &[Outcome]) {
                     recovered.join("; "),
                     match place_named(o) {
                         Some(p) if opposite_half(o) =>
-                            format!("{p} (the opposite: ratio inverted)"),
+                            format!("{p} (the complement: ratio inverted)"),
                         Some(p) => p,
                         None => "-".into(),
                     },
@@ -462,21 +536,39 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
 mod tests {
     use super::*;
 
-    /// Each half has one opposite, and naming it is reading the same specimen from the other
-    /// side; the same half, no half or another axis is not.
-    #[test]
-    fn the_opposite_half_is_the_complement() {
-        for p in ["left half", "right half", "top half", "bottom half"] {
-            let o = opposite(p).unwrap();
-            assert_ne!(o, p);
-            assert_eq!(opposite(o), Some(p));
-            assert!(is_opposite(Some(p), Some(o)));
-            assert!(!is_opposite(Some(p), Some(p)));
-            assert!(!is_opposite(Some(p), None));
-            assert!(!is_opposite(None, Some(o)));
+    fn aabox(min: [f64; 3], max: [f64; 3]) -> AaBox {
+        AaBox {
+            min: DVec3::from_array(min),
+            max: DVec3::from_array(max),
         }
-        assert!(!is_opposite(Some("left half"), Some("top half")));
-        assert_eq!(opposite("contact zone"), None);
+    }
+
+    /// A region is in its place when its centre is inside the hidden one and its volume within
+    /// a factor of 2; naming the complement (the opposite half) is the same specimen; a half
+    /// across the other axis, or a sliver inside, is not.
+    #[test]
+    fn a_named_region_is_placed_by_its_centre_and_volume_or_its_complements() {
+        let object = (DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, 1.0, 2.0));
+        let bottom_half = aabox([-2.0, -2.0, -1.0], [2.0, 2.0, 1.0]);
+        let top_half = aabox([-2.0, -2.0, 1.0], [2.0, 2.0, 3.0]);
+        let left_half = aabox([-2.0, -2.0, -1.0], [0.0, 2.0, 3.0]);
+        let bottom_layer = aabox([-2.0, -2.0, -1.0], [2.0, 2.0, 0.5]);
+        let sliver = aabox([-2.0, -2.0, -1.0], [2.0, 2.0, 0.2]);
+        assert_eq!(
+            place_of(&bottom_half, &bottom_half, object),
+            Some(Place::Same)
+        );
+        assert_eq!(
+            place_of(&bottom_half, &top_half, object),
+            Some(Place::Complement)
+        );
+        assert_eq!(place_of(&bottom_layer, &left_half, object), None);
+        // A quarter of the height in the bottom half: half its volume.
+        assert_eq!(
+            place_of(&bottom_half, &bottom_layer, object),
+            Some(Place::Same)
+        );
+        assert_eq!(place_of(&bottom_half, &sliver, object), None);
     }
 
     /// The report says which build ran (the rules are the commit's), and says nothing of a

@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use crate::error::LabError;
 use crate::recording::{Mode, Recording, Start};
-use crate::synth::{Synthesis, synthesize};
+use crate::synth::{Distortion, Synthesis, synthesize};
 use softgrip_core::scene::{AaBox, BulkPressure, Elasticity, Region, Scene, SupportKind};
 
 /// One recording of the suite.
@@ -38,8 +38,11 @@ pub struct Case {
     pub loads: Vec<f64>,
     /// The seed of its noise, drawn from the proof's seed.
     pub noise_seed: u64,
-    /// Where a hidden region lies (the diagnosis's names: "left half", ...).
-    pub region: Option<&'static str>,
+    /// Where a hidden region lies, in words ("left half", "bottom layer 5.2 mm", ...).
+    pub region: Option<String>,
+    /// Physics softgrip has no model of, laid on the recording (the effect is then
+    /// "unexplained": the right verdict names no effect and locates the mismatch).
+    pub distortion: Option<Distortion>,
 }
 
 /// The seed developed on: tests and by-hand runs use it (and any other but the scored ones).
@@ -242,6 +245,33 @@ fn half(name: &str) -> AaBox {
     AaBox { min, max }
 }
 
+/// The pseudo-effect of a case whose physics softgrip has no model of: the diagnosis is right
+/// when it answers "unexplained" and locates the mismatch.
+pub const UNEXPLAINED: &str = "unexplained";
+
+/// The thesis cuboid's height, m.
+const HEIGHT: f64 = 0.02;
+
+/// A ratio drawn in `lo..hi`, stiffer or softer at even odds.
+fn either_way(d: &mut Draws, lo: f64, hi: f64) -> f64 {
+    let ratio = d.uniform(lo, hi);
+    if d.next().is_multiple_of(2) {
+        ratio
+    } else {
+        1.0 / ratio
+    }
+}
+
+/// A hidden region's box in words: its bounds within the cuboid, mm.
+fn shape_name(b: &AaBox) -> String {
+    let lo = b.min.max(DVec3::new(-0.025, -0.025, 0.0)) * 1e3;
+    let hi = b.max.min(DVec3::new(0.025, 0.025, HEIGHT)) * 1e3;
+    format!(
+        "box x {:.1} to {:.1}, y {:.1} to {:.1}, z {:.1} to {:.1} mm",
+        lo.x, hi.x, lo.y, hi.y, lo.z, hi.z
+    )
+}
+
 /// The suite under the proof's `seed`. The truth differs from the nominal scene everywhere the
 /// diagnosis may not look: another model (a continuum) on 2 mm edges instead of the lattice's 4,
 /// 1 ms steps instead of 2, E drawn in [`E_ERROR`] of the nominal. Each effect's strength (and a
@@ -268,7 +298,7 @@ pub fn cases(seed: u64) -> Vec<Case> {
             ["left half", "right half", "bottom half", "top half"]
                 .into_iter()
                 .find(|h| half(h) == r.region)
-                .unwrap_or("a region")
+                .map_or_else(|| shape_name(&r.region), str::to_string)
         });
         // The plate spreads its load: three times the sphere's for a like strain (20 % at the
         // top); the stiffer silicone takes three times the loads.
@@ -280,6 +310,7 @@ pub fn cases(seed: u64) -> Vec<Case> {
         Case {
             noise_seed: draws.next() >> 1,
             region,
+            distortion: None,
             name: name.to_string(),
             effects,
             truth,
@@ -389,7 +420,7 @@ pub fn cases(seed: u64) -> Vec<Case> {
             &|s, d| {
                 let place = d.pick(&["left half", "right half", "bottom half", "top half"]);
                 let ratio = d.uniform(lo, hi);
-                let ratio = if d.next() % 2 == 0 {
+                let ratio = if d.next().is_multiple_of(2) {
                     ratio
                 } else {
                     1.0 / ratio
@@ -404,6 +435,76 @@ pub fn cases(seed: u64) -> Vec<Case> {
             },
         ));
     }
+    // Regions in forms and places the catalogue's halves are not: a bottom or top layer of any
+    // thickness (a cured skin, a stiff base), a quarter (a moulding edge), an insert.
+    out.push(case(
+        "heterogeneous-stiffness-layer",
+        vec!["heterogeneous-stiffness"],
+        qs,
+        &|s, d| {
+            let thickness = d.uniform(0.004, 0.007);
+            let bottom = d.next().is_multiple_of(2);
+            let (z0, z1) = if bottom {
+                (-1.0, thickness)
+            } else {
+                (HEIGHT - thickness, 1.0)
+            };
+            let e = either_way(d, 3.0, 6.0) * s.object.young_modulus;
+            s.regions.push(Region {
+                region: AaBox {
+                    min: DVec3::new(-1.0, -1.0, z0),
+                    max: DVec3::new(1.0, 1.0, z1),
+                },
+                young_modulus: e,
+                density: s.object.density,
+            });
+            vec![("region_young_modulus", e)]
+        },
+    ));
+    out.push(case(
+        "heterogeneous-stiffness-quarter",
+        vec!["heterogeneous-stiffness"],
+        qs,
+        &|s, d| {
+            let (left, bottom) = (d.next().is_multiple_of(2), d.next().is_multiple_of(2));
+            let (x0, x1) = if left { (-1.0, 0.0) } else { (0.0, 1.0) };
+            let (z0, z1) = if bottom {
+                (-1.0, HEIGHT / 2.0)
+            } else {
+                (HEIGHT / 2.0, 1.0)
+            };
+            let e = either_way(d, 3.0, 6.0) * s.object.young_modulus;
+            s.regions.push(Region {
+                region: AaBox {
+                    min: DVec3::new(x0, -1.0, z0),
+                    max: DVec3::new(x1, 1.0, z1),
+                },
+                young_modulus: e,
+                density: s.object.density,
+            });
+            vec![("region_young_modulus", e)]
+        },
+    ));
+    out.push(case(
+        "heterogeneous-stiffness-inclusion",
+        vec!["heterogeneous-stiffness"],
+        qs,
+        &|s, d| {
+            // A stiff insert 20 x 20 x 8 mm, under the finger or beside it.
+            let centre = DVec3::new(d.uniform(-0.01, 0.01), 0.0, d.uniform(0.006, 0.012));
+            let half_size = DVec3::new(0.01, 0.01, 0.004);
+            let e = d.uniform(5.0, 10.0) * s.object.young_modulus;
+            s.regions.push(Region {
+                region: AaBox {
+                    min: centre - half_size,
+                    max: centre + half_size,
+                },
+                young_modulus: e,
+                density: s.object.density,
+            });
+            vec![("region_young_modulus", e)]
+        },
+    ));
     for (strength, lo, hi) in [("weak", 1.5, 2.5), ("strong", 2.5, 3.5)] {
         out.push(case(
             &format!("load-loss-{strength}"),
@@ -416,6 +517,34 @@ pub fn cases(seed: u64) -> Vec<Case> {
             },
         ));
     }
+    // Physics softgrip has no model of, on the plain truth: the right verdict is "unexplained",
+    // with the marker it moves most among those it locates.
+    let unexplained = |name: &str, distortion: &dyn Fn(&mut Draws) -> Distortion| {
+        let mut c = case(name, vec![UNEXPLAINED], qs, none);
+        let mut draws = Draws::new(seed, &format!("{name}/distortion"));
+        c.distortion = Some(distortion(&mut draws));
+        c
+    };
+    out.push(unexplained("unexplained-permanent-set", &|d| {
+        Distortion::PermanentSet {
+            share: d.uniform(0.3, 0.5),
+        }
+    }));
+    out.push(unexplained("unexplained-adhesion", &|d| {
+        Distortion::Adhesion {
+            share: d.uniform(0.5, 0.8),
+            reach: 0.012,
+        }
+    }));
+    out.push(unexplained("unexplained-marker-slip", &|d| {
+        let markers = contour_markers(&nominal());
+        let (marker, _) = &markers[(d.next() % markers.len() as u64) as usize];
+        Distortion::MarkerSlip {
+            marker: marker.clone(),
+            // 0.5 to 1 mm at the largest load (9 N).
+            rate: d.uniform(0.5e-3, 1e-3) / 9.0,
+        }
+    }));
     out.push(case(
         "table-friction+load-loss",
         vec!["table-friction", "load-loss"],
@@ -488,6 +617,7 @@ pub fn synthesis(c: &Case, seed: u64, noise: f64) -> Synthesis {
         noise,
         seed,
         description: format!("concealed case {} (softgrip prove)", c.name),
+        distortion: c.distortion.clone(),
     }
 }
 

@@ -32,6 +32,9 @@ pub fn diagnosis(
         ""
     };
     let _ = writeln!(md, "## Verdict: {effects}{model}\n\n{}\n", d.evidence);
+    if let Some(r) = d.region() {
+        let _ = writeln!(md, "{}.\n", r.describe());
+    }
     md += &errors_table(&[
         ("baseline", &d.baseline.errors),
         ("with the effects", &d.final_fit.errors),
@@ -258,7 +261,11 @@ fn screen_table(screens: &[(usize, crate::diagnose::Screen)]) -> String {
             s.dof,
             s.p_value,
             100.0 * s.predicted_share,
-            if s.kept { "yes" } else { "no" }
+            match (s.kept, s.in_scan) {
+                (true, _) => "yes",
+                (false, true) => "in the region scan",
+                (false, false) => "no",
+            }
         );
     }
     md.push('\n');

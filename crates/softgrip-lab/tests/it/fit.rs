@@ -95,6 +95,7 @@ fn a_synthetic_recording_is_fitted_back_within_the_noise_implied_uncertainty() {
         noise: 1e-4,
         seed: 7,
         description: "synthetic: thesis cuboid, known parameters, 0.1 mm noise".into(),
+        distortion: None,
     };
     let dir = std::env::temp_dir().join(format!("softgrip-fit-synth-{}", std::process::id()));
     let mut rec = synthesize(&scene, &spec, &dir).unwrap();

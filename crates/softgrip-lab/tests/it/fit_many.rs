@@ -70,6 +70,7 @@ fn beam_recording(
         noise: 2e-5,
         seed,
         description: format!("synthetic cantilever, tip mass {tip_mass} kg"),
+        distortion: None,
     };
     synthesize(&scene, &spec, dir).unwrap()
 }

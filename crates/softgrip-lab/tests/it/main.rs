@@ -19,4 +19,5 @@ mod replay;
 mod sensitivity;
 mod support;
 mod sweep;
+mod synth;
 mod table;

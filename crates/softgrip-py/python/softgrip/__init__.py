@@ -80,12 +80,14 @@ def diagnose(
     workers: int = 0,
     progress=None,
     checkpoint: str | os.PathLike | None = None,
+    region_scan: bool = False,
 ) -> Diagnosis:
     """What physics the model left out, as ``softgrip diagnose --json``: ``model`` is
     "continuum" (default), "lattice" or "scene"; ``bounds`` like ``"young_modulus=30e3:120e3"``;
     ``progress(done, planned, what)`` is called as each fit starts. Minutes of work (a beam's,
     hours): Ctrl-C stops it, and with ``checkpoint`` (a file) each fit is saved as it ends, so
-    the same call resumes where it stopped."""
+    the same call resumes where it stopped. ``region_scan``: a region of other stiffness found
+    from the data instead of the four halves (``--region-scan``)."""
     return Diagnosis.from_json(
         _softgrip.diagnose(
             recording._inner,
@@ -96,5 +98,6 @@ def diagnose(
             workers,
             progress,
             None if checkpoint is None else os.fspath(checkpoint),
+            region_scan,
         )
     )

@@ -100,4 +100,6 @@ def diagnose(
     lock: list[str] = ...,
     workers: int = 0,
     progress: Callable[[int, int, str], object] | None = None,
+    checkpoint: str | None = None,
+    region_scan: bool = False,
 ) -> str: ...

@@ -36,6 +36,7 @@ fn recording(dir: &Path) -> PathBuf {
         noise: 1e-4,
         seed: 7,
         description: "table friction under a fixed-bottom scene".into(),
+        distortion: None,
     };
     synthesize(&truth, &spec, dir).expect("synthesized");
     std::fs::write(dir.join("scene.toml"), nominal.to_toml()).expect("nominal scene");

@@ -65,6 +65,7 @@ fn recording(dir: &Path, viewer_modulus: Option<f64>, axes: [bool; 3]) -> PathBu
         noise: 0.0,
         seed: 1,
         description: "viewer test: two loads, two markers, no noise".into(),
+        distortion: None,
     };
     synthesize(&scene, &spec, dir).expect("synthesize");
     if let Some(e) = viewer_modulus {
