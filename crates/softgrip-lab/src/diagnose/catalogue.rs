@@ -58,17 +58,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
     let Some(modulus) = param("young_modulus", e / 3.0, e * 3.0, true) else {
         return out;
     };
-    // The modulus and the effect's own: a candidate whose parameter is not
-    // known is left out rather than offered broken.
-    let with_modulus = |ps: Vec<Option<FitParam>>| {
-        ps.into_iter()
-            .collect::<Option<Vec<_>>>()
-            .map(|mut v| {
-                v.insert(0, modulus);
-                v
-            })
-            .unwrap_or_default()
-    };
+    let with_modulus = |ps: Vec<Option<FitParam>>| with_modulus(modulus, ps);
     let with = |f: &dyn Fn(&mut Scene)| {
         let mut s = scene.clone();
         f(&mut s);
@@ -89,40 +79,7 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             off: None,
         });
     }
-    // A spring's beta multiplies its own strain squared (a few percent in a
-    // grasp); an element's, `max(I1 - 3, 0) / 3`, which is about 1 at the
-    // 67 % compression of the Ecoflex recordings (incompressible, `I1 =
-    // l^2 + 2 / l`): there beta 30 already multiplies the shear modulus by
-    // 31.
-    let stiffening_max = if scene.model.elasticity == softgrip_core::scene::Elasticity::NeoHookean {
-        30.0
-    } else {
-        3e4
-    };
-    out.push(Candidate {
-        effect: "strain-stiffening",
-        variant: String::new(),
-        scene: scene.clone(),
-        params: with_modulus(vec![param("stiffening", 0.0, stiffening_max, false)]),
-        off: None,
-    });
-    // Elements can also soften first and stiffen late (filled silicones:
-    // a two-term Yeoh solid, C20 < 0 < C30), which one growing term cannot
-    // follow. gamma 100 multiplies the shear modulus by 101 at s = 3 (the
-    // Ecoflex recordings' last level; 10 was too few: EF30_0T_A1's fit
-    // ended on it), as beta 30 by 31; softening 0.95 dips it to 10 %.
-    if scene.model.elasticity == softgrip_core::scene::Elasticity::NeoHookean {
-        out.push(Candidate {
-            effect: "strain-stiffening",
-            variant: "two-term".into(),
-            scene: scene.clone(),
-            params: with_modulus(vec![
-                param("stiffening_cubic", 0.0, 100.0, false),
-                param("softening", 0.0, 0.95, false),
-            ]),
-            off: None,
-        });
-    }
+    out.extend(stiffening(scene, modulus));
     if recording.mode == Mode::TimeSeries {
         out.push(Candidate {
             effect: "viscoelastic-creep",
@@ -171,6 +128,70 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             off: None,
         });
     }
+    out.extend(halves(scene));
+    let loads = recording.samples.iter().map(|s| s.load).fold(0.0, f64::max);
+    let pressed = scene.fingers.iter().any(|f| f.force != DVec3::ZERO);
+    if pressed && loads > 0.0 {
+        out.push(Candidate {
+            effect: "load-loss",
+            variant: String::new(),
+            scene: scene.clone(),
+            params: with_modulus(vec![param("guide_friction", 0.0, 0.5 * loads, false)]),
+            off: None,
+        });
+    }
+    out
+}
+
+/// Strain stiffening: Yeoh's one term and, for elements, the two-term form.
+fn stiffening(scene: &Scene, modulus: FitParam) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    // A spring's beta multiplies its own strain squared (a few percent in a
+    // grasp); an element's, `max(I1 - 3, 0) / 3`, which is about 1 at the
+    // 67 % compression of the Ecoflex recordings (incompressible, `I1 =
+    // l^2 + 2 / l`): there beta 30 already multiplies the shear modulus by
+    // 31.
+    let stiffening_max = if scene.model.elasticity == softgrip_core::scene::Elasticity::NeoHookean {
+        30.0
+    } else {
+        3e4
+    };
+    out.push(Candidate {
+        effect: "strain-stiffening",
+        variant: String::new(),
+        scene: scene.clone(),
+        params: with_modulus(
+            modulus,
+            vec![param("stiffening", 0.0, stiffening_max, false)],
+        ),
+        off: None,
+    });
+    // Elements can also soften first and stiffen late (filled silicones:
+    // a two-term Yeoh solid, C20 < 0 < C30), which one growing term cannot
+    // follow. gamma 100 multiplies the shear modulus by 101 at s = 3 (the
+    // Ecoflex recordings' last level; 10 was too few: EF30_0T_A1's fit
+    // ended on it), as beta 30 by 31; softening 0.95 dips it to 10 %.
+    if scene.model.elasticity == softgrip_core::scene::Elasticity::NeoHookean {
+        out.push(Candidate {
+            effect: "strain-stiffening",
+            variant: "two-term".into(),
+            scene: scene.clone(),
+            params: with_modulus(
+                modulus,
+                vec![
+                    param("stiffening_cubic", 0.0, 100.0, false),
+                    param("softening", 0.0, 0.95, false),
+                ],
+            ),
+            off: None,
+        });
+    }
+    out
+}
+
+/// A region of other stiffness in each half of the object.
+fn halves(scene: &Scene) -> Vec<Candidate> {
+    let mut out = Vec::new();
     if let Ok(mesh) = softgrip_core::model::Model::mesh_of(scene) {
         let (lo, hi) = mesh.bounds();
         let c = 0.5 * (lo + hi);
@@ -185,18 +206,19 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
             out.extend(region(scene, name, AaBox { min, max }));
         }
     }
-    let loads = recording.samples.iter().map(|s| s.load).fold(0.0, f64::max);
-    let pressed = scene.fingers.iter().any(|f| f.force != DVec3::ZERO);
-    if pressed && loads > 0.0 {
-        out.push(Candidate {
-            effect: "load-loss",
-            variant: String::new(),
-            scene: scene.clone(),
-            params: with_modulus(vec![param("guide_friction", 0.0, 0.5 * loads, false)]),
-            off: None,
-        });
-    }
     out
+}
+
+/// The modulus and the effect's own parameters: empty where one is not known, so that a
+/// candidate is left out rather than offered broken.
+fn with_modulus(modulus: FitParam, ps: Vec<Option<FitParam>>) -> Vec<FitParam> {
+    ps.into_iter()
+        .collect::<Option<Vec<_>>>()
+        .map(|mut v| {
+            v.insert(0, modulus);
+            v
+        })
+        .unwrap_or_default()
 }
 
 /// A region of other stiffness at `place` (named `variant`), its modulus fitted with the

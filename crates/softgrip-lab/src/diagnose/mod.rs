@@ -129,12 +129,7 @@ pub fn diagnose(
     );
     let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
     if let Some(f) = &model_finding {
-        let mut rest = evidence.chars();
-        let first = rest
-            .next()
-            .map(|c| c.to_uppercase().to_string())
-            .unwrap_or_default();
-        evidence = format!("{f} {first}{}", rest.as_str());
+        evidence = after_finding(f, &evidence);
     }
     let simulations = first.evaluations + baseline.evaluations + found.simulations();
     let mut d = Diagnosis {
@@ -158,22 +153,7 @@ pub fn diagnose(
         stages: Vec::new(),
         screens: found.screens,
     };
-    let alternatives: Vec<String> = d
-        .alternatives()
-        .iter()
-        .map(|h| format!("{} (z {})", effect_label(h.effect, &h.variant), h.z_text()))
-        .collect();
-    if !alternatives.is_empty() {
-        d.evidence.push_str(&format!(
-            " Readings that fit about as well (Vuong's test does not find them worse than the best, z above -{VUONG_Z}): {}.",
-            alternatives.join(", ")
-        ));
-    } else if !d.effects.is_empty() {
-        // Said, not left to silence: a reader cannot tell "none" from "not checked".
-        d.evidence.push_str(&format!(
-            " No other reading fits about as well (none that passes BIC and the share is within Vuong's z of -{VUONG_Z} of the best)."
-        ));
-    }
+    d.evidence.push_str(&alternatives_text(&d));
     fits.starting("the final model's standard errors");
     if !d.effects.is_empty() {
         (d.standard_errors, d.correlations) =
@@ -183,4 +163,37 @@ pub fn diagnose(
     fits.starting("done");
     d.stages = std::mem::take(&mut fits.stages);
     Ok(d)
+}
+
+/// The evidence after the model's finding: its first letter raised.
+fn after_finding(finding: &str, evidence: &str) -> String {
+    let mut rest = evidence.chars();
+    let first = rest
+        .next()
+        .map(|c| c.to_uppercase().to_string())
+        .unwrap_or_default();
+    format!("{finding} {first}{}", rest.as_str())
+}
+
+/// The evidence's last sentence: the readings that fit about as well, or, with an effect
+/// named, that none does (said, not left to silence: a reader cannot tell "none" from "not
+/// checked").
+fn alternatives_text(d: &Diagnosis) -> String {
+    let alternatives: Vec<String> = d
+        .alternatives()
+        .iter()
+        .map(|h| format!("{} (z {})", effect_label(h.effect, &h.variant), h.z_text()))
+        .collect();
+    if !alternatives.is_empty() {
+        format!(
+            " Readings that fit about as well (Vuong's test does not find them worse than the best, z above -{VUONG_Z}): {}.",
+            alternatives.join(", ")
+        )
+    } else if !d.effects.is_empty() {
+        format!(
+            " No other reading fits about as well (none that passes BIC and the share is within Vuong's z of -{VUONG_Z} of the best)."
+        )
+    } else {
+        String::new()
+    }
 }

@@ -24,6 +24,9 @@ pub const CELLS: usize = 4;
 /// Monte Carlo draws of the scan's largest score.
 pub const DRAWS: usize = 4000;
 
+/// The seed of those draws: the same every run.
+const SCAN_SEED: u64 = 0x005e_ed0f_5ca9;
+
 /// The grid of cells over the object's bounding box, and which cells hold an element's centroid
 /// (a cell without one cannot take another modulus).
 #[derive(Debug, Clone)]
@@ -386,23 +389,10 @@ fn orthonormal_basis(columns: &[Vec<f64>]) -> Vec<Vec<f64>> {
 /// [`DRAWS`] draws of the largest `|u . xi|` over the unit vectors `units`, `xi` standard normal
 /// in `dim` dimensions (the scores of every box at once where no region differs).
 fn largest_scores(units: &[Vec<f64>], dim: usize) -> Vec<f64> {
-    let mut state: u64 = 0x005e_ed0f_5ca9;
-    let mut next = || {
-        // SplitMix64.
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let mut normal = || {
-        // Box-Muller; the uniform kept off 0.
-        let (u, v) = (next().max(1e-300), next());
-        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-    };
+    let mut normal = crate::synth::Gaussian::new(SCAN_SEED);
     (0..DRAWS)
         .map(|_| {
-            let xi: Vec<f64> = (0..dim).map(|_| normal()).collect();
+            let xi: Vec<f64> = (0..dim).map(|_| normal.sample()).collect();
             units
                 .iter()
                 .map(|u| u.iter().zip(&xi).map(|(a, b)| a * b).sum::<f64>().abs())
