@@ -38,6 +38,9 @@ pub struct Check {
     /// The marker that moves most, and its RMS distance over the observed
     /// axes (m).
     pub worst: (String, f64),
+    /// Each residual's move (refined minus the scene's simulated position, m), in the order of
+    /// the scene's replay: where the discretisation's error sits, marker by marker.
+    pub moved: Vec<glam::DVec3>,
 }
 
 /// A check made, or why not.
@@ -188,6 +191,12 @@ pub fn check(
                 over_noise: if noise.measured() { over_noise } else { 0.0 },
                 noise_measured: noise.measured(),
                 worst,
+                moved: coarse
+                    .residuals
+                    .iter()
+                    .zip(&fine.residuals)
+                    .map(|(c, f)| f.simulated - c.simulated)
+                    .collect(),
             }),
             None => Outcome::Skipped("the refined model sees other markers".into()),
         },

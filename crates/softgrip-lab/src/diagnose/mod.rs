@@ -21,6 +21,7 @@ mod options;
 mod output;
 mod pairs;
 mod regions;
+mod remainder;
 mod screen;
 mod search;
 mod shapes;
@@ -43,6 +44,10 @@ pub use options::{BaselineModel, DiagnoseOptions, FITTED, Progress, check_bounds
 pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
 pub use regions::{CELLS, DRAWS, Grid, RegionScan, Shape};
+pub use remainder::{
+    FORM_ERROR_FACTOR, REMAINDER_LEVEL, Remainder, Test as RemainderTest, check as remainder,
+    chi2_upper_tail,
+};
 pub use screen::{FRICTION_GRID, SCREEN_LEVEL, Screen};
 pub use shapes::{FIRST_RATIO, Placed, SHAPES_FITTED, SHAPES_TRIED};
 pub use statistics::{
@@ -112,7 +117,7 @@ pub fn diagnose(
     // (docs/results/diagnosis-notes/pinned-refitted.md).
     let pinned = pinned_at_bounds(&baseline.params, &base_params);
     // The effects that explain it, by a greedy search of the catalogue.
-    let found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;
+    let mut found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;
     // The verdict: what is left, how far the discretisation alone moves the
     // markers, and the evidence in words.
     let remaining = locate(recording, &found.current.replay, &noise);
@@ -127,7 +132,25 @@ pub fn diagnose(
         &noise,
         RestTolerance::for_fits(),
     );
+    // What the final model leaves: a named effect that leaves hysteresis or a lone marker beyond
+    // the noise is set aside, and the verdict is "unexplained" there.
+    let remainder = remainder::check(
+        recording,
+        &found.current.replay.residuals,
+        &noise,
+        discretisation.mesh.measured().map(|c| c.moved.as_slice()),
+    );
+    // The search's evidence as it stands, after the checks' finding when they failed.
     let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
+    let set_aside = if remainder.fails() {
+        found.unexplained = true;
+        std::mem::take(&mut found.effects)
+    } else {
+        Vec::new()
+    };
+    if let Some(text) = remainder.describe() {
+        evidence = verdict::remainder_text(&text, &set_aside, &found.hypotheses) + &evidence;
+    }
     if let Some(f) = &model_finding {
         evidence = after_finding(f, &evidence);
     }
@@ -152,6 +175,8 @@ pub fn diagnose(
         model_finding,
         stages: Vec::new(),
         screens: found.screens,
+        remainder,
+        set_aside,
     };
     d.evidence.push_str(&alternatives_text(&d));
     fits.starting("the final model's standard errors");

@@ -1,6 +1,7 @@
 //! The diagnosis as the spec's JSON (`softgrip diagnose --json`).
 
 use super::model_fit::ModelFit;
+use super::remainder::Test as RemainderTest;
 use super::statistics::vuong_threshold;
 use super::verdict::Diagnosis;
 use crate::recording::Recording;
@@ -134,8 +135,25 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
                 "ratio": r.ratio,
                 "ratio_standard_error": r.ratio_standard_error.is_finite().then_some(r.ratio_standard_error),
             })),
+            "set_aside": d.set_aside,
+            "remainder": {
+                "hysteresis": d.remainder.hysteresis.as_ref().map(test),
+                "lone_markers": d.remainder.lone_markers.as_ref().map(test),
+                "markers": d.remainder.markers(),
+            },
             "evidence": d.evidence,
             "model_finding": d.model_finding,
         }
+    })
+}
+
+/// One of the remainder's checks.
+fn test(t: &RemainderTest) -> serde_json::Value {
+    serde_json::json!({
+        "chi2": t.chi2,
+        "dof": t.dof,
+        "p_value": t.p_value,
+        "fails": t.fails,
+        "markers": t.markers.iter().map(|(m, r)| serde_json::json!({"marker": m, "over_bar": r})).collect::<Vec<_>>(),
     })
 }

@@ -8,6 +8,7 @@ use super::locate::Location;
 use super::model_fit::ModelFit;
 use super::noise::{Noise, rms_beyond_noise};
 use super::pairs::PairTest;
+use super::remainder::Remainder;
 use super::screen::Screen;
 use super::search::Explanation;
 use super::statistics::{BIC_THRESHOLD, MIN_EXPLAINED, VUONG_Z, vuong_threshold};
@@ -56,6 +57,11 @@ pub struct Diagnosis {
     /// Each round's score tests (the round, the test): the candidates fitted and those ruled
     /// out.
     pub screens: Vec<(usize, Screen)>,
+    /// What the final model leaves: hysteresis it lacks, a lone marker (`remainder`).
+    pub remainder: Remainder,
+    /// The effects the search named that the remainder's checks set aside (the verdict is then
+    /// "unexplained"; `final_fit` is the model with them).
+    pub set_aside: Vec<&'static str>,
 }
 
 impl Diagnosis {
@@ -106,6 +112,19 @@ impl Diagnosis {
             None if self.unexplained => "unexplained".into(),
             None => "none".into(),
         }
+    }
+
+    /// The markers the verdict places the mismatch at: the remainder's checks' where they
+    /// failed, else the baseline's significant ones (worst first).
+    pub fn mismatch_markers(&self) -> Vec<String> {
+        if self.remainder.fails() {
+            return self.remainder.markers();
+        }
+        self.location
+            .markers
+            .iter()
+            .map(|(m, _)| m.clone())
+            .collect()
     }
 
     /// Other readings that fit about as well as the one named (or, with none named, as the best
@@ -286,6 +305,43 @@ pub(super) fn evidence(
         evidence += &c;
     }
     evidence
+}
+
+/// The verdict's opening when the remainder's checks failed: what is left and where, and the
+/// search's reading set aside (`set_aside`, with its BIC and share where it was fitted).
+pub(super) fn remainder_text(
+    failed: &str,
+    set_aside: &[&'static str],
+    hypotheses: &[Hypothesis],
+) -> String {
+    let mut s = format!(
+        "unexplained: {failed}. softgrip has no model of this (a permanent set, adhesion, damage, a marker slipping on the skin or mislabelled are such); look there. "
+    );
+    if !set_aside.is_empty() {
+        let read: Vec<String> = set_aside
+            .iter()
+            .map(|e| {
+                hypotheses
+                    .iter()
+                    .filter(|h| h.effect == *e && h.fit.is_ok())
+                    .min_by(|a, b| a.score.total_cmp(&b.score))
+                    .map(|h| {
+                        format!(
+                            "{} (BIC {:+.1}, {:.0} % of the residual)",
+                            effect_label(h.effect, &h.variant),
+                            h.score,
+                            100.0 * h.explained
+                        )
+                    })
+                    .unwrap_or_else(|| e.to_string())
+            })
+            .collect();
+        s += &format!(
+            "The catalogue's closest reading, {}, leaves it, so it is not named. ",
+            read.join(" with ")
+        );
+    }
+    s + "What the search found: "
 }
 
 /// The verdict in words: the effects named with their evidence, or why none was.

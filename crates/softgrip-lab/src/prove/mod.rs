@@ -104,12 +104,23 @@ impl Outcome {
             .collect()
     }
 
-    /// Acceptance 2: the markers called mismatched include the one the
-    /// effect moves most (`None` for a control).
+    /// The verdict's place is right: it names some markers (`Diagnosis::mismatch_markers`), and
+    /// each is one the hidden effect moves by more than the noise (RMS over the samples): no
+    /// wrong place. `None` for a control.
     pub fn located(&self) -> Option<bool> {
-        let top = self.moved.first()?;
+        if self.moved.is_empty() {
+            return None;
+        }
         let d = self.diagnosis.as_ref().ok()?;
-        Some(d.location.markers.iter().any(|(m, _)| *m == top.0))
+        let named = d.mismatch_markers();
+        Some(
+            !named.is_empty()
+                && named.iter().all(|m| {
+                    self.moved
+                        .iter()
+                        .any(|(n, rms)| n == m && *rms > suite::NOISE)
+                }),
+        )
     }
 }
 

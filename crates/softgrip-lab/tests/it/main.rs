@@ -15,6 +15,7 @@ mod plot;
 mod prove;
 mod recordings;
 mod regions;
+mod remainder;
 mod replay;
 mod sensitivity;
 mod support;

@@ -212,11 +212,18 @@ impl DiagnosisSection {
             return action;
         };
         let verdict = match d.effects.as_slice() {
+            [] if d.remainder.fails() => format!(
+                "unexplained, at {}: physics softgrip has no model of",
+                d.mismatch_markers().join(", ")
+            ),
             [] if d.unexplained => "mismatch beyond the noise that no candidate explains".into(),
             [] => "nothing missing: the model fits to the noise".into(),
             effects => format!("missing: {}", effects.join(" + ")),
         };
         ui.label(egui::RichText::new(verdict).strong());
+        if let Some(left) = d.remainder.describe() {
+            ui.label(format!("left by the model: {left}"));
+        }
         if d.location.significant {
             ui.label(format!("where: {}", d.location.description));
             ui.label(format!("when: {}", d.location.when));
