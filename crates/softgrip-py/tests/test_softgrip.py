@@ -182,6 +182,8 @@ def test_diagnose_names_nothing_on_a_recording_of_its_own_model(shipped):
     d = softgrip.diagnose(rec, model="scene", max_effects=1,
                           progress=lambda *a: calls.append(a))
     assert d.verdict == "none" and d.effects == [] and d.model == "lattice"
+    # Loading only, and the model is the truth: nothing left, nothing set aside.
+    assert d.set_aside == [] and d.unexplained_at == []
     assert calls and calls[0][0] == 0
     assert isinstance(d.to_frame(), pd.DataFrame)
     with pytest.raises(SoftgripError, match="model"):

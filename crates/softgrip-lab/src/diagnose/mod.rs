@@ -45,8 +45,8 @@ pub use output::to_json;
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
 pub use regions::{CELLS, DRAWS, Grid, RegionScan, Shape};
 pub use remainder::{
-    FORM_ERROR_FACTOR, REMAINDER_LEVEL, Remainder, Test as RemainderTest, check as remainder,
-    chi2_upper_tail,
+    FORM_ERROR_FACTOR, KeptShare, REMAINDER_LEVEL, Remainder, Test as RemainderTest,
+    check as remainder, chi2_upper_tail,
 };
 pub use screen::{FRICTION_GRID, SCREEN_LEVEL, Screen};
 pub use shapes::{FIRST_RATIO, Placed, SHAPES_FITTED, SHAPES_TRIED};
@@ -134,11 +134,18 @@ pub fn diagnose(
     );
     // What the final model leaves: a named effect that leaves hysteresis or a lone marker beyond
     // the noise is set aside, and the verdict is "unexplained" there.
-    let remainder = remainder::check(
+    let mut remainder = remainder::check(
         recording,
         &found.current.replay.residuals,
         &noise,
         discretisation.mesh.measured().map(|c| c.moved.as_slice()),
+    );
+    remainder.kept_share = remainder::kept_share(
+        recording,
+        &noise,
+        &baseline,
+        &found.current.replay.residuals,
+        !found.effects.is_empty(),
     );
     // The search's evidence as it stands, after the checks' finding when they failed.
     let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);

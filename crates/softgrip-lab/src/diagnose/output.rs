@@ -139,6 +139,14 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
             "remainder": {
                 "hysteresis": d.remainder.hysteresis.as_ref().map(test),
                 "lone_markers": d.remainder.lone_markers.as_ref().map(test),
+                "kept_share": d.remainder.kept_share.as_ref().map(|k| serde_json::json!({
+                    "share": k.share,
+                    "chi2": k.chi2,
+                    "p_value": k.p_value,
+                    "vuong_z": k.z,
+                    "fails": k.fails,
+                    "markers": k.markers.iter().map(|(m, r)| serde_json::json!({"marker": m, "over_bar": r})).collect::<Vec<_>>(),
+                })),
                 "markers": d.remainder.markers(),
             },
             "evidence": d.evidence,

@@ -21,11 +21,14 @@ use std::collections::{BTreeMap, HashMap};
 
 use glam::DVec3;
 
-use super::noise::{Noise, load_turns, marker_key};
+use super::model_fit::ModelFit;
+use super::noise::{Noise, load_turns, marker_key, weighted_residuals};
+use super::screen::replay_columns;
 use super::statistics::upper_tail;
 use crate::compare::Residual;
 use crate::discretisation::FINER;
 use crate::recording::{MarkerRef, Mode, Recording};
+use softgrip_core::scene::Scene;
 
 /// The level of each check: a named effect is set aside, and a verdict turned to "unexplained",
 /// only on a p-value below this (the lone-marker check shares it among the markers).
@@ -55,6 +58,30 @@ pub struct Test {
 pub struct Remainder {
     pub hysteresis: Option<Test>,
     pub lone_markers: Option<Test>,
+    /// The symptom's own description as a rival to the search's reading (module docs).
+    pub kept_share: Option<KeptShare>,
+}
+
+/// On unloading every marker keeps a share of its way back from the peak (`share`, one for all,
+/// on the baseline with its parameters refitted): hysteresis described, not explained. A reading
+/// the search named must fit closer than this by Vuong's z ([`super::VUONG_Z`]); with none named,
+/// a significant share is a mismatch to show.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KeptShare {
+    /// The share kept (positive: the markers stay nearer the peak than the model has them).
+    pub share: f64,
+    /// What it removes of the baseline's weighted residual (chi-square on 1 degree of freedom)
+    /// and its p-value.
+    pub chi2: f64,
+    pub p_value: f64,
+    /// Vuong's z of the final model against it (positive: the final model fits closer); `None`
+    /// when no effect was named.
+    pub z: Option<f64>,
+    /// Markers where the kept share moves most beyond the noise, worst first.
+    pub markers: Vec<(String, f64)>,
+    /// Whether it stands against the verdict: a positive share beyond [`REMAINDER_LEVEL`], and
+    /// no effect named or the final model not closer by [`super::VUONG_Z`].
+    pub fails: bool,
 }
 
 impl Remainder {
@@ -63,17 +90,24 @@ impl Remainder {
         [&self.hysteresis, &self.lone_markers]
             .iter()
             .any(|t| t.as_ref().is_some_and(|t| t.fails))
+            || self.kept_share.as_ref().is_some_and(|k| k.fails)
     }
 
     /// The markers the mismatch sits at, worst first (the hysteresis's before the lone ones').
     pub fn markers(&self) -> Vec<String> {
         let mut out: Vec<String> = Vec::new();
-        for t in [&self.hysteresis, &self.lone_markers]
+        let kept = self
+            .kept_share
+            .as_ref()
+            .filter(|k| k.fails)
+            .map(|k| &k.markers);
+        let tests = [&self.hysteresis, &self.lone_markers]
             .into_iter()
             .flatten()
             .filter(|t| t.fails)
-        {
-            for (m, _) in &t.markers {
+            .map(|t| &t.markers);
+        for markers in kept.into_iter().chain(tests) {
+            for (m, _) in markers {
                 if !out.contains(m) {
                     out.push(m.clone());
                 }
@@ -93,6 +127,26 @@ impl Remainder {
                 .join(", ")
         };
         let mut parts = Vec::new();
+        if let Some(k) = self.kept_share.as_ref().filter(|k| k.fails) {
+            let list = k
+                .markers
+                .iter()
+                .take(4)
+                .map(|(m, r)| format!("{m} ({r:.1})"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            parts.push(format!(
+                "on unloading the markers keep {:.0} % of their way back from the peak (chi-square {:.0} on 1, p {:.1e}){}, at {list}",
+                100.0 * k.share,
+                k.chi2,
+                k.p_value,
+                k.z.map(|z| format!(
+                    ", and the search's reading fits no closer than that description of it (Vuong's z {z:+.2}, needed {})",
+                    super::VUONG_Z
+                ))
+                .unwrap_or_default()
+            ));
+        }
         if let Some(t) = self.hysteresis.as_ref().filter(|t| t.fails) {
             parts.push(format!(
                 "on unloading the recording leaves its loading branch where the model does not (hysteresis the model lacks: chi-square {:.0} on {}, p {:.1e}), at markers {}",
@@ -139,7 +193,88 @@ pub fn check(
     Remainder {
         hysteresis: hysteresis(recording, residuals, noise),
         lone_markers: moved.and_then(|m| lone_markers(recording, residuals, noise, m)),
+        kept_share: None,
     }
+}
+
+/// The kept share (`KeptShare`) on `baseline`, against the final model's `residuals` when
+/// `named`. One replay of the baseline with its parameters' sensitivities; `None` for a time
+/// series, one branch, or a replay that fails.
+pub(super) fn kept_share(
+    recording: &Recording,
+    noise: &Noise,
+    baseline: &ModelFit,
+    residuals: &[Residual],
+    named: bool,
+) -> Option<KeptShare> {
+    if recording.mode != Mode::QuasiStatic || !noise.measured() {
+        return None;
+    }
+    let turn = *load_turns(recording).first()?;
+    let peak = (0..turn).max_by(|&a, &b| {
+        recording.samples[a]
+            .load
+            .total_cmp(&recording.samples[b].load)
+    })?;
+    let targets: Vec<(&Scene, &str)> = baseline
+        .params
+        .iter()
+        .map(|(n, _)| (&baseline.scene, n.as_str()))
+        .collect();
+    let (r, columns) = replay_columns(recording, noise, &baseline.scene, &targets)?;
+    // The way back from the peak, over the noise, on every coordinate after the turn.
+    let at_peak: HashMap<MarkerRef, DVec3> = baseline
+        .replay
+        .residuals
+        .iter()
+        .filter(|q| q.sample == peak)
+        .map(|q| (q.marker, q.simulated))
+        .collect();
+    let mut g = Vec::with_capacity(r.len());
+    let mut owner = Vec::with_capacity(r.len());
+    for q in &baseline.replay.residuals {
+        let s = noise.sigma(q.marker);
+        for axis in 0..3 {
+            if q.recorded[axis].is_some() {
+                let back = match at_peak.get(&q.marker) {
+                    Some(p) if q.sample >= turn => (p[axis] - q.simulated[axis]) / s,
+                    _ => 0.0,
+                };
+                g.push(back);
+                owner.push(q.marker);
+            }
+        }
+    }
+    let f = weighted_residuals(residuals, noise);
+    if g.len() != r.len() || f.len() != r.len() {
+        return None;
+    }
+    let (share, chi2, described) = share_kept(&r, columns, &g)?;
+    let p_value = chi2_upper_tail(chi2, 1);
+    let z = named
+        .then(|| super::statistics::vuong(&f, &described))
+        .flatten();
+    // Per marker, how far the kept share moves it over the noise.
+    let mut per: BTreeMap<(u8, usize), (MarkerRef, f64, usize)> = BTreeMap::new();
+    for ((gi, m), _) in g.iter().zip(&owner).zip(&r) {
+        let e = per.entry(marker_key(*m)).or_insert((*m, 0.0, 0));
+        e.1 += (share * gi).powi(2);
+        e.2 += 1;
+    }
+    let per: Vec<(MarkerRef, f64, usize)> = per.into_values().collect();
+    let markers = beyond(recording, &per, REMAINDER_LEVEL / per.len().max(1) as f64);
+    let fails = share > 0.0
+        && p_value < REMAINDER_LEVEL
+        && !markers.is_empty()
+        && z.is_none_or(|z| z < super::VUONG_Z);
+    Some(KeptShare {
+        share,
+        chi2,
+        p_value,
+        z,
+        markers,
+        fails,
+    })
 }
 
 /// The hysteresis check (module docs): each observed coordinate of a sample after the first
@@ -294,6 +429,46 @@ pub fn lone_markers(
     })
 }
 
+/// The least-squares fit of the weighted residual `r` by the parameters' `columns` and the way
+/// back `g` (modified Gram-Schmidt, the way orthogonalised last): the share along `g` (the
+/// model's positions plus `share g` fit best), its chi-square (what it removes beyond the
+/// columns), and the residual left. `None` when `g` lies in the columns' span.
+pub fn share_kept(
+    r: &[f64],
+    mut columns: Vec<Vec<f64>>,
+    g: &[f64],
+) -> Option<(f64, f64, Vec<f64>)> {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    columns.push(g.to_vec());
+    let last = columns.len() - 1;
+    let mut q_last: Option<(Vec<f64>, f64)> = None;
+    for (j, mut c) in columns.into_iter().enumerate() {
+        for b in &basis {
+            let k = dot(&c, b);
+            c.iter_mut().zip(b).for_each(|(x, y)| *x -= k * y);
+        }
+        let norm = dot(&c, &c).sqrt();
+        if norm <= 1e-12 * dot(g, g).sqrt().max(1e-300) {
+            continue;
+        }
+        c.iter_mut().for_each(|x| *x /= norm);
+        if j == last {
+            q_last = Some((c.clone(), norm));
+        }
+        basis.push(c);
+    }
+    let (q, norm) = q_last?;
+    let along = dot(&q, r);
+    let mut left = r.to_vec();
+    for b in &basis {
+        let k = dot(&left, b);
+        left.iter_mut().zip(b).for_each(|(x, y)| *x -= k * y);
+    }
+    // r + J d + share g = left: along q, r's component is cancelled by share's.
+    Some((-along / norm, along * along, left))
+}
+
 /// The markers of `per` (marker, chi-square, count) whose p-value is below `level`, worst first,
 /// with their RMS over their bar.
 fn beyond(
@@ -316,6 +491,32 @@ mod tests {
 
     /// Wilson-Hilferty against tabled quantiles: chi-square(10)'s 0.95 point 18.307 and 0.999
     /// point 29.588, chi-square(1)'s 0.95 point 3.841 (to the approximation's few percent).
+    /// A residual made of a parameter's column, a share of the way back and a little noise: the
+    /// share is recovered, its chi-square is the way's part of the residual, and what is left is
+    /// the noise's.
+    #[test]
+    fn the_kept_share_is_recovered_beside_the_parameters() {
+        let n = 40;
+        let column: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).sin()).collect();
+        let g: Vec<f64> = (0..n)
+            .map(|i| if i >= 30 { 1.0 + 0.1 * i as f64 } else { 0.0 })
+            .collect();
+        let noise: Vec<f64> = (0..n).map(|i| 0.01 * ((i * 7 % 5) as f64 - 2.0)).collect();
+        // The recording is the model plus 0.4 of the way back, the model off by 2 of the column.
+        let r: Vec<f64> = (0..n)
+            .map(|i| 2.0 * column[i] - 0.4 * g[i] + noise[i])
+            .collect();
+        let (share, chi2, left) = share_kept(&r, vec![column.clone()], &g).unwrap();
+        assert!((share - 0.4).abs() < 0.01, "{share}");
+        let gg: f64 = g.iter().map(|x| x * x).sum();
+        assert!(chi2 > 0.1 * 0.4 * 0.4 * gg, "{chi2}");
+        let rest: f64 = left.iter().map(|x| x * x).sum();
+        let noise2: f64 = noise.iter().map(|x| x * x).sum();
+        assert!(rest <= noise2 + 1e-12, "{rest} {noise2}");
+        // A way back inside the columns' span has no share of its own.
+        assert!(share_kept(&r, vec![g.clone()], &g).is_none());
+    }
+
     #[test]
     fn the_chi_square_tail_matches_tabled_quantiles() {
         assert!((chi2_upper_tail(18.307, 10) - 0.05).abs() < 0.002);

@@ -501,6 +501,14 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
             })
             .collect();
         line.push_str(&parts.join("; "));
+        if let Some(left) = d.remainder.describe() {
+            let aside = if d.set_aside.is_empty() {
+                String::new()
+            } else {
+                format!("set aside {}: ", d.set_aside.join(" + "))
+            };
+            let _ = write!(line, "; {aside}{left}");
+        }
         if let Some(t) = &d.pair {
             let z = |z: Option<f64>| z.map_or("-".into(), |z| format!("{z:+.1}"));
             let without: Vec<String> = (0..2)

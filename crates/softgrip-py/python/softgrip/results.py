@@ -181,6 +181,18 @@ class Diagnosis(Result):
         return list(self._data["verdict"].get("alternatives", []))
 
     @property
+    def set_aside(self) -> list[str]:
+        """Effects the search named that the checks of what the final model leaves set aside
+        (the verdict is then "unexplained")."""
+        return list(self._data["verdict"].get("set_aside", []))
+
+    @property
+    def unexplained_at(self) -> list[str]:
+        """The markers where the final model leaves a mismatch it has no model of (empty when the
+        checks pass): see ``verdict.remainder`` in the JSON."""
+        return list((self._data["verdict"].get("remainder") or {}).get("markers", []))
+
+    @property
     def model(self) -> str:
         """The model fitted: "continuum" or "lattice"."""
         return self._data["baseline"]["model"]
