@@ -24,7 +24,7 @@ use glam::DVec3;
 use super::model_fit::ModelFit;
 use super::noise::{Noise, load_turns, marker_key, weighted_residuals};
 use super::screen::replay_columns;
-use super::statistics::upper_tail;
+use super::statistics::{VUONG_Z, upper_tail, vuong};
 use crate::compare::Residual;
 use crate::discretisation::FINER;
 use crate::recording::{MarkerRef, Mode, Recording};
@@ -64,7 +64,7 @@ pub struct Remainder {
 
 /// On unloading every marker keeps a share of its way back from the peak (`share`, one for all,
 /// on the baseline with its parameters refitted): hysteresis described, not explained. A reading
-/// the search named must fit closer than this by Vuong's z ([`super::VUONG_Z`]); with none named,
+/// the search named must fit closer than this by Vuong's z ([`VUONG_Z`]); with none named,
 /// a significant share is a mismatch to show.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KeptShare {
@@ -80,7 +80,7 @@ pub struct KeptShare {
     /// Markers where the kept share moves most beyond the noise, worst first.
     pub markers: Vec<(String, f64)>,
     /// Whether it stands against the verdict: a positive share beyond [`REMAINDER_LEVEL`], and
-    /// no effect named or the final model not closer by [`super::VUONG_Z`].
+    /// no effect named or the final model not closer by [`VUONG_Z`].
     pub fails: bool,
 }
 
@@ -142,7 +142,7 @@ impl Remainder {
                 k.p_value,
                 k.z.map(|z| format!(
                     ", and the search's reading fits no closer than that description of it (Vuong's z {z:+.2}, needed {})",
-                    super::VUONG_Z
+                    VUONG_Z
                 ))
                 .unwrap_or_default()
             ));
@@ -251,9 +251,7 @@ pub(super) fn kept_share(
     }
     let (share, chi2, described) = share_kept(&r, columns, &g)?;
     let p_value = chi2_upper_tail(chi2, 1);
-    let z = named
-        .then(|| super::statistics::vuong(&f, &described))
-        .flatten();
+    let z = named.then(|| vuong(&f, &described)).flatten();
     // Per marker, how far the kept share moves it over the noise.
     let mut per: BTreeMap<(u8, usize), (MarkerRef, f64, usize)> = BTreeMap::new();
     for ((gi, m), _) in g.iter().zip(&owner).zip(&r) {
@@ -266,7 +264,7 @@ pub(super) fn kept_share(
     let fails = share > 0.0
         && p_value < REMAINDER_LEVEL
         && !markers.is_empty()
-        && z.is_none_or(|z| z < super::VUONG_Z);
+        && z.is_none_or(|z| z < VUONG_Z);
     Some(KeptShare {
         share,
         chi2,
