@@ -505,7 +505,7 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
             let aside = if d.set_aside.is_empty() {
                 String::new()
             } else {
-                format!("set aside {}: ", d.set_aside.join(" + "))
+                format!("{} (set aside): ", d.set_aside.join(" + "))
             };
             let _ = write!(line, "; {aside}{left}");
         }
