@@ -132,32 +132,18 @@ pub fn diagnose(
         &noise,
         RestTolerance::for_fits(),
     );
-    // What the final model leaves: a named effect that leaves hysteresis or a lone marker beyond
-    // the noise is set aside, and the verdict is "unexplained" there.
-    let mut remainder = remainder::check(
+    // What the final model leaves: a reading that leaves hysteresis, a lone marker or a kept
+    // share it does not beat is set aside, and the verdict is "unexplained" there.
+    let remainder = remainder::of_final(
         recording,
-        &found.current.replay.residuals,
         &noise,
+        (&baseline, &found.current),
         discretisation.mesh.measured().map(|c| c.moved.as_slice()),
-    );
-    remainder.kept_share = remainder::kept_share(
-        recording,
-        &noise,
-        &baseline,
-        &found.current.replay.residuals,
         !found.effects.is_empty(),
     );
     // The search's evidence as it stands, after the checks' finding when they failed.
     let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
-    let set_aside = if remainder.fails() {
-        found.unexplained = true;
-        std::mem::take(&mut found.effects)
-    } else {
-        Vec::new()
-    };
-    if let Some(text) = remainder.describe() {
-        evidence = verdict::remainder_text(&text, &set_aside, &found.hypotheses) + &evidence;
-    }
+    let set_aside = set_aside_if_left(&remainder, &mut found, &mut evidence);
     if let Some(f) = &model_finding {
         evidence = after_finding(f, &evidence);
     }
@@ -195,6 +181,25 @@ pub fn diagnose(
     fits.starting("done");
     d.stages = std::mem::take(&mut fits.stages);
     Ok(d)
+}
+
+/// When the remainder's checks fail, the search's effects (returned) are set aside, the verdict
+/// turned "unexplained" and `evidence` opened with what is left.
+fn set_aside_if_left(
+    remainder: &Remainder,
+    found: &mut search::Explanation,
+    evidence: &mut String,
+) -> Vec<&'static str> {
+    let set_aside = if remainder.fails() {
+        found.unexplained = true;
+        std::mem::take(&mut found.effects)
+    } else {
+        Vec::new()
+    };
+    if let Some(text) = remainder.describe() {
+        *evidence = verdict::remainder_text(&text, &set_aside, &found.hypotheses) + evidence;
+    }
+    set_aside
 }
 
 /// The evidence after the model's finding: its first letter raised.

@@ -9,7 +9,6 @@ use crate::recording::Recording;
 /// The spec's JSON (`diagnose --json`), with softgrip's additions
 /// (`verdict.effects`, `verdict.evidence`, `noise`, `mismatch.regions`).
 pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
-    let beyond_noise = d.nrmse_all_beyond_noise();
     let params = |f: &ModelFit| {
         serde_json::Value::Object(
             f.params
@@ -98,60 +97,67 @@ pub fn to_json(d: &Diagnosis, recording: &Recording) -> serde_json::Value {
             "significant": d.location.significant,
         },
         "hypotheses": hypotheses,
-        "verdict": {
-            "effect": d.verdict(),
-            "effects": d.effects,
-            "params": serde_json::Value::Object(
-                d.fitted_params()
-                    .into_iter()
-                    .map(|(k, v)| (k, serde_json::json!(v)))
-                    .collect(),
-            ),
-            "alternatives": d.alternatives().iter().map(|h| serde_json::json!({
-                "effect": h.effect,
-                "variant": h.variant,
-                "vuong_z": h.vuong,
-                "explained": h.explained,
-            })).collect::<Vec<_>>(),
-            "standard_errors": serde_json::Value::Object(
-                d.fitted_params()
-                    .into_iter()
-                    .filter_map(|(k, _)| {
-                        let e = d.standard_error(&k)?;
-                        Some((k, serde_json::json!(e.is_finite().then_some(e))))
-                    })
-                    .collect(),
-            ),
-            "nrmse_before": d.baseline.errors.nrmse,
-            "nrmse_after": d.final_fit.errors.nrmse,
-            "nrmse_all_before": d.baseline.errors.nrmse_all,
-            "nrmse_all_after": d.final_fit.errors.nrmse_all,
-            "nrmse_all_beyond_noise_before": beyond_noise.0,
-            "nrmse_all_beyond_noise_after": beyond_noise.1,
-            "region": d.region().map(|r| serde_json::json!({
-                "variant": r.variant,
-                "min": r.region.min.to_array(),
-                "max": r.region.max.to_array(),
-                "ratio": r.ratio,
-                "ratio_standard_error": r.ratio_standard_error.is_finite().then_some(r.ratio_standard_error),
+        "verdict": verdict(d),
+    })
+}
+
+/// The JSON's `verdict`: the effects named, their values and errors, the fit before and after,
+/// the region, what the final model leaves, the evidence.
+fn verdict(d: &Diagnosis) -> serde_json::Value {
+    let beyond_noise = d.nrmse_all_beyond_noise();
+    serde_json::json!({
+        "effect": d.verdict(),
+        "effects": d.effects,
+        "params": serde_json::Value::Object(
+            d.fitted_params()
+                .into_iter()
+                .map(|(k, v)| (k, serde_json::json!(v)))
+                .collect(),
+        ),
+        "alternatives": d.alternatives().iter().map(|h| serde_json::json!({
+            "effect": h.effect,
+            "variant": h.variant,
+            "vuong_z": h.vuong,
+            "explained": h.explained,
+        })).collect::<Vec<_>>(),
+        "standard_errors": serde_json::Value::Object(
+            d.fitted_params()
+                .into_iter()
+                .filter_map(|(k, _)| {
+                    let e = d.standard_error(&k)?;
+                    Some((k, serde_json::json!(e.is_finite().then_some(e))))
+                })
+                .collect(),
+        ),
+        "nrmse_before": d.baseline.errors.nrmse,
+        "nrmse_after": d.final_fit.errors.nrmse,
+        "nrmse_all_before": d.baseline.errors.nrmse_all,
+        "nrmse_all_after": d.final_fit.errors.nrmse_all,
+        "nrmse_all_beyond_noise_before": beyond_noise.0,
+        "nrmse_all_beyond_noise_after": beyond_noise.1,
+        "region": d.region().map(|r| serde_json::json!({
+            "variant": r.variant,
+            "min": r.region.min.to_array(),
+            "max": r.region.max.to_array(),
+            "ratio": r.ratio,
+            "ratio_standard_error": r.ratio_standard_error.is_finite().then_some(r.ratio_standard_error),
+        })),
+        "set_aside": d.set_aside,
+        "remainder": {
+            "hysteresis": d.remainder.hysteresis.as_ref().map(test),
+            "lone_markers": d.remainder.lone_markers.as_ref().map(test),
+            "kept_share": d.remainder.kept_share.as_ref().map(|k| serde_json::json!({
+                "share": k.share,
+                "chi2": k.chi2,
+                "p_value": k.p_value,
+                "vuong_z": k.z,
+                "fails": k.fails,
+                "markers": k.markers.iter().map(|(m, r)| serde_json::json!({"marker": m, "over_bar": r})).collect::<Vec<_>>(),
             })),
-            "set_aside": d.set_aside,
-            "remainder": {
-                "hysteresis": d.remainder.hysteresis.as_ref().map(test),
-                "lone_markers": d.remainder.lone_markers.as_ref().map(test),
-                "kept_share": d.remainder.kept_share.as_ref().map(|k| serde_json::json!({
-                    "share": k.share,
-                    "chi2": k.chi2,
-                    "p_value": k.p_value,
-                    "vuong_z": k.z,
-                    "fails": k.fails,
-                    "markers": k.markers.iter().map(|(m, r)| serde_json::json!({"marker": m, "over_bar": r})).collect::<Vec<_>>(),
-                })),
-                "markers": d.remainder.markers(),
-            },
-            "evidence": d.evidence,
-            "model_finding": d.model_finding,
-        }
+            "markers": d.remainder.markers(),
+        },
+        "evidence": d.evidence,
+        "model_finding": d.model_finding,
     })
 }
 

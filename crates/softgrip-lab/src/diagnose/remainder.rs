@@ -197,6 +197,22 @@ pub fn check(
     }
 }
 
+/// Every check of the final model (`final_fit`, against `baseline` for the kept share; `named`:
+/// the search named an effect), as the diagnosis runs them.
+pub(super) fn of_final(
+    recording: &Recording,
+    noise: &Noise,
+    (baseline, final_fit): (&ModelFit, &ModelFit),
+    moved: Option<&[DVec3]>,
+    named: bool,
+) -> Remainder {
+    let residuals = &final_fit.replay.residuals;
+    Remainder {
+        kept_share: kept_share(recording, noise, baseline, residuals, named),
+        ..check(recording, residuals, noise, moved)
+    }
+}
+
 /// The kept share (`KeptShare`) on `baseline`, against the final model's `residuals` when
 /// `named`. One replay of the baseline with its parameters' sensitivities; `None` for a time
 /// series, one branch, or a replay that fails.

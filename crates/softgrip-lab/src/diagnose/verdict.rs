@@ -360,64 +360,7 @@ fn evidence_text(
     };
     let name = |h: &Hypothesis| effect_label(h.effect, &h.variant);
     if effects.is_empty() {
-        let r = ranked(0);
-        let best = r
-            .first()
-            .map(|h| {
-                format!(
-                    "; the best candidate, {}, changes BIC by {:+.1} and explains {:.0} % of it{}",
-                    name(h),
-                    h.score,
-                    100.0 * h.explained,
-                    h.vuong
-                        .map(|z| format!(
-                            ", Vuong z {z:+.2} against {} (needed {:.2}{})",
-                            h.rival_text(),
-                            vuong_threshold(h.tests),
-                            if h.tests > 1.0 {
-                                format!(
-                                    ": its effect's forms or places count as {:.1} tests",
-                                    h.tests
-                                )
-                            } else {
-                                String::new()
-                            }
-                        ))
-                        .unwrap_or_default()
-                )
-            })
-            .unwrap_or_default();
-        if !location.significant {
-            let mut s = format!(
-                "nothing is missing: after the baseline fit the residual is at the noise level (chi-square {:.0} on {} coordinates, within three standard deviations)",
-                location.chi2, location.dof
-            );
-            if !pinned.is_empty() {
-                let one = pinned.len() == 1;
-                s += &format!(
-                    ". The fit left {names} at the edge of {its} search range: either the data do not pin {it} down, or the model bends {it} to stand in for physics it lacks; if you measured {which} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
-                    names = pinned.join(" and "),
-                    its = if one { "its" } else { "their" },
-                    it = if one { "it" } else { "them" },
-                    which = if one { "it" } else { "one of them" },
-                );
-            }
-            return s;
-        }
-        let ratio = location.over_noise();
-        return if unexplained {
-            format!(
-                "unexplained: a mismatch {ratio:.1} times the noise ({}) that no candidate explains (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}, more for the best of an effect's forms or places){best}",
-                location.description,
-                100.0 * MIN_EXPLAINED
-            )
-        } else {
-            format!(
-                "nothing is missing: the residual left after the baseline fit, {ratio:.1} times the noise ({}), is explained by no candidate (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}, more for the best of an effect's forms or places): the model's own form error{best}",
-                location.description,
-                100.0 * MIN_EXPLAINED
-            )
-        };
+        return nothing_named_text(location, hypotheses, unexplained, pinned);
     }
     let mut parts = Vec::new();
     for (round, effect) in effects.iter().enumerate() {
@@ -483,6 +426,77 @@ fn evidence_text(
         "{}. NRMSE (all markers) {nrmse_before:.4} -> {nrmse_after:.4}",
         parts.join("; then "),
     )
+}
+
+/// The evidence when nothing was named: at the noise, or the best candidate and why it fell short
+/// ("unexplained" or the model's own form error).
+fn nothing_named_text(
+    location: &Location,
+    hypotheses: &[Hypothesis],
+    unexplained: bool,
+    pinned: &[String],
+) -> String {
+    let mut ranked: Vec<&Hypothesis> = hypotheses.iter().filter(|h| h.round == 0).collect();
+    ranked.sort_by(|a, b| a.score.total_cmp(&b.score));
+    let name = |h: &Hypothesis| effect_label(h.effect, &h.variant);
+    let r = ranked;
+    let best = r
+        .first()
+        .map(|h| {
+            format!(
+                "; the best candidate, {}, changes BIC by {:+.1} and explains {:.0} % of it{}",
+                name(h),
+                h.score,
+                100.0 * h.explained,
+                h.vuong
+                    .map(|z| format!(
+                        ", Vuong z {z:+.2} against {} (needed {:.2}{})",
+                        h.rival_text(),
+                        vuong_threshold(h.tests),
+                        if h.tests > 1.0 {
+                            format!(
+                                ": its effect's forms or places count as {:.1} tests",
+                                h.tests
+                            )
+                        } else {
+                            String::new()
+                        }
+                    ))
+                    .unwrap_or_default()
+            )
+        })
+        .unwrap_or_default();
+    if !location.significant {
+        let mut s = format!(
+            "nothing is missing: after the baseline fit the residual is at the noise level (chi-square {:.0} on {} coordinates, within three standard deviations)",
+            location.chi2, location.dof
+        );
+        if !pinned.is_empty() {
+            let one = pinned.len() == 1;
+            s += &format!(
+                ". The fit left {names} at the edge of {its} search range: either the data do not pin {it} down, or the model bends {it} to stand in for physics it lacks; if you measured {which} or E, give its range (`--bound NAME=LOW:HIGH`) or lock it (`--lock NAME`) and diagnose again",
+                names = pinned.join(" and "),
+                its = if one { "its" } else { "their" },
+                it = if one { "it" } else { "them" },
+                which = if one { "it" } else { "one of them" },
+            );
+        }
+        return s;
+    }
+    let ratio = location.over_noise();
+    if unexplained {
+        format!(
+            "unexplained: a mismatch {ratio:.1} times the noise ({}) that no candidate explains (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}, more for the best of an effect's forms or places){best}",
+            location.description,
+            100.0 * MIN_EXPLAINED
+        )
+    } else {
+        format!(
+            "nothing is missing: the residual left after the baseline fit, {ratio:.1} times the noise ({}), is explained by no candidate (none removes {:.0} % of it with a BIC gain over {BIC_THRESHOLD} and fits closer than every other effect by Vuong's z {VUONG_Z}, more for the best of an effect's forms or places): the model's own form error{best}",
+            location.description,
+            100.0 * MIN_EXPLAINED
+        )
+    }
 }
 
 /// The pair test in words, for the evidence.
