@@ -394,11 +394,13 @@ fn write_table(s: &mut String, outcomes: &[Outcome]) {
                     floor(d.baseline.errors.nrmse_all),
                     floor(d.final_fit.errors.nrmse_all),
                     recovered.join("; "),
-                    match place_named(o) {
-                        Some(p) if opposite_half(o) =>
-                            format!("{p} (the complement: ratio inverted)"),
-                        Some(p) => p,
-                        None => "-".into(),
+                    match (place_named(o), place(o)) {
+                        (Some(p), Some(Place::Complement)) =>
+                            format!("{p} (placed: the complement, ratio inverted)"),
+                        (Some(p), Some(Place::Same)) => format!("{p} (placed)"),
+                        (Some(p), None) if o.case.region.is_some() => format!("{p} (misplaced)"),
+                        (Some(p), None) => p,
+                        (None, _) => "-".into(),
                     },
                     o.seconds
                 );
