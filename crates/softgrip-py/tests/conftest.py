@@ -38,6 +38,19 @@ def cli() -> Path:
 
 
 @pytest.fixture(scope="session")
+def lattice_diagnosis(shipped, tmp_path_factory):
+    """The shipped recording diagnosed from the scene's own model (one effect at most), its fits
+    saved as they end, and its progress calls: one diagnosis the tests read (each takes seconds)."""
+    import softgrip
+
+    checkpoint = tmp_path_factory.mktemp("diagnosis") / "fits.checkpoint"
+    calls = []
+    d = softgrip.diagnose(softgrip.Recording.load(shipped), model="scene", max_effects=1,
+                          checkpoint=checkpoint, progress=lambda *a: calls.append(a))
+    return d, checkpoint, calls
+
+
+@pytest.fixture(scope="session")
 def ray_cluster(tmp_path_factory):
     """A Ray head on loopback with two worker CPUs, started and stopped by the test session."""
     import sys

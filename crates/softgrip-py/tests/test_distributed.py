@@ -49,19 +49,17 @@ def test_shards_merged_are_the_single_machine_sweep(cli, shipped, tmp_path):
     assert missing.returncode != 0 and "in no shard" in missing.stderr
 
 
-def test_diagnoses_through_ray_are_the_single_machine_ones(ray_cluster, shipped):
-    one = softgrip.diagnose(softgrip.Recording.load(shipped), model="scene", max_effects=1,
-                            workers=1)
-    (many,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1)
-    assert many.to_dict() == one.to_dict()
-
-
-def test_diagnoses_through_ray_save_their_fits_one_file_a_recording(ray_cluster, shipped,
+def test_diagnoses_through_ray_are_the_single_machine_ones_and_resume(ray_cluster, shipped,
+                                                                     lattice_diagnosis,
                                                                      tmp_path):
-    (d,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1,
-                                         checkpoint=tmp_path)
+    """A diagnosis on the cluster says what the one on this machine says, saves its fits in one
+    file a recording, and resumes from it."""
+    one, _, _ = lattice_diagnosis
+    (many,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1,
+                                            checkpoint=tmp_path)
+    assert many.to_dict() == one.to_dict()
     (file,) = tmp_path.iterdir()
     assert file.name.endswith("thesis_7_loads.checkpoint") and file.read_text().count("\n") >= 2
     (again,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1,
                                              checkpoint=tmp_path)
-    assert again.verdict == d.verdict
+    assert again.verdict == many.verdict

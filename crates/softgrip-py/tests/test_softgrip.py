@@ -174,33 +174,30 @@ def test_sweep_is_the_clis_csv_and_json(shipped, cli, tmp_path):
     assert len(frame) == 6 and frame["nrmse"].min() == py.nrmse
 
 
-def test_diagnose_names_nothing_on_a_recording_of_its_own_model(shipped):
+def test_diagnose_names_nothing_on_a_recording_of_its_own_model(shipped, lattice_diagnosis):
     """thesis_7_loads is the thesis lattice itself with noise: from the scene's own model the
     residual is noise, and the verdict "none"."""
-    rec = Recording.load(shipped)
-    calls = []
-    d = softgrip.diagnose(rec, model="scene", max_effects=1,
-                          progress=lambda *a: calls.append(a))
+    d, _, calls = lattice_diagnosis
     assert d.verdict == "none" and d.effects == [] and d.model == "lattice"
     # Loading only, and the model is the truth: nothing left, nothing set aside.
     assert d.set_aside == [] and d.unexplained_at == []
     assert calls and calls[0][0] == 0
     assert isinstance(d.to_frame(), pd.DataFrame)
+    rec = Recording.load(shipped)
     with pytest.raises(SoftgripError, match="model"):
         softgrip.diagnose(rec, model="fem")
     with pytest.raises(SoftgripError, match="--bound"):
         softgrip.diagnose(rec, bounds=["young_modulus=1:"])
 
 
-def test_a_diagnosis_resumes_from_its_checkpoint(shipped, tmp_path):
+def test_a_diagnosis_resumes_from_its_checkpoint(shipped, lattice_diagnosis):
     """Each fit is saved as it ends; the same call again takes them from the file: it saves no
     fit again, and says the same."""
-    rec = Recording.load(shipped)
-    path = tmp_path / "fits.checkpoint"
-    first = softgrip.diagnose(rec, model="scene", max_effects=1, checkpoint=path)
+    first, path, _ = lattice_diagnosis
     saved = path.read_text().splitlines()
     assert len(saved) >= 2, saved
-    again = softgrip.diagnose(rec, model="scene", max_effects=1, checkpoint=path)
+    again = softgrip.diagnose(Recording.load(shipped), model="scene", max_effects=1,
+                              checkpoint=path)
     assert path.read_text().splitlines() == saved
     assert again.verdict == first.verdict
 
