@@ -215,52 +215,7 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
     models.sort_by_key(|m| m.name());
     models.dedup();
     for model in models {
-        let of: Vec<&Outcome> = outcomes.iter().filter(|o| o.model == model).collect();
-        let effects: Vec<&&Outcome> = of.iter().filter(|o| !o.case.effects.is_empty()).collect();
-        let controls: Vec<&&Outcome> = of.iter().filter(|o| o.case.effects.is_empty()).collect();
-        let pairs: Vec<&&Outcome> = effects
-            .iter()
-            .filter(|o| o.case.effects.len() > 1)
-            .copied()
-            .collect();
-        let right = |v: &[&&Outcome]| v.iter().filter(|o| o.right()).count();
-        let named: Vec<&&Outcome> = effects.iter().filter(|o| o.right()).copied().collect();
-        let above: Vec<&&Outcome> = named.iter().filter(|o| above_noise(o)).copied().collect();
-        let floor_ok = above
-            .iter()
-            .filter(|o| after_over_floor(o).is_some_and(|r| r <= 1.25))
-            .count();
-        let with_model: Vec<bool> = named.iter().filter_map(|o| modelled(o)).collect();
-        let seconds: Vec<f64> = of.iter().map(|o| o.seconds).collect();
-        let pct = |a: usize, b: usize| {
-            if b == 0 {
-                0.0
-            } else {
-                100.0 * a as f64 / b as f64
-            }
-        };
-        let _ = writeln!(
-            s,
-            "| {} | {} of {} ({:.0} %) | {} of {} | {} of {} | {} of {} ({:.0} %) | {} of {} ({:.0} %) | {} of {} | {:.0}, {:.0} |",
-            model.name(),
-            right(&effects),
-            effects.len(),
-            pct(right(&effects), effects.len()),
-            right(&controls),
-            controls.len(),
-            right(&pairs),
-            pairs.len(),
-            floor_ok,
-            above.len(),
-            pct(floor_ok, above.len()),
-            with_model.iter().filter(|b| **b).count(),
-            with_model.len(),
-            pct(with_model.iter().filter(|b| **b).count(), with_model.len()),
-            of.iter().filter(|o| o.diagnosis.is_ok()).count(),
-            of.len(),
-            seconds.iter().sum::<f64>() / seconds.len().max(1) as f64,
-            seconds.iter().cloned().fold(0.0, f64::max),
-        );
+        write_headline_row(s, outcomes, model);
     }
     let below: Vec<String> = outcomes
         .iter()
@@ -283,6 +238,56 @@ fn write_summary(s: &mut String, outcomes: &[Outcome], prove: &ProveOptions) {
         }
     );
     write_modulus_bias(s, outcomes);
+}
+
+/// The headline table's row of one model: today's figures against the acceptance.
+fn write_headline_row(s: &mut String, outcomes: &[Outcome], model: BaselineModel) {
+    let of: Vec<&Outcome> = outcomes.iter().filter(|o| o.model == model).collect();
+    let effects: Vec<&&Outcome> = of.iter().filter(|o| !o.case.effects.is_empty()).collect();
+    let controls: Vec<&&Outcome> = of.iter().filter(|o| o.case.effects.is_empty()).collect();
+    let pairs: Vec<&&Outcome> = effects
+        .iter()
+        .filter(|o| o.case.effects.len() > 1)
+        .copied()
+        .collect();
+    let right = |v: &[&&Outcome]| v.iter().filter(|o| o.right()).count();
+    let named: Vec<&&Outcome> = effects.iter().filter(|o| o.right()).copied().collect();
+    let above: Vec<&&Outcome> = named.iter().filter(|o| above_noise(o)).copied().collect();
+    let floor_ok = above
+        .iter()
+        .filter(|o| after_over_floor(o).is_some_and(|r| r <= 1.25))
+        .count();
+    let with_model: Vec<bool> = named.iter().filter_map(|o| modelled(o)).collect();
+    let seconds: Vec<f64> = of.iter().map(|o| o.seconds).collect();
+    let pct = |a: usize, b: usize| {
+        if b == 0 {
+            0.0
+        } else {
+            100.0 * a as f64 / b as f64
+        }
+    };
+    let _ = writeln!(
+        s,
+        "| {} | {} of {} ({:.0} %) | {} of {} | {} of {} | {} of {} ({:.0} %) | {} of {} ({:.0} %) | {} of {} | {:.0}, {:.0} |",
+        model.name(),
+        right(&effects),
+        effects.len(),
+        pct(right(&effects), effects.len()),
+        right(&controls),
+        controls.len(),
+        right(&pairs),
+        pairs.len(),
+        floor_ok,
+        above.len(),
+        pct(floor_ok, above.len()),
+        with_model.iter().filter(|b| **b).count(),
+        with_model.len(),
+        pct(with_model.iter().filter(|b| **b).count(), with_model.len()),
+        of.iter().filter(|o| o.diagnosis.is_ok()).count(),
+        of.len(),
+        seconds.iter().sum::<f64>() / seconds.len().max(1) as f64,
+        seconds.iter().cloned().fold(0.0, f64::max),
+    );
 }
 
 /// The baseline's E over the truth's on the controls, per model: the bias the model's own form

@@ -276,63 +276,120 @@ fn shape_name(b: &AaBox) -> String {
 /// 1 ms steps instead of 2, E drawn in [`E_ERROR`] of the nominal. Each effect's strength (and a
 /// region's place) is drawn from the seed within its stated range, weak and strong; each
 /// experiment and kind of recording has a control.
-pub fn cases(seed: u64) -> Vec<Case> {
-    // `hide` hides the case's effects in the truth (its E already drawn), with the case's own
-    // draws, and returns the hidden values by the diagnosis's names.
-    type Hide<'a> = &'a dyn Fn(&mut Scene, &mut Draws) -> Vec<(&'static str, f64)>;
-    let case_on = |experiment: Experiment,
-                   name: &str,
-                   effects: Vec<&'static str>,
-                   (mode, start): (Mode, Start),
-                   hide: Hide| {
-        let nominal = nominal_of(experiment);
-        let base = conceal(nominal.clone());
-        let mut draws = Draws::new(seed, name);
-        let mut s = base.clone();
-        s.object.young_modulus *= draws.log_uniform(E_ERROR.0, E_ERROR.1);
-        let truth = hide(&mut s, &mut draws);
-        let mut plain = base.clone();
-        plain.object.young_modulus = s.object.young_modulus;
-        let region = s.regions.first().map(|r| {
-            ["left half", "right half", "bottom half", "top half"]
-                .into_iter()
-                .find(|h| half(h) == r.region)
-                .map_or_else(|| shape_name(&r.region), str::to_string)
-        });
-        // The plate spreads its load: three times the sphere's for a like strain (20 % at the
-        // top); the stiffer silicone takes three times the loads.
-        let scale = match experiment {
-            Experiment::Plate => 10.0 / 3.0,
-            Experiment::Stiff => STIFF,
-            _ => 1.0,
-        };
-        Case {
-            noise_seed: draws.next() >> 1,
-            region,
-            distortion: None,
-            name: name.to_string(),
-            effects,
-            truth,
-            markers: contour_markers(&nominal),
-            nominal,
-            truth_scene: s,
-            plain_scene: plain,
-            mode,
-            start,
-            loads: [1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 4.5, 1.5]
-                .iter()
-                .map(|l| l * scale)
-                .collect(),
-        }
+/// How a case hides its effects in the truth (its E already drawn), with the case's own draws:
+/// the hidden values by the diagnosis's names.
+type Hide<'a> = &'a dyn Fn(&mut Scene, &mut Draws) -> Vec<(&'static str, f64)>;
+
+/// One case of `seed` on `experiment`: its truth drawn (E, then `hide`), its noise's seed.
+fn case_on(
+    seed: u64,
+    experiment: Experiment,
+    name: &str,
+    effects: Vec<&'static str>,
+    (mode, start): (Mode, Start),
+    hide: Hide,
+) -> Case {
+    let nominal = nominal_of(experiment);
+    let base = conceal(nominal.clone());
+    let mut draws = Draws::new(seed, name);
+    let mut s = base.clone();
+    s.object.young_modulus *= draws.log_uniform(E_ERROR.0, E_ERROR.1);
+    let truth = hide(&mut s, &mut draws);
+    let mut plain = base.clone();
+    plain.object.young_modulus = s.object.young_modulus;
+    let region = s.regions.first().map(|r| {
+        ["left half", "right half", "bottom half", "top half"]
+            .into_iter()
+            .find(|h| half(h) == r.region)
+            .map_or_else(|| shape_name(&r.region), str::to_string)
+    });
+    // The plate spreads its load: three times the sphere's for a like strain (20 % at the
+    // top); the stiffer silicone takes three times the loads.
+    let scale = match experiment {
+        Experiment::Plate => 10.0 / 3.0,
+        Experiment::Stiff => STIFF,
+        _ => 1.0,
     };
-    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
-        case_on(Experiment::Sphere, name, effects, kind, hide)
-    };
+    Case {
+        noise_seed: draws.next() >> 1,
+        region,
+        distortion: None,
+        name: name.to_string(),
+        effects,
+        truth,
+        markers: contour_markers(&nominal),
+        nominal,
+        truth_scene: s,
+        plain_scene: plain,
+        mode,
+        start,
+        loads: [1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 4.5, 1.5]
+            .iter()
+            .map(|l| l * scale)
+            .collect(),
+    }
+}
+
+/// Physics softgrip has no model of, on the plain truth (the right verdict is "unexplained",
+/// with the marker it moves most among those it locates), and the case with two effects.
+fn unmodelled_and_pair(seed: u64) -> Vec<Case> {
     let qs = (Mode::QuasiStatic, Start::Rest);
+    let none: Hide = &|_, _| vec![];
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(seed, Experiment::Sphere, name, effects, kind, hide)
+    };
+    let mut out = Vec::new();
+    let unexplained = |name: &str, distortion: &dyn Fn(&mut Draws) -> Distortion| {
+        let mut c = case(name, vec![UNEXPLAINED], qs, none);
+        let mut draws = Draws::new(seed, &format!("{name}/distortion"));
+        c.distortion = Some(distortion(&mut draws));
+        c
+    };
+    out.push(unexplained("unexplained-permanent-set", &|d| {
+        Distortion::PermanentSet {
+            share: d.uniform(0.3, 0.5),
+        }
+    }));
+    out.push(unexplained("unexplained-adhesion", &|d| {
+        Distortion::Adhesion {
+            share: d.uniform(0.5, 0.8),
+            reach: 0.012,
+        }
+    }));
+    out.push(unexplained("unexplained-marker-slip", &|d| {
+        let markers = contour_markers(&nominal());
+        let (marker, _) = &markers[(d.next() % markers.len() as u64) as usize];
+        Distortion::MarkerSlip {
+            marker: marker.clone(),
+            // 0.5 to 1 mm at the largest load (9 N).
+            rate: d.uniform(0.5e-3, 1e-3) / 9.0,
+        }
+    }));
+    out.push(case(
+        "table-friction+load-loss",
+        vec!["table-friction", "load-loss"],
+        qs,
+        &|s, d| {
+            let (mu, f) = (d.uniform(0.05, 0.15), d.uniform(0.7, 1.3));
+            s.support.kind = SupportKind::Table;
+            s.support.friction = mu;
+            s.fingers[0].guide_friction = f;
+            vec![("table_friction", mu), ("guide_friction", f)]
+        },
+    ));
+    out
+}
+
+/// Controls: every experiment and kind of recording, nothing hidden.
+fn controls(seed: u64) -> Vec<Case> {
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let none: Hide = &|_, _| vec![];
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(seed, Experiment::Sphere, name, effects, kind, hide)
+    };
+    let mut out = Vec::new();
     let from_rest = (Mode::TimeSeries, Start::Rest);
     let from_equilibrium = (Mode::TimeSeries, Start::Equilibrium);
-    let none: Hide = &|_, _| vec![];
-    let mut out = Vec::new();
     // Controls: every experiment and kind of recording, nothing hidden.
     for k in 1..=2 {
         out.push(case(&format!("control-{k}"), vec![], qs, none));
@@ -350,8 +407,19 @@ pub fn cases(seed: u64) -> Vec<Case> {
         (Experiment::Cylinder, "control-cylinder"),
         (Experiment::Stiff, "control-stiff-silicone"),
     ] {
-        out.push(case_on(experiment, name, vec![], qs, none));
+        out.push(case_on(seed, experiment, name, vec![], qs, none));
     }
+    out
+}
+
+/// The catalogue's effects but the regions and the load loss, each at two strengths.
+fn material_effects(seed: u64) -> Vec<Case> {
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(seed, Experiment::Sphere, name, effects, kind, hide)
+    };
+    let mut out = Vec::new();
+    let from_rest = (Mode::TimeSeries, Start::Rest);
     // Each effect at two strengths: (name, low, high) of its drawn range. Table friction on a
     // scene whose nominal bottom is bonded: a lower friction lets it spread more (stronger).
     for (strength, lo, hi) in [("weak", 0.15, 0.3), ("strong", 0.03, 0.1)] {
@@ -415,6 +483,7 @@ pub fn cases(seed: u64) -> Vec<Case> {
     // The nominal finger's friction is 0.5: less lets the top face spread under the plate.
     for (strength, lo, hi) in [("weak", 0.05, 0.15), ("strong", 0.0, 0.02)] {
         out.push(case_on(
+            seed,
             Experiment::Plate,
             &format!("finger-friction-{strength}"),
             vec!["finger-friction"],
@@ -426,6 +495,16 @@ pub fn cases(seed: u64) -> Vec<Case> {
             },
         ));
     }
+    out
+}
+
+/// A softer or a stiffer half, any of four, at two strengths.
+fn halves(seed: u64) -> Vec<Case> {
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(seed, Experiment::Sphere, name, effects, kind, hide)
+    };
+    let mut out = Vec::new();
     // A softer or a stiffer half, any of four.
     for (strength, lo, hi) in [("weak", 2.0, 3.5), ("strong", 5.0, 10.0)] {
         out.push(case(
@@ -452,6 +531,17 @@ pub fn cases(seed: u64) -> Vec<Case> {
     }
     // Regions in forms and places the catalogue's halves are not: a bottom or top layer of any
     // thickness (a cured skin, a stiff base), a quarter (a moulding edge), an insert.
+    out
+}
+
+/// A region of other stiffness: a half at two strengths, a layer, a quarter, an inclusion.
+fn stiffness_regions(seed: u64) -> Vec<Case> {
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(seed, Experiment::Sphere, name, effects, kind, hide)
+    };
+    let mut out = Vec::new();
+    out.extend(halves(seed));
     out.push(case(
         "heterogeneous-stiffness-layer",
         vec!["heterogeneous-stiffness"],
@@ -520,8 +610,19 @@ pub fn cases(seed: u64) -> Vec<Case> {
             vec![("region_young_modulus", e)]
         },
     ));
+    out
+}
+
+pub fn cases(seed: u64) -> Vec<Case> {
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let mut out = Vec::new();
+    out.extend(controls(seed));
+    out.extend(material_effects(seed));
+    out.extend(stiffness_regions(seed));
     for (strength, lo, hi) in [("weak", 1.5, 2.5), ("strong", 2.5, 3.5)] {
-        out.push(case(
+        out.push(case_on(
+            seed,
+            Experiment::Sphere,
             &format!("load-loss-{strength}"),
             vec!["load-loss"],
             qs,
@@ -532,46 +633,7 @@ pub fn cases(seed: u64) -> Vec<Case> {
             },
         ));
     }
-    // Physics softgrip has no model of, on the plain truth: the right verdict is "unexplained",
-    // with the marker it moves most among those it locates.
-    let unexplained = |name: &str, distortion: &dyn Fn(&mut Draws) -> Distortion| {
-        let mut c = case(name, vec![UNEXPLAINED], qs, none);
-        let mut draws = Draws::new(seed, &format!("{name}/distortion"));
-        c.distortion = Some(distortion(&mut draws));
-        c
-    };
-    out.push(unexplained("unexplained-permanent-set", &|d| {
-        Distortion::PermanentSet {
-            share: d.uniform(0.3, 0.5),
-        }
-    }));
-    out.push(unexplained("unexplained-adhesion", &|d| {
-        Distortion::Adhesion {
-            share: d.uniform(0.5, 0.8),
-            reach: 0.012,
-        }
-    }));
-    out.push(unexplained("unexplained-marker-slip", &|d| {
-        let markers = contour_markers(&nominal());
-        let (marker, _) = &markers[(d.next() % markers.len() as u64) as usize];
-        Distortion::MarkerSlip {
-            marker: marker.clone(),
-            // 0.5 to 1 mm at the largest load (9 N).
-            rate: d.uniform(0.5e-3, 1e-3) / 9.0,
-        }
-    }));
-    out.push(case(
-        "table-friction+load-loss",
-        vec!["table-friction", "load-loss"],
-        qs,
-        &|s, d| {
-            let (mu, f) = (d.uniform(0.05, 0.15), d.uniform(0.7, 1.3));
-            s.support.kind = SupportKind::Table;
-            s.support.friction = mu;
-            s.fingers[0].guide_friction = f;
-            vec![("table_friction", mu), ("guide_friction", f)]
-        },
-    ));
+    out.extend(unmodelled_and_pair(seed));
     out
 }
 
