@@ -6,8 +6,12 @@
 //! - **Hysteresis**: on a later branch (the way back down), the residual at a load should be the
 //!   one on the first branch at the same load. The model's own form error (mesh, element, contact
 //!   law) is a function of the load, so it cancels out of the difference; the model's own
-//!   hysteresis (friction) is in its simulated positions. What remains beyond the noise is
-//!   hysteresis the recording has and the model has not: a permanent set, adhesion, damage.
+//!   hysteresis (friction) is in its simulated positions. What remains beyond the noise at the
+//!   object markers, with some marker beyond its own level, is hysteresis the recording has and
+//!   the model has not: a permanent set, adhesion, damage. The finger is left out: its depth
+//!   around a loop carries the contact and friction laws' own form (a friction fitted right in
+//!   size, in another law's form, leaves chi-square 96 on 36 there at a 0.03 mm noise); the
+//!   kept share (below) still reads the finger.
 //! - **Lone markers**: an object marker whose residual goes beyond the noise and the model's own
 //!   discretisation error at it, while the other markers' stays within theirs: a marker
 //!   slipping on the skin, a point the camera mislabelled. A model's error of form moves a marker
@@ -309,7 +313,14 @@ pub fn hysteresis(recording: &Recording, residuals: &[Residual], noise: &Noise) 
         .map(|r| ((r.sample, r.marker), r))
         .collect();
     let mut per: BTreeMap<(u8, usize), (MarkerRef, f64, usize)> = BTreeMap::new();
-    for r in residuals.iter().filter(|r| r.sample >= turn) {
+    // Object markers only, as for lone markers: a finger's reading is the actuator's, and the
+    // way its depth goes around a loop carries the contact law's and the friction law's own form.
+    let on_object = |r: &&Residual| matches!(r.marker, MarkerRef::Object(_));
+    for r in residuals
+        .iter()
+        .filter(|r| r.sample >= turn)
+        .filter(on_object)
+    {
         let load = loads[r.sample];
         let Some(k) = first
             .windows(2)
@@ -352,12 +363,16 @@ pub fn hysteresis(recording: &Recording, residuals: &[Residual], noise: &Noise) 
     let p_value = chi2_upper_tail(chi2, dof);
     // Each marker against the same level shared among the markers.
     let level = REMAINDER_LEVEL / per.len() as f64;
+    let markers = beyond(recording, &per, level);
+    // A loop the model lacks shows at the markers it moves; a small excess spread thin over
+    // every marker, none beyond its own level, is the named law's form around the loop.
+    let fails = p_value < REMAINDER_LEVEL && !markers.is_empty();
     Some(Test {
         chi2,
         dof,
         p_value,
-        markers: beyond(recording, &per, level),
-        fails: p_value < REMAINDER_LEVEL,
+        markers,
+        fails,
     })
 }
 

@@ -15,14 +15,16 @@ const NOISE: f64 = 1e-4;
 /// Up to 4 N in four steps and back to 1 N in two: the truth noise-free, and with `distortion`
 /// and 0.1 mm of noise.
 fn pair(distortion: Option<Distortion>, name: &str) -> (Recording, Recording) {
+    pair_at(&[1.0, 2.0, 3.0, 4.0, 2.0, 1.0], distortion, name)
+}
+
+/// As [`pair`], at `loads` (N).
+fn pair_at(loads: &[f64], distortion: Option<Distortion>, name: &str) -> (Recording, Recording) {
     let scene = softgrip_lab::prove::nominal();
     let spec = Synthesis {
         mode: Mode::QuasiStatic,
         start: Start::Rest,
-        samples: [1.0, 2.0, 3.0, 4.0, 2.0, 1.0]
-            .iter()
-            .map(|l| (None, *l))
-            .collect(),
+        samples: loads.iter().map(|l| (None, *l)).collect(),
         markers: softgrip_lab::prove::thesis_markers(),
         finger: true,
         axes: [true, false, true],
@@ -101,8 +103,8 @@ fn a_model_that_is_the_truth_leaves_no_hysteresis_and_no_lone_marker() {
     assert!(!h.fails && h.p_value > 1e-3, "{h:?}");
     assert_eq!(
         h.dof,
-        2 * 9 * 2,
-        "two unloading samples, 9 markers, x and z"
+        2 * 8 * 2,
+        "two unloading samples, the 8 object markers (not the finger), x and z"
     );
     assert!(!found.lone_markers.as_ref().unwrap().fails, "{found:?}");
     assert!(!found.fails());
@@ -140,16 +142,23 @@ fn a_form_error_that_follows_the_load_is_neither_hysteresis_nor_a_lone_marker() 
     assert!(lone.markers.is_empty() && !lone.fails, "{lone:?}");
 }
 
+/// A permanent set shows at the object markers it moves beyond their noise: over the thesis's
+/// load range (up to 12 N and back) the markers under the finger come back 0.6 mm from 12 N to
+/// 6 N, and keep 0.8 of it. The finger is not read by this check (module docs); a set of 0.4
+/// over 4 N keeps about 0.1 mm at them, within the noise, and is left to the kept share, which
+/// reads the finger too.
 #[test]
-fn a_permanent_set_is_hysteresis_the_model_lacks_at_the_finger() {
-    let (plain, recorded) = pair(
-        Some(Distortion::PermanentSet { share: 0.4 }),
+fn a_permanent_set_is_hysteresis_the_model_lacks_at_the_object_markers() {
+    let (plain, recorded) = pair_at(
+        &[3.0, 6.0, 9.0, 12.0, 6.0, 3.0],
+        Some(Distortion::PermanentSet { share: 0.8 }),
         "remainder-set",
     );
     let found = check(&plain, &residuals(&plain, &recorded, |_, _, p| p));
     let h = found.hysteresis.as_ref().unwrap();
     assert!(h.fails && h.p_value < 1e-6, "{h:?}");
-    assert!(h.markers.iter().any(|(m, _)| m == "finger"), "{h:?}");
+    assert!(!h.markers.is_empty(), "{h:?}");
+    assert!(h.markers.iter().all(|(m, _)| m != "finger"), "{h:?}");
     assert!(found.describe().unwrap().contains("on unloading"));
 }
 
