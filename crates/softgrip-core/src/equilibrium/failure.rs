@@ -161,7 +161,7 @@ pub(super) fn no_equilibrium(
             let (cause, advice) = stall_words(model);
             (
                 format!(
-                    "Newton's iterations stall with {residual:.2e} N unbalanced, moving most near \
+                    "Newton's iterations stall with {residual:.2e} N unbalanced near \
                      ({:.4}, {:.4}, {:.4}) m: {cause}",
                     near.x, near.y, near.z
                 ),

@@ -622,7 +622,7 @@ impl Simulation {
                     trial = None;
                     report.rejected += 1;
                     if h < smallest {
-                        last_failure = Failure::Stalled(residual, DVec3::ZERO);
+                        last_failure = Failure::Stalled(residual, self.most_unbalanced());
                         break;
                     }
                     continue;
@@ -638,7 +638,7 @@ impl Simulation {
             } else {
                 since_best += 1;
                 if since_best >= STALL_ITERATIONS {
-                    last_failure = Failure::Stalled(residual, DVec3::ZERO);
+                    last_failure = Failure::Stalled(residual, self.most_unbalanced());
                     break;
                 }
             }

@@ -285,6 +285,29 @@ impl Simulation {
         residual
     }
 
+    /// Where the last assembly's unbalanced force is largest: the position of the free particle
+    /// it acts on (a stalled static solve names this place), or the object's first particle's
+    /// before any assembly.
+    pub(crate) fn most_unbalanced(&self) -> DVec3 {
+        let n = self.model.particle_count();
+        let Some(parallel) = self.scratch.parallel.as_ref() else {
+            return self.state.positions.first().copied().unwrap_or(DVec3::ZERO);
+        };
+        let system = parallel.system();
+        let worst = self.scratch.force[..n.min(self.scratch.force.len())]
+            .iter()
+            .zip(&system.mask)
+            .map(|(f, m)| (*f * *m).length_squared())
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0, |(i, _)| i);
+        self.state
+            .positions
+            .get(worst)
+            .copied()
+            .unwrap_or(DVec3::ZERO)
+    }
+
     /// The second half of [`Simulation::step`] after [`Simulation::assemble_here`].
     pub(crate) fn step_assembled(&mut self, force_residual: f64) -> Result<(), SimError> {
         let started = Instant::now();

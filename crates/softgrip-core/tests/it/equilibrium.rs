@@ -379,3 +379,45 @@ fn with_friction_and_limits_the_start_changes_the_answer() {
         "only {d:e} m apart: the rule would be needless here"
     );
 }
+
+/// The Ecoflex 00-10 cylinder (the shipped recording's diagnosis scene) compressed level by level
+/// as its recording loads it: the model carries 96 N and stalls at 149 N (53 % strain). The
+/// stall names a place on the barrelled cylinder, off its axis, where the force is out of balance
+/// (once it named the origin, a placeholder, for every stall of the exact Newton iteration).
+#[test]
+fn a_stalled_solve_names_a_place_off_the_axis_of_the_barrelled_cylinder() {
+    let path = format!(
+        "{}/../../assets/recordings/ecoflex_compression/EF10_0T_A1/diagnosis/scene.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let scene = softgrip_core::scene::Scene::load(std::path::Path::new(&path)).expect("scene");
+    let mut sim = Simulation::new(&scene).expect("sim");
+    let k = sim.load_finger().expect("the plate");
+    let rest = softgrip_core::quasi_static::RestTolerance::for_fits();
+    for load in [
+        7.46627, 15.84066, 24.77671, 35.39679, 48.41221, 66.60713, 96.05067, 148.95453,
+    ] {
+        let from: Vec<DVec3> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+        sim.set_load(k, load);
+        match sim.settle_to_equilibrium(&from, StaticOptions::default(), rest, |_| {}) {
+            Ok(_) => assert!(load < 100.0, "carried {load} N"),
+            Err(SimError::NoEquilibrium { load: at, near, .. }) => {
+                assert!(at > 96.0 && at <= load, "{at}");
+                let near = DVec3::from_array(near);
+                let (lo, hi) = sim.state.positions.iter().fold(
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+                );
+                assert!(
+                    near.cmpge(lo - 1e-9).all() && near.cmple(hi + 1e-9).all(),
+                    "{near} outside {lo} .. {hi}"
+                );
+                let radius = (near.x * near.x + near.y * near.y).sqrt();
+                assert!(radius > 0.0125, "{near}: on the axis");
+                return;
+            }
+            Err(e) => panic!("at {load} N: {e}"),
+        }
+    }
+    panic!("149 N carried");
+}
