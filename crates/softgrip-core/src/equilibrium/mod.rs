@@ -18,6 +18,7 @@ use glam::DVec3;
 
 use crate::error::SimError;
 use crate::model::{AxisDrive, LinearSolver, Model};
+use crate::state::State;
 use crate::step::Simulation;
 
 mod failure;
@@ -480,10 +481,7 @@ impl Simulation {
         let cancel = crate::cancel::current();
         // The state before the last kept iteration, for spotting a cycle of two states.
         let mut two_back: Option<Vec<DVec3>> = None;
-        let mut largest_step = match &base.table {
-            Some(t) if t.friction > 0.0 => o.max_pseudo_step.min(FRICTION_PSEUDO_STEP),
-            _ => o.max_pseudo_step,
-        };
+        let mut largest_step = largest_pseudo_step(base, o);
         // The smallest residual at the largest pseudo step, and the iterations since it fell.
         let (mut best, mut since_best) = (f64::INFINITY, 0usize);
         while report.iterations < o.max_iterations {
@@ -556,10 +554,7 @@ impl Simulation {
                 report.cycles += 1;
             }
             // First-order continuation: no momentum carried to the next iteration.
-            self.state.velocities.fill(DVec3::ZERO);
-            for f in &mut self.state.fingers {
-                f.velocity = DVec3::ZERO;
-            }
+            come_to_rest(&mut self.state);
             h = (GROWTH * h).min(largest_step);
         }
         let solve = (report.iterations, o.tolerance);
@@ -591,11 +586,7 @@ impl Simulation {
         // From an equilibrium with its contacts made, Newton's full step; a finger or table not
         // touching yet ramps the pseudo step from dt, so that a free body's first moves stay
         // small.
-        let mut h = if o.warm || contacts_made(base, &self.state) {
-            o.max_pseudo_step
-        } else {
-            base.dt
-        };
+        let mut h = first_pseudo_step(base, &self.state, o);
         let mut exact = true;
         let mut last_failure = Failure::Still(0.0);
         let cancel = crate::cancel::current();
@@ -656,21 +647,7 @@ impl Simulation {
                 continue;
             }
             exact = true;
-            let failure = match stepped {
-                Err(SimError::Diverged { what, .. }) => Failure::Step(what),
-                Err(e) => Failure::Step(e.to_string()),
-                Ok(()) => {
-                    let (from, to) = (points(&before), points(&self.state));
-                    match judge(base, &from, &to, &before, &self.state, max_move) {
-                        Failure::Moved(moved) => {
-                            shorten(&before, &mut self.state, 0.9 * max_move / moved);
-                            let to = points(&self.state);
-                            judge(base, &from, &to, &before, &self.state, max_move)
-                        }
-                        failure => failure,
-                    }
-                }
-            };
+            let failure = judge_newton_step(base, stepped, &before, &mut self.state, max_move);
             let Failure::Still(moved) = failure else {
                 self.state = before;
                 report.rejected += 1;
@@ -689,21 +666,80 @@ impl Simulation {
                 report.by_move = true;
                 return Ok(report);
             }
-            self.state.velocities.fill(DVec3::ZERO);
-            for f in &mut self.state.fingers {
-                f.velocity = DVec3::ZERO;
-            }
-            trial = Some(Trial {
-                full: self.state.clone(),
-                start: before,
-                start_residual: residual,
-                share: 1.0,
-                h,
-            });
+            trial = Some(Trial::of_step(&mut self.state, before, residual, h));
             h = (GROWTH * h).min(o.max_pseudo_step);
         }
         let solve = (report.iterations, o.tolerance);
         Err(no_equilibrium(base, &self.state, last_failure, solve))
+    }
+}
+
+/// No momentum carried to the next iteration (first-order continuation).
+fn come_to_rest(state: &mut State) {
+    state.velocities.fill(DVec3::ZERO);
+    for f in &mut state.fingers {
+        f.velocity = DVec3::ZERO;
+    }
+}
+
+/// The time steps' largest pseudo step: shorter on a table with friction, whose stick and slip
+/// a long step can send round a cycle.
+fn largest_pseudo_step(base: &Model, o: StaticOptions) -> f64 {
+    match &base.table {
+        Some(t) if t.friction > 0.0 => o.max_pseudo_step.min(FRICTION_PSEUDO_STEP),
+        _ => o.max_pseudo_step,
+    }
+}
+
+/// The first pseudo step of a Newton solve: from an equilibrium with its contacts made, Newton's
+/// full step; a finger or table not touching yet ramps it from dt, so that a free body's first
+/// moves stay small.
+fn first_pseudo_step(base: &Model, state: &State, o: StaticOptions) -> f64 {
+    if o.warm || contacts_made(base, state) {
+        o.max_pseudo_step
+    } else {
+        base.dt
+    }
+}
+
+/// What a Newton step from `before` to `state` did: its error, or [`judge`]'s verdict on the
+/// move, a move too long shortened to 0.9 of `max_move` first.
+fn judge_newton_step(
+    base: &Model,
+    stepped: Result<(), SimError>,
+    before: &State,
+    state: &mut State,
+    max_move: f64,
+) -> Failure {
+    match stepped {
+        Err(SimError::Diverged { what, .. }) => Failure::Step(what),
+        Err(e) => Failure::Step(e.to_string()),
+        Ok(()) => {
+            let (from, to) = (points(before), points(state));
+            match judge(base, &from, &to, before, state, max_move) {
+                Failure::Moved(moved) => {
+                    shorten(before, state, 0.9 * max_move / moved);
+                    let to = points(state);
+                    judge(base, &from, &to, before, state, max_move)
+                }
+                failure => failure,
+            }
+        }
+    }
+}
+
+impl Trial {
+    /// The step just taken to `state` (at rest: velocities zeroed) from `start`, where the force
+    /// was `start_residual`, on trial at its full length.
+    fn of_step(state: &mut State, start: State, start_residual: f64, h: f64) -> Trial {
+        come_to_rest(state);
+        Trial {
+            full: state.clone(),
+            start,
+            start_residual,
+            share: 1.0,
+            h,
+        }
     }
 }
 
