@@ -17,6 +17,7 @@ use super::shapes::place;
 use super::statistics::{PROMISING, UNEXPLAINED_RATIO, effective_tests, vuong};
 use crate::error::LabError;
 use crate::recording::Recording;
+use softgrip_core::scene::AaBox;
 
 /// What the search found.
 pub(super) struct Explanation {
@@ -36,6 +37,18 @@ pub(super) struct Explanation {
 }
 
 impl Explanation {
+    /// Nothing named: the model is `baseline`.
+    fn nothing_beyond(baseline: &ModelFit) -> Explanation {
+        Explanation {
+            hypotheses: Vec::new(),
+            effects: Vec::new(),
+            current: baseline.clone(),
+            unexplained: false,
+            pair: None,
+            screens: Vec::new(),
+        }
+    }
+
     /// Simulations its fits ran: every candidate's and the pair's.
     pub(super) fn simulations(&self) -> usize {
         self.hypotheses
@@ -58,69 +71,35 @@ pub(super) fn explain(
     baseline: &ModelFit,
     fits: &mut FitCount,
 ) -> Result<Explanation, LabError> {
-    let mut found = Explanation {
-        hypotheses: Vec::new(),
-        effects: Vec::new(),
-        current: baseline.clone(),
-        unexplained: false,
-        pair: None,
-        screens: Vec::new(),
-    };
+    let mut found = Explanation::nothing_beyond(baseline);
     if !location.significant {
         return Ok(found);
     }
     // Variants of an effect found are not tried again.
     let mut tried: Vec<&'static str> = Vec::new();
     for round in 0..options.max_effects {
-        // The scan's count of independent places, where it ran (`super::regions`).
-        let mut scan_tests: Option<f64> = None;
-        let mut round_candidates = next_candidates(recording, options, &found, &tried, round);
-        if round_candidates.is_empty() {
+        let candidates = next_candidates(recording, options, &found, &tried, round);
+        if candidates.is_empty() {
             break;
         }
-        if options.screen {
-            fits.starting("the score test of every candidate");
-            let screened = screen(
-                recording,
-                noise,
-                &found.current,
-                &round_candidates,
-                (options.workers, options.region_scan),
-            );
-            if let Some((mut screens, scan)) = screened {
-                round_candidates = round_candidates
-                    .into_iter()
-                    .zip(&screens)
-                    .filter(|(_, s)| s.kept)
-                    .map(|(c, _)| c)
-                    .collect();
-                if let Some(scan) = scan {
-                    scan_tests = Some(scan.tests);
-                    let screened = scanned(&scan, found.current.scene.object.young_modulus);
-                    if screened.kept {
-                        fits.starting("placing the region of other stiffness");
-                        round_candidates.extend(placed_region(
-                            recording,
-                            noise,
-                            options,
-                            &found.current,
-                            &scan,
-                        ));
-                    }
-                    screens.push(screened);
-                }
-                found
-                    .screens
-                    .extend(screens.into_iter().map(|s| (round, s)));
-                if round_candidates.is_empty() {
-                    // Nothing could explain a share of it: as when the best fitted explains
-                    // too little.
-                    found.unexplained = unexplained(location, &found.effects);
-                    break;
-                }
-            }
+        let (round_candidates, scan_tests) = screened(
+            recording,
+            noise,
+            options,
+            &mut found,
+            (candidates, round),
+            fits,
+        );
+        if round_candidates.is_empty() {
+            // Nothing could explain a share of it: as when the best fitted explains too little.
+            found.unexplained = unexplained(location, &found.effects);
+            break;
         }
         let start = found.hypotheses.len();
+        let region_candidate = round_candidates
+            .iter()
+            .find(|c| c.effect == REGION)
+            .cloned();
         let fitted = fit_candidates(
             recording,
             noise,
@@ -135,7 +114,7 @@ pub(super) fn explain(
         // A region chosen as the best of the scan's boxes must clear the scan's bar; the halves
         // are among its boxes.
         for h in &mut found.hypotheses[start..] {
-            if let Some(t) = scan_tests.filter(|_| h.effect == "heterogeneous-stiffness") {
+            if let Some(t) = scan_tests.filter(|_| h.effect == REGION) {
                 h.tests = h.tests.max(t);
             }
         }
@@ -160,19 +139,144 @@ pub(super) fn explain(
             )?;
             break;
         }
-        let h = &found.hypotheses[b];
-        if accepted(h) {
-            found.effects.push(h.effect);
-            if let Ok(f) = &h.fit {
-                found.current = f.clone();
-            }
-            tried.push(h.effect);
-        } else {
+        if !accepted(&found.hypotheses[b]) {
             found.unexplained = unexplained(location, &found.effects);
             break;
         }
+        let halves_named = found.hypotheses[b].effect == REGION && scan_tests.is_none();
+        let b = match region_candidate.filter(|_| halves_named) {
+            Some(c) => place_named_region(recording, noise, options, &mut found, (b, c), fits)?,
+            None => b,
+        };
+        let h = &found.hypotheses[b];
+        found.effects.push(h.effect);
+        if let Ok(f) = &h.fit {
+            found.current = f.clone();
+        }
+        tried.push(h.effect);
     }
     Ok(found)
+}
+
+/// Round `round`'s `candidates` that the score tests keep (all of them where the tests cannot be
+/// had or `options.screen` is off), the scan's region among them where it ran and is significant,
+/// and the scan's count of independent places (`super::regions`). The tests are kept in `found`.
+fn screened(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    found: &mut Explanation,
+    (candidates, round): (Vec<Candidate>, usize),
+    fits: &mut FitCount,
+) -> (Vec<Candidate>, Option<f64>) {
+    if !options.screen {
+        return (candidates, None);
+    }
+    fits.starting("the score test of every candidate");
+    let Some((mut screens, scan)) = screen(
+        recording,
+        noise,
+        &found.current,
+        &candidates,
+        (options.workers, options.region_scan),
+    ) else {
+        return (candidates, None);
+    };
+    let mut kept: Vec<Candidate> = candidates
+        .into_iter()
+        .zip(&screens)
+        .filter(|(_, s)| s.kept)
+        .map(|(c, _)| c)
+        .collect();
+    let mut scan_tests = None;
+    if let Some(scan) = scan {
+        scan_tests = Some(scan.tests);
+        let screened = scanned(&scan, found.current.scene.object.young_modulus);
+        if screened.kept {
+            fits.starting("placing the region of other stiffness");
+            kept.extend(placed_region(
+                recording,
+                noise,
+                options,
+                &found.current,
+                &scan,
+            ));
+        }
+        screens.push(screened);
+    }
+    found
+        .screens
+        .extend(screens.into_iter().map(|s| (round, s)));
+    (kept, scan_tests)
+}
+
+/// The effect a region's candidates are.
+const REGION: &str = "heterogeneous-stiffness";
+
+/// Where the four halves named a region (hypothesis `named` of `found`, its round's `candidate`
+/// one of them), the place the data favour on the side the half chose: the scan of the object's
+/// cells (`super::regions`) at the model without it, its shapes within the half or within the
+/// other half ([`on_one_side`]) placed beyond first order (`super::shapes`) and the best fitted
+/// as a candidate, kept where it fits closer than the half (the same parameters: a lower
+/// BIC is a lower residual). The halves decide whether there is a region; the scan only where:
+/// deciding by the scan's 48 shapes, a stiff top layer took strain stiffening's name
+/// (`docs/design/diagnosis.md`). Returns the index of the hypothesis to name; a time series, or
+/// a scan or fit that fails, keeps the half.
+fn place_named_region(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    found: &mut Explanation,
+    (named, candidate): (usize, Candidate),
+    fits: &mut FitCount,
+) -> Result<usize, LabError> {
+    fits.starting("placing the region the halves named");
+    let current = &found.current;
+    let Some(half) = found.hypotheses[named]
+        .fit
+        .as_ref()
+        .ok()
+        .and_then(|f| f.scene.regions.last())
+        .map(|r| r.region)
+    else {
+        return Ok(named);
+    };
+    let Some((_, Some(mut scan))) = screen(
+        recording,
+        noise,
+        current,
+        std::slice::from_ref(&candidate),
+        (options.workers, true),
+    ) else {
+        return Ok(named);
+    };
+    scan.shapes.retain(|s| on_one_side(s.region, half));
+    let Some(c) = placed_region(recording, noise, options, current, &scan) else {
+        return Ok(named);
+    };
+    let round = found.hypotheses[named].round;
+    let placed = fit_candidate(recording, noise, options, current, c, round)?;
+    if placed.fit.is_err() || placed.score >= found.hypotheses[named].score {
+        return Ok(named);
+    }
+    let start = found
+        .hypotheses
+        .iter()
+        .position(|h| h.round == round)
+        .unwrap_or(named);
+    found.hypotheses.push(placed);
+    compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
+    Ok(found.hypotheses.len() - 1)
+}
+
+/// `shape` lies within `half` or wholly outside it (within the other half): a place the half's
+/// verdict allows, refined.
+fn on_one_side(shape: AaBox, half: AaBox) -> bool {
+    let tolerance = 1e-2 * (half.max - half.min).max_element();
+    let inside = (shape.min - half.min).min_element() >= -tolerance
+        && (half.max - shape.max).min_element() >= -tolerance;
+    let overlap = shape.max.min(half.max) - shape.min.max(half.min);
+    inside || overlap.min_element() <= tolerance
 }
 
 /// The region the scan found significant, placed by `super::shapes` and offered as a candidate
@@ -463,6 +567,27 @@ fn unexplained(location: &Location, effects: &[&'static str]) -> bool {
 mod tests {
     use super::super::statistics::vuong_threshold;
     use super::*;
+
+    /// The scan's shapes a named half allows: within it (a quarter, an octant, a layer of it) or
+    /// within the other half; a shape across the two (the middle layer for a bottom half) is
+    /// another reading of the data, not the half's place refined.
+    #[test]
+    fn a_half_allows_the_shapes_within_it_or_within_the_other_half() {
+        let b = |min: [f64; 3], max: [f64; 3]| AaBox {
+            min: min.into(),
+            max: max.into(),
+        };
+        let bottom = b([-25.0, -25.0, 0.0], [25.0, 25.0, 10.0]);
+        let right_bottom_quarter = b([0.0, -25.0, 0.0], [25.0, 25.0, 10.0]);
+        let top_layer = b([-25.0, -25.0, 15.0], [25.0, 25.0, 20.0]);
+        let middle_layer = b([-25.0, -25.0, 5.0], [25.0, 25.0, 15.0]);
+        let left_half = b([-25.0, -25.0, 0.0], [0.0, 25.0, 20.0]);
+        assert!(on_one_side(bottom, bottom));
+        assert!(on_one_side(right_bottom_quarter, bottom));
+        assert!(on_one_side(top_layer, bottom));
+        assert!(!on_one_side(middle_layer, bottom));
+        assert!(!on_one_side(left_half, bottom));
+    }
 
     /// A pseudo-random sequence in [-1, 1): the tests' residuals.
     fn wiggle(seed: u64, n: usize) -> Vec<f64> {
