@@ -205,3 +205,29 @@ fn a_marker_within_its_discretisation_band_is_not_lone() {
     let found = softgrip_lab::diagnose::remainder(&plain, &r, &noise(), Some(&moved));
     assert!(!found.lone_markers.unwrap().fails);
 }
+
+/// A camera's outlier, one sample of one marker 8 times the noise off, is not a lone marker; the
+/// same marker moved by 5 times the noise from the third sample on, as a slip leaves it, is.
+#[test]
+fn one_outlying_sample_is_not_a_lone_marker_but_a_move_that_stays_is() {
+    let (plain, recorded) = pair(None, "remainder-outlier");
+    let outlier = residuals(&plain, &recorded, |k, m, p| {
+        if m == "p3" && k == 5 {
+            p + DVec3::X * 8.0 * NOISE
+        } else {
+            p
+        }
+    });
+    let lone = check(&plain, &outlier).lone_markers.unwrap();
+    assert!(!lone.fails, "{lone:?}");
+    let stays = residuals(&plain, &recorded, |k, m, p| {
+        if m == "p3" && k >= 2 {
+            p + DVec3::X * 5.0 * NOISE
+        } else {
+            p
+        }
+    });
+    let lone = check(&plain, &stays).lone_markers.unwrap();
+    assert!(lone.fails, "{lone:?}");
+    assert_eq!(lone.markers[0].0, "p3");
+}
