@@ -46,10 +46,10 @@ pub struct Args {
     /// screened by it, and those it finds nothing for are not fitted).
     #[arg(long)]
     no_screen: bool,
-    /// Find a region of other stiffness from the data (48 layers, quarters, octants and the
-    /// inner block, scanned and the best placed by short fits) instead of trying the four
-    /// halves; quasi-static recordings, screened. Reported by its shape, bounds and modulus
-    /// ratio. Off by default: it reads some strain stiffening as a stiff top layer.
+    /// Let the region scan's shapes (48 layers, quarters, octants and the inner block, the best
+    /// placed by short fits) name a region of other stiffness, not only the four halves;
+    /// quasi-static recordings, screened. Without it a region the halves name is still placed
+    /// by the scan. Off by default: it reads some strain stiffening as a stiff top layer.
     #[arg(long)]
     region_scan: bool,
     /// The model to start from: `continuum` (neo-Hookean tetrahedra with nodal pressures,

@@ -690,8 +690,9 @@ fn sweep_merge(parts: Vec<String>) -> PyResult<(String, String)> {
 
 /// `softgrip diagnose`'s JSON. `model`: "continuum" (default), "lattice" or "scene";
 /// `bounds`: "name=low:high"; `progress(done, planned, what)` as each fit starts; `checkpoint`:
-/// a file each fit is saved in as it ends, from which a later call resumes; `region_scan`: a
-/// region of other stiffness found from the data instead of the four halves (`--region-scan`).
+/// a file each fit is saved in as it ends, from which a later call resumes; `region_scan`: the
+/// region scan's shapes may name a region, not only the four halves (`--region-scan`; a region
+/// the halves name is placed by the scan either way).
 #[pyfunction]
 #[pyo3(signature = (recording, model = "continuum", max_effects = 2, bounds = Vec::new(), lock = Vec::new(), workers = 0, progress = None, checkpoint = None, region_scan = false))]
 #[allow(clippy::too_many_arguments)]

@@ -35,9 +35,10 @@ pub struct DiagnoseOptions {
     /// Each round's candidates screened by the score test first (`screen`): one replay with
     /// sensitivities, and only those it cannot rule out fitted. False: every candidate fitted.
     pub screen: bool,
-    /// A region of other stiffness found from the data (`regions`, `shapes`: 48 layers,
-    /// quarters, octants and the inner block scanned from the screen's replay, the best placed
-    /// by short fits) instead of the four halves, on a screened quasi-static recording. Off by
+    /// The region scan's shapes (`regions`, `shapes`: 48 layers, quarters, octants and the
+    /// inner block scanned from the screen's replay, the best placed by short fits) may name a
+    /// region of other stiffness, not only the four halves, on a screened quasi-static
+    /// recording. Without it a region the halves name is still placed by the scan. Off by
     /// default while a stiff top layer and strain stiffening read alike (measured:
     /// docs/results/diagnosis-history.md).
     pub region_scan: bool,

@@ -86,8 +86,9 @@ def diagnose(
     "continuum" (default), "lattice" or "scene"; ``bounds`` like ``"young_modulus=30e3:120e3"``;
     ``progress(done, planned, what)`` is called as each fit starts. Minutes of work (a beam's,
     hours): Ctrl-C stops it, and with ``checkpoint`` (a file) each fit is saved as it ends, so
-    the same call resumes where it stopped. ``region_scan``: a region of other stiffness found
-    from the data instead of the four halves (``--region-scan``)."""
+    the same call resumes where it stopped. ``region_scan``: the region scan's shapes may
+    name a region, not only the four halves (``--region-scan``; a region the halves name is placed
+    by the scan either way)."""
     return Diagnosis.from_json(
         _softgrip.diagnose(
             recording._inner,
