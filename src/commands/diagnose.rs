@@ -126,7 +126,25 @@ pub fn run(args: Args) -> Result<()> {
     let d =
         diagnose::diagnose(&recording, &options, &show_stages(&bar)).map_err(anyhow::Error::msg)?;
     bar.finish_and_clear();
-    if let Some(c) = options.checkpoint.as_ref().filter(|c| c.reused() > 0) {
+    if let Some(c) = options.checkpoint.as_ref() {
+        tell_checkpoint(c);
+    }
+    print_fits(&d);
+    print_verdict(&d);
+    if let Some(dir) = report.dir("diagnose", recording_path) {
+        let written = softgrip_lab::report::diagnosis(&dir, &recording, &d)?;
+        println!("report: {}", written.markdown.display());
+    }
+    if let Some(path) = json {
+        write_json_line(path, &diagnose::to_json(&d, &recording))?;
+    }
+    Ok(())
+}
+
+/// What the checkpoint gave and what it could not: fits taken from it, saved fits refitted, a
+/// file that could not be written.
+fn tell_checkpoint(c: &diagnose::Checkpoint) {
+    if let Some(c) = Some(c).filter(|c| c.reused() > 0) {
         let s = c.reused_seconds();
         let saved = if s < 120.0 {
             format!("{s:.0} s")
@@ -139,22 +157,28 @@ pub fn run(args: Args) -> Result<()> {
             c.path().display()
         );
     }
-    if let Some(c) = options.checkpoint.as_ref().filter(|c| c.damaged() > 0) {
+    if let Some(c) = Some(c).filter(|c| c.damaged() > 0) {
         eprintln!(
             "warning: {}: {} saved fit(s) not as softgrip wrote them (a line edited or damaged, or values outside their bounds) were fitted again; delete the file to start afresh",
             c.path().display(),
             c.damaged()
         );
     }
-    if let Some(e) = options.checkpoint.as_ref().and_then(|c| c.failed()) {
+    if let Some(e) = c.failed() {
         eprintln!("warning: fits not saved, a rerun would fit them again: {e}");
     }
-    let params = |p: &[(String, f64)]| {
-        p.iter()
-            .map(|(k, v)| format!("{k} {v:.4e}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+}
+
+/// Fitted parameters as "name value, ...".
+fn params(p: &[(String, f64)]) -> String {
+    p.iter()
+        .map(|(k, v)| format!("{k} {v:.4e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The baseline, the noise, the mismatch, the score test and every candidate fitted.
+fn print_fits(d: &diagnose::Diagnosis) {
     println!(
         "baseline ({}): {}; NRMSE {:.4}, over all markers {:.4}",
         d.model(),
@@ -211,6 +235,11 @@ pub fn run(args: Args) -> Result<()> {
             params(&t.fit.params)
         );
     }
+}
+
+/// The verdict, the fitted parameters with their errors, the fit before and after, the evidence
+/// and the simulations it took.
+fn print_verdict(d: &diagnose::Diagnosis) {
     // Every effect named, as the report's heading says ("none" or "unexplained" without one).
     let verdict = if d.effects.is_empty() {
         d.verdict()
@@ -275,14 +304,6 @@ pub fn run(args: Args) -> Result<()> {
         pair
     );
     println!("time: {}", stage_times(&d.stages));
-    if let Some(dir) = report.dir("diagnose", recording_path) {
-        let written = softgrip_lab::report::diagnosis(&dir, &recording, &d)?;
-        println!("report: {}", written.markdown.display());
-    }
-    if let Some(path) = json {
-        write_json_line(path, &diagnose::to_json(&d, &recording))?;
-    }
-    Ok(())
 }
 
 /// The report directory's `fits.checkpoint`, under a hash of this binary: a rebuilt softgrip
