@@ -17,8 +17,12 @@ use super::progress::progress_bar;
 /// Exit code: 0 held, 3 slipping (off the table, slid past --slip-bound), 4 dropped (on the
 /// table); with --boundary too, for the scene's own friction.
 #[derive(clap::Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct Args {
-    scene: PathBuf,
+    #[command(subcommand)]
+    command: Option<GraspCommand>,
+    #[arg(required = true)]
+    scene: Option<PathBuf>,
     /// Seconds to hold after the lift.
     #[arg(long, default_value_t = 2.0)]
     hold: f64,
@@ -34,8 +38,16 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+#[derive(clap::Subcommand)]
+enum GraspCommand {
+    Window(super::grasp_window::Args),
+}
+
 pub fn run(args: Args) -> Result<()> {
-    let scene = &load_scene(Some(&args.scene))?;
+    if let Some(GraspCommand::Window(w)) = args.command {
+        return super::grasp_window::run(w);
+    }
+    let scene = &load_scene(args.scene.as_deref())?;
     let (hold, slip_bound) = (args.hold, args.slip_bound);
     let (boundary, json) = (args.boundary, args.json.as_deref());
     super::outputs::Outputs::new()

@@ -17,6 +17,7 @@ mod errors;
 mod figures;
 mod fit;
 mod grasp;
+mod grasp_window;
 mod load;
 mod merge;
 mod mesh;

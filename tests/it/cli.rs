@@ -665,6 +665,53 @@ fn grasp_says_whether_friction_held_the_object() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `grasp window`: the two bounds in the JSON under the names the docs give, the report's files,
+/// and the exit code of a scene with no window (5).
+#[test]
+fn grasp_window_writes_both_bounds_and_exits_5_without_a_window() {
+    let dir = scratch_dir("softgrip-cli-grasp-window");
+    let json = dir.join("window.json");
+    let report = dir.join("report");
+    let o = softgrip(&[
+        "grasp",
+        "window",
+        &scene("grasp_lift.toml"),
+        "--damage",
+        "pressure",
+        "--limit",
+        "5000",
+        "--no-confirm",
+        "--json",
+        arg(&json),
+        "--report",
+        arg(&report),
+    ]);
+    let text = stdout(&o);
+    assert!(o.status.success(), "{text}{}", stderr(&o));
+    let v = read_json(&json);
+    let least = v["least_squeeze"].as_f64().expect("least_squeeze");
+    let most = v["most_squeeze"].as_f64().expect("most_squeeze");
+    assert!(least > 0.28 && least < most, "{least} .. {most}");
+    assert_eq!(v["window"], true);
+    assert!(v["samples"].as_array().is_some_and(|s| s.len() > 5));
+    for f in ["window.md", "window.png", "window.svg", "upper_bound.vtu"] {
+        assert!(report.join(f).is_file(), "{f}");
+    }
+    let o = softgrip(&[
+        "grasp",
+        "window",
+        &scene("grasp_lift.toml"),
+        "--damage",
+        "pressure",
+        "--limit",
+        "300",
+        "--no-confirm",
+    ]);
+    assert_eq!(o.status.code(), Some(5), "{}", stdout(&o));
+    assert!(stdout(&o).contains("NO WINDOW"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The subcommands `softgrip --help` lists, without `help`.
 fn subcommands() -> Vec<String> {
     let help = stdout(&softgrip(&["--help"]));

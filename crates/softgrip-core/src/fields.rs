@@ -24,15 +24,23 @@ pub enum Field {
     /// The material's Young's modulus (Pa), volume-weighted over the
     /// elements at each particle: shows `[[region]]`s.
     YoungModulus,
+    /// The largest principal Green strain of the elements at each particle, the largest of
+    /// them ([`element_green_strain`]): where a tear would start.
+    GreenStrain,
+    /// The von Mises stress (Pa) of the elements at each particle, the largest of them
+    /// ([`element_von_mises`]).
+    VonMises,
 }
 
 impl Field {
-    pub const ALL: [Field; 5] = [
+    pub const ALL: [Field; 7] = [
         Field::Displacement,
         Field::SpringStrain,
         Field::VolumeChange,
         Field::ContactPressure,
         Field::YoungModulus,
+        Field::GreenStrain,
+        Field::VonMises,
     ];
 
     pub fn label(self) -> &'static str {
@@ -42,6 +50,8 @@ impl Field {
             Field::VolumeChange => "element volume change",
             Field::ContactPressure => "contact pressure",
             Field::YoungModulus => "Young's modulus",
+            Field::GreenStrain => "largest principal Green strain",
+            Field::VonMises => "von Mises stress",
         }
     }
 
@@ -49,8 +59,8 @@ impl Field {
     pub fn unit(self) -> &'static str {
         match self {
             Field::Displacement => "mm",
-            Field::SpringStrain | Field::VolumeChange => "%",
-            Field::ContactPressure | Field::YoungModulus => "kPa",
+            Field::SpringStrain | Field::VolumeChange | Field::GreenStrain => "%",
+            Field::ContactPressure | Field::YoungModulus | Field::VonMises => "kPa",
         }
     }
 
@@ -58,14 +68,17 @@ impl Field {
     pub fn display_scale(self) -> f64 {
         match self {
             Field::Displacement => 1e3,
-            Field::SpringStrain | Field::VolumeChange => 1e2,
-            Field::ContactPressure | Field::YoungModulus => 1e-3,
+            Field::SpringStrain | Field::VolumeChange | Field::GreenStrain => 1e2,
+            Field::ContactPressure | Field::YoungModulus | Field::VonMises => 1e-3,
         }
     }
 
     /// Whether the field has a sign (a diverging colour map centred on 0).
     pub fn signed(self) -> bool {
-        matches!(self, Field::SpringStrain | Field::VolumeChange)
+        matches!(
+            self,
+            Field::SpringStrain | Field::VolumeChange | Field::GreenStrain
+        )
     }
 
     /// The field at every particle (SI units).
@@ -76,6 +89,8 @@ impl Field {
             Field::VolumeChange => particle_volume_change(model, state),
             Field::ContactPressure => contact_pressure(model, state),
             Field::YoungModulus => particle_young_modulus(model),
+            Field::GreenStrain => particle_largest(model, &element_green_strain(model, state)),
+            Field::VonMises => particle_largest(model, &element_von_mises(model, state)),
         }
     }
 }
@@ -140,6 +155,25 @@ pub fn element_max_spring_strain(model: &Model, state: &State) -> Vec<f64> {
                 .fold(0.0f64, |a, e| if e.abs() > a.abs() { e } else { a })
         })
         .collect()
+}
+
+/// Per particle, the largest of its elements' `values` (0 for a particle of no element).
+pub fn particle_largest(model: &Model, values: &[f64]) -> Vec<f64> {
+    let mut out = vec![f64::NEG_INFINITY; model.particle_count()];
+    for (t, v) in model.tets.iter().zip(values) {
+        for &i in t {
+            let o = &mut out[i as usize];
+            if *v > *o || v.is_nan() {
+                *o = *v;
+            }
+        }
+    }
+    for o in &mut out {
+        if *o == f64::NEG_INFINITY {
+            *o = 0.0;
+        }
+    }
+    out
 }
 
 /// Per particle, the rest-volume-weighted mean of its elements' volume change.
@@ -214,6 +248,82 @@ pub fn contact_pressure(model: &Model, state: &State) -> Vec<f64> {
         .iter()
         .zip(&area)
         .map(|(f, a)| if *a > 0.0 { f / a } else { 0.0 })
+        .collect()
+}
+
+/// Each element's deformation gradient `F` in `state` (from its rest shape).
+fn deformation_gradients(model: &Model, state: &State) -> Vec<glam::DMat3> {
+    let rest = |t: &[u32; 4]| t.map(|i| model.rest_positions[i as usize]);
+    model
+        .tets
+        .iter()
+        .enumerate()
+        .map(|(e, t)| {
+            let b = match &model.fem {
+                Some(fem) => fem.gradients[e],
+                None => crate::model::fem::shape_gradients(rest(t)),
+            };
+            crate::forces::fem::deformation_gradient(&b, t.map(|i| state.positions[i as usize]))
+        })
+        .collect()
+}
+
+/// Each element's largest principal Green strain, the largest eigenvalue of
+/// `E = (F^T F - I) / 2`: positive where the material is stretched in some direction (a
+/// tear starts there), about `-0.5 (1 - lambda^2)` where it is only compressed.
+pub fn element_green_strain(model: &Model, state: &State) -> Vec<f64> {
+    deformation_gradients(model, state)
+        .into_iter()
+        .map(|f| {
+            let c = f.transpose() * f;
+            let green = faer::Mat::<f64>::from_fn(3, 3, |i, j| {
+                0.5 * (c.col(j)[i] - if i == j { 1.0 } else { 0.0 })
+            });
+            green
+                .self_adjoint_eigenvalues(faer::Side::Lower)
+                .ok()
+                .and_then(|l| l.last().copied())
+                .unwrap_or(f64::NAN)
+        })
+        .collect()
+}
+
+/// Each element's von Mises stress (Pa), `sqrt(3/2 s:s)` of the deviator `s` of the Cauchy
+/// stress `sigma = P F^T / J`: the elements' own law (their neo-Hookean energy with its
+/// stiffening) for a continuum, and for the springs the neo-Hookean continuum of the element's
+/// Young's modulus and [`Model::poisson_ratio`] that they stand for. A pressure changes nothing.
+pub fn element_von_mises(model: &Model, state: &State) -> Vec<f64> {
+    let gradients = deformation_gradients(model, state);
+    let nu = model.poisson_ratio;
+    gradients
+        .into_iter()
+        .enumerate()
+        .map(|(e, f)| {
+            let p = match &model.fem {
+                Some(fem) => crate::forces::fem::stress(fem.mu[e], fem.lambda[e], fem.yeoh, f),
+                None => {
+                    let young = model.young_modulus
+                        * model.element_stiffness_scale.get(e).copied().unwrap_or(1.0);
+                    let mu = young / (2.0 * (1.0 + nu));
+                    let lambda = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)) + mu;
+                    crate::forces::fem::stress(mu, lambda, Default::default(), f)
+                }
+            };
+            let j = f.determinant();
+            if j <= 0.0 {
+                return f64::NAN;
+            }
+            let sigma = p * f.transpose() * (1.0 / j);
+            let mean = (sigma.x_axis.x + sigma.y_axis.y + sigma.z_axis.z) / 3.0;
+            let mut s2 = 0.0;
+            for i in 0..3 {
+                for k in 0..3 {
+                    let d = sigma.col(k)[i] - if i == k { mean } else { 0.0 };
+                    s2 += d * d;
+                }
+            }
+            (1.5 * s2).sqrt()
+        })
         .collect()
 }
 

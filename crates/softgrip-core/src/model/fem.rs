@@ -31,14 +31,7 @@ impl FemModel {
     ) -> FemModel {
         let gradients = tets
             .iter()
-            .map(|t| {
-                let x = t.map(|i| nodes[i as usize]);
-                let dm = DMat3::from_cols(x[1] - x[0], x[2] - x[0], x[3] - x[0]);
-                // F = Ds Dm^-1: node a (1..3) enters through row a of Dm^-1.
-                let inv = dm.inverse().transpose();
-                let (b1, b2, b3) = (inv.x_axis, inv.y_axis, inv.z_axis);
-                [-(b1 + b2 + b3), b1, b2, b3]
-            })
+            .map(|t| shape_gradients(t.map(|i| nodes[i as usize])))
             .collect();
         let nu = poisson_ratio;
         let mu: Vec<f64> = young_modulus
@@ -57,6 +50,16 @@ impl FemModel {
             yeoh: Yeoh::default(),
         }
     }
+}
+
+/// The shape-function gradients `b_a` of a linear tetrahedron with rest corners `x` (1/m):
+/// `F = sum_a x_a b_a^T`.
+pub fn shape_gradients(x: [DVec3; 4]) -> [DVec3; 4] {
+    let dm = DMat3::from_cols(x[1] - x[0], x[2] - x[0], x[3] - x[0]);
+    // F = Ds Dm^-1: node a (1..3) enters through row a of Dm^-1.
+    let inv = dm.inverse().transpose();
+    let (b1, b2, b3) = (inv.x_axis, inv.y_axis, inv.z_axis);
+    [-(b1 + b2 + b3), b1, b2, b3]
 }
 
 /// The elements' strain-stiffening terms (see the module docs): Yeoh's second and third

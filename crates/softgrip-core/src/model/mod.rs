@@ -124,6 +124,9 @@ pub struct Model {
     /// Target edge length (m), for broad-phase cells and messages.
     pub edge_length: f64,
     pub young_modulus: f64,
+    /// The object's Poisson ratio: the elements' (a continuum) or the continuum the springs
+    /// stand for (its stresses, `crate::fields::element_von_mises`).
+    pub poisson_ratio: f64,
     pub density: f64,
     /// The table under the object (`[support] kind = "table"`).
     pub table: Option<TableModel>,
@@ -743,6 +746,7 @@ impl Model {
             // A mesh file's own edges, not the meshing target it ignores.
             edge_length,
             young_modulus: obj.young_modulus,
+            poisson_ratio: obj.poisson_ratio,
             density: obj.density,
             table,
             fem,
@@ -819,6 +823,7 @@ impl Model {
             extent: (hi - lo).max_element(),
             edge_length: (hi - lo).max_element(),
             young_modulus: 1.0,
+            poisson_ratio: 0.0,
             density: 1.0,
             table: None,
             element_stiffness_scale: Vec::new(),

@@ -60,6 +60,16 @@ pub fn contact_forces(model: &Model, state: &State) -> Vec<DVec3> {
 
 /// The object in `state` as a `.vtu`.
 pub fn to_vtu(model: &Model, state: &State, encoding: Encoding) -> String {
+    to_vtu_with(model, state, encoding, &[])
+}
+
+/// [`to_vtu`], with more per-element arrays `(name, values)` (the grasp window's marked peak).
+pub fn to_vtu_with(
+    model: &Model,
+    state: &State,
+    encoding: Encoding,
+    more_cells: &[(&str, &[f64])],
+) -> String {
     let (n, t) = (model.particle_count(), model.tets.len());
     let single = encoding.single();
     let mut doc = Document::new(encoding, n, t);
@@ -77,6 +87,12 @@ pub fn to_vtu(model: &Model, state: &State, encoding: Encoding) -> String {
     doc.vectors("contact_force", &contact_forces(model, state), false);
     let fixed: Vec<u8> = model.fixed.iter().map(|f| u8::from(*f)).collect();
     doc.array("fixed", 1, 1, &fixed);
+    doc.reals(
+        "contact_pressure",
+        1,
+        &crate::fields::contact_pressure(model, state),
+        single,
+    );
     doc.close("PointData");
     doc.open("CellData");
     let ratio: Vec<f64> = model
@@ -91,6 +107,13 @@ pub fn to_vtu(model: &Model, state: &State, encoding: Encoding) -> String {
     doc.reals("volume_ratio", 1, &ratio, single);
     let strain = crate::fields::element_max_spring_strain(model, state);
     doc.reals("max_spring_strain", 1, &strain, single);
+    let green = crate::fields::element_green_strain(model, state);
+    doc.reals("green_strain", 1, &green, single);
+    let von_mises = crate::fields::element_von_mises(model, state);
+    doc.reals("von_mises", 1, &von_mises, single);
+    for (name, values) in more_cells {
+        doc.reals(name, 1, values, single);
+    }
     doc.close("CellData");
     doc.finish()
 }

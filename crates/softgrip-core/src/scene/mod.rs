@@ -45,6 +45,8 @@ pub struct Scene {
     pub fingers: Vec<Finger>,
     /// `[[region]]`: boxes of other material (softgrip).
     pub regions: Vec<Region>,
+    /// `[grasp]`: what the grasp window asks of the grip (softgrip).
+    pub grasp: Grasp,
     /// Where the scene came from (for error messages and relative mesh paths).
     pub source: Option<PathBuf>,
     /// `table.key = value` of every default the resolver applied.
@@ -352,4 +354,138 @@ impl Finger {
     pub fn axis_is_velocity_driven(&self, axis: usize) -> bool {
         self.control == Control::Velocity && self.force[axis] == 0.0
     }
+}
+
+/// What can damage the object, for the grasp window.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DamageMeasure {
+    /// The largest principal Green strain, per element.
+    Strain,
+    /// The von Mises Cauchy stress (Pa), per element.
+    Stress,
+    /// The fingers' contact pressure (Pa), per surface node.
+    Pressure,
+}
+
+impl DamageMeasure {
+    pub const ALL: [DamageMeasure; 3] = [
+        DamageMeasure::Strain,
+        DamageMeasure::Stress,
+        DamageMeasure::Pressure,
+    ];
+
+    /// Its name in a scene file and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            DamageMeasure::Strain => "strain",
+            DamageMeasure::Stress => "stress",
+            DamageMeasure::Pressure => "pressure",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<DamageMeasure> {
+        DamageMeasure::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// What it is, for a sentence.
+    pub fn describe(self) -> &'static str {
+        match self {
+            DamageMeasure::Strain => "largest principal Green strain",
+            DamageMeasure::Stress => "von Mises stress",
+            DamageMeasure::Pressure => "contact pressure",
+        }
+    }
+
+    /// SI unit ("" for a strain).
+    pub fn unit(self) -> &'static str {
+        match self {
+            DamageMeasure::Strain => "",
+            DamageMeasure::Stress | DamageMeasure::Pressure => "Pa",
+        }
+    }
+}
+
+/// A material of the damage-limit table: `[grasp] material`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DamageMaterial {
+    pub name: &'static str,
+    /// Each measure's limit, where the source gives one.
+    pub strain: Option<f64>,
+    pub stress: Option<f64>,
+    pub pressure: Option<f64>,
+    /// Where the figures come from.
+    pub source: &'static str,
+}
+
+impl DamageMaterial {
+    pub fn limit(&self, measure: DamageMeasure) -> Option<f64> {
+        match measure {
+            DamageMeasure::Strain => self.strain,
+            DamageMeasure::Stress => self.stress,
+            DamageMeasure::Pressure => self.pressure,
+        }
+    }
+}
+
+/// The silicones' tensile break (ASTM D412 die C at 450 mm/min, one curve each, the Soft
+/// Robotics Materials Database): the Green strain `(lambda^2 - 1) / 2` of the break's stretch
+/// and the true stress there. Crosshead strain, so the break stretch is an upper bound (about
+/// twice the datasheets' elongation at break). Apple flesh: no bruise below a contact pressure
+/// of 0.10 MPa, flesh failure stress 0.29 MPa (Wang, Wang and Wu, Processes 12 (2024) 543).
+pub const DAMAGE_MATERIALS: [DamageMaterial; 5] = [
+    DamageMaterial {
+        name: "ecoflex-00-10",
+        strain: Some(163.1),
+        stress: Some(16.7e6),
+        pressure: None,
+        source: "Soft Robotics Materials Database, tensile break (upper bound)",
+    },
+    DamageMaterial {
+        name: "ecoflex-00-30",
+        strain: Some(145.2),
+        stress: Some(23.2e6),
+        pressure: None,
+        source: "Soft Robotics Materials Database, tensile break (upper bound)",
+    },
+    DamageMaterial {
+        name: "ecoflex-00-50",
+        strain: Some(151.0),
+        stress: Some(34.5e6),
+        pressure: None,
+        source: "Soft Robotics Materials Database, tensile break (upper bound)",
+    },
+    DamageMaterial {
+        name: "dragon-skin-10",
+        strain: Some(64.6),
+        stress: Some(21.0e6),
+        pressure: None,
+        source: "Soft Robotics Materials Database, tensile break (upper bound)",
+    },
+    DamageMaterial {
+        name: "apple",
+        strain: None,
+        stress: Some(0.29e6),
+        pressure: Some(0.10e6),
+        source: "Wang, Wang and Wu, Processes 12 (2024) 543: no bruise below 0.10 MPa; flesh failure stress 0.29 MPa",
+    },
+];
+
+/// `[grasp]` (softgrip): the lift the grip must hold through and the damage limit of the grasp
+/// window (`softgrip grasp window`). Every key may be left out: the command's options or its
+/// defaults stand in.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Grasp {
+    /// Upward acceleration of the lift (m/s^2).
+    pub acceleration: Option<f64>,
+    /// Sideways acceleration (m/s^2), across gravity and the squeeze.
+    pub shake: Option<f64>,
+    /// The contacts' mean slide allowed as the object takes its load (m).
+    pub slip_tolerance: Option<f64>,
+    /// Seconds held in the dynamic confirmation.
+    pub hold: Option<f64>,
+    pub damage: Option<DamageMeasure>,
+    /// The damage measure's limit, in its unit.
+    pub limit: Option<f64>,
+    /// A material of [`DAMAGE_MATERIALS`], whose limit stands in for `limit`.
+    pub material: Option<DamageMaterial>,
 }

@@ -32,6 +32,7 @@ pub(super) struct RawScene {
     pub(super) finger: Vec<RawFinger>,
     #[serde(default)]
     pub(super) region: Vec<RawRegion>,
+    pub(super) grasp: Option<RawGrasp>,
     /// Free-form by contract: kept so it parses, never written back.
     pub(super) extra: Option<toml::Table>,
 }
@@ -171,4 +172,16 @@ pub(super) struct RawPart {
     pub(super) size: Option<Vec<f64>>,
     #[serde(default, deserialize_with = "maybe_three")]
     pub(super) offset: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawGrasp {
+    pub(super) acceleration: Option<f64>,
+    pub(super) shake: Option<f64>,
+    pub(super) slip_tolerance: Option<f64>,
+    pub(super) hold: Option<f64>,
+    pub(super) damage: Option<String>,
+    pub(super) limit: Option<f64>,
+    pub(super) material: Option<String>,
 }

@@ -3,8 +3,8 @@
 //! where it is the elasticity's, no `tau_s`, zero `softening` or `rayleigh_mass`, no `travel` ...).
 
 use super::raw::{
-    RawBox, RawFinger, RawLoad, RawModel, RawObject, RawPart, RawRegion, RawScene, RawSimulation,
-    RawSupport,
+    RawBox, RawFinger, RawGrasp, RawLoad, RawModel, RawObject, RawPart, RawRegion, RawScene,
+    RawSimulation, RawSupport,
 };
 use super::toml_text::{self, Table, Value};
 use super::{
@@ -124,8 +124,22 @@ fn raw_scene(scene: &Scene) -> RawScene {
                 }
             })
             .collect(),
+        grasp: raw_grasp(&scene.grasp),
         extra: None,
     }
+}
+
+/// `[grasp]`, where the scene has any of its keys.
+fn raw_grasp(g: &super::Grasp) -> Option<RawGrasp> {
+    (*g != super::Grasp::default()).then(|| RawGrasp {
+        acceleration: g.acceleration,
+        shake: g.shake,
+        slip_tolerance: g.slip_tolerance,
+        hold: g.hold,
+        damage: g.damage.map(|d| d.name().to_string()),
+        limit: g.limit,
+        material: g.material.map(|m| m.name.to_string()),
+    })
 }
 
 fn raw_simulation(s: &Simulation) -> RawSimulation {

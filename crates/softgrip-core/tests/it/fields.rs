@@ -87,3 +87,70 @@ fn contact_pressure_integrates_to_the_normal_force() {
     let touched = pressure.iter().filter(|p| **p > 0.0).count();
     assert!(touched > 0 && touched < model.particle_count() / 10);
 }
+
+/// A block (springs or continuum, `model`) with every particle moved by `f`.
+fn homogeneous(model: &str, f: DMat3) -> Simulation {
+    let mut sim = simulation(&free_block("", model), "block");
+    for (x, x0) in sim
+        .state
+        .positions
+        .iter_mut()
+        .zip(&sim.model.rest_positions)
+    {
+        *x = f * *x0;
+    }
+    sim
+}
+
+#[test]
+fn a_uniaxial_stretch_and_a_rotation_give_the_green_strain_of_the_stretch() {
+    let stretch = 1.4;
+    let r = DMat3::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.9);
+    let f = r * DMat3::from_diagonal(DVec3::new(1.0, stretch, 0.9));
+    let sim = homogeneous("", f);
+    let expected = 0.5 * (stretch * stretch - 1.0);
+    for (e, v) in fields::element_green_strain(&sim.model, &sim.state)
+        .iter()
+        .enumerate()
+    {
+        assert!(
+            (v - expected).abs() < 1e-12,
+            "element {e}: {v}, not {expected}"
+        );
+    }
+    // Compressed in every direction: the largest principal strain is the least compression.
+    let sim = homogeneous("", DMat3::from_diagonal(DVec3::new(0.8, 0.7, 0.9)));
+    for v in fields::element_green_strain(&sim.model, &sim.state) {
+        assert!((v - 0.5 * (0.81 - 1.0)).abs() < 1e-12, "{v}");
+    }
+}
+
+/// Simple shear `x += gamma y` of a neo-Hookean solid: `sigma = mu B + p I` (J = 1), so its
+/// von Mises stress is `mu gamma sqrt(3 + gamma^2)` whatever the pressure: the springs' stand-in
+/// continuum and the elements alike, at the scene's E and nu.
+#[test]
+fn simple_shear_gives_the_neo_hookean_von_mises_stress() {
+    let gamma = 0.3;
+    let f = DMat3::from_cols(DVec3::X, DVec3::new(gamma, 1.0, 0.0), DVec3::Z);
+    for model in ["", "elasticity = \"neo-hookean\""] {
+        let sim = homogeneous(model, f);
+        let (young, nu) = (sim.model.young_modulus, sim.model.poisson_ratio);
+        assert!(nu > 0.0 && young > 0.0);
+        let mu = young / (2.0 * (1.0 + nu));
+        let expected = mu * gamma * (3.0 + gamma * gamma).sqrt();
+        for (e, v) in fields::element_von_mises(&sim.model, &sim.state)
+            .iter()
+            .enumerate()
+        {
+            assert!(
+                (v / expected - 1.0).abs() < 1e-10,
+                "{model:?} element {e}: {v} Pa, not {expected}"
+            );
+        }
+    }
+    // A uniform dilation has no deviator.
+    let sim = homogeneous("", DMat3::from_diagonal(DVec3::splat(1.05)));
+    for v in fields::element_von_mises(&sim.model, &sim.state) {
+        assert!(v.abs() < 1e-9 * sim.model.young_modulus, "{v}");
+    }
+}

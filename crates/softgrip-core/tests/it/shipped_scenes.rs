@@ -1,4 +1,4 @@
-//! Every scene in assets/scenes parses, builds and steps; the built-in
+//! Every scene in assets/scenes parses, is written back with its `[grasp]`, builds and steps; the built-in
 //! thesis scene is the file it claims to be.
 
 use softgrip_core::Scene;
@@ -21,6 +21,10 @@ fn every_shipped_scene_builds_and_steps() {
     assert!(names.len() >= 7, "{names:?}");
     for path in names {
         let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        // `[grasp]` (where given) is written back as read.
+        let again = Scene::from_toml_str(&scene.to_toml(), "round trip")
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(again.grasp, scene.grasp, "{}", path.display());
         let mut sim = Simulation::new(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         for _ in 0..20 {
             sim.step()

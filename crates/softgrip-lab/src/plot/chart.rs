@@ -357,6 +357,20 @@ fn draw_chart<DB: DrawingBackend>(
     f: &ChartFrame,
 ) -> Result<(), PlotError> {
     let l = f.layout;
+    for &(x0, x1, color) in &c.x_bands {
+        let (lo, hi) = (l.y_range.0, l.y_range.1);
+        let (x0, x1) = (x0.max(l.x_range.0), x1.min(l.x_range.1));
+        if x0 >= x1 {
+            continue;
+        }
+        if let (Some(a), Some(b)) = (l.pixel(x0, lo), l.pixel(x1, hi)) {
+            area.draw(&Rectangle::new(
+                [(a.0.max(l.left), b.1), (b.0.min(l.right), a.1)],
+                rgb(color).filled(),
+            ))
+            .map_err(draw_err)?;
+        }
+    }
     axes(area, &l, &f.x_ticks, &f.y_ticks, true)?;
     for s in &c.series {
         for run in pixel_runs(&l, &s.points) {

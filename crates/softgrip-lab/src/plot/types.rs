@@ -52,6 +52,9 @@ pub struct Chart {
     pub equal_aspect: bool,
     /// Arrows from (x0,y0) to (x1,y1), e.g. residuals; drawn in `color`.
     pub arrows: Vec<Arrow>,
+    /// Spans of x shaded over the plot's height, `(x0, x1, color)`, drawn under the series (a
+    /// window, a range).
+    pub x_bands: Vec<(f64, f64, [u8; 3])>,
     /// Image width and height in px.
     pub size: (u32, u32),
 }
@@ -67,6 +70,7 @@ impl Default for Chart {
             y_log: false,
             equal_aspect: false,
             arrows: Vec::new(),
+            x_bands: Vec::new(),
             size: DEFAULT_SIZE,
         }
     }

@@ -9,6 +9,7 @@ mod discretisation;
 mod fit;
 mod fit_many;
 mod grasp;
+mod grasp_window;
 mod modulus;
 mod no_equilibrium;
 mod plot;

@@ -4,6 +4,7 @@
 
 mod boxes;
 mod finger;
+mod grasp;
 mod model;
 mod object;
 mod resolver;
@@ -28,6 +29,7 @@ pub(super) fn resolve(raw: RawScene, text: &str, file: &str) -> Result<Scene, Sc
     let loads = resolver.loads(&raw.load)?;
     let fingers = resolver.fingers(&raw.finger)?;
     let regions = resolver.regions(&raw.region, &object)?;
+    let grasp = resolver.grasp(raw.grasp.unwrap_or_default())?;
     Ok(Scene {
         simulation,
         object,
@@ -37,6 +39,7 @@ pub(super) fn resolve(raw: RawScene, text: &str, file: &str) -> Result<Scene, Sc
         loads,
         fingers,
         regions,
+        grasp,
         source: None,
         defaults_applied: resolver.applied,
     })

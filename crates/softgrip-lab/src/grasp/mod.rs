@@ -8,6 +8,8 @@
 //! `assets/scenes/grasp_lift.toml`). A run lasts until every lifting finger
 //! has used its travel, then `hold` seconds more.
 
+pub mod window;
+
 use glam::DVec3;
 
 use crate::error::LabError;
@@ -121,7 +123,17 @@ pub fn force_balance_friction(model: &Model) -> Option<f64> {
 pub fn lift(
     scene: &Scene,
     options: GraspOptions,
+    progress: impl FnMut(f64),
+) -> Result<GraspRun, SimError> {
+    lift_observed(scene, options, progress, |_| {})
+}
+
+/// [`lift`], with `observe` shown the simulation every 10 ms (the trace's samples).
+pub fn lift_observed(
+    scene: &Scene,
+    options: GraspOptions,
     mut progress: impl FnMut(f64),
+    mut observe: impl FnMut(&Simulation),
 ) -> Result<GraspRun, SimError> {
     let mut sim = Simulation::new(scene)?;
     sim.set_threads(1);
@@ -146,6 +158,7 @@ pub fn lift(
         if sim.state.step % sample == 0 {
             trace.push([sim.state.time, centre_of_mass(&sim).z, finger_z(&sim)]);
             progress(sim.state.time / end);
+            observe(&sim);
         }
         if at_lift_end.is_none() && sim.state.time + 0.5 * sim.model.dt >= lift_end {
             at_lift_end = Some((centre_of_mass(&sim).z, finger_z(&sim)));
