@@ -35,6 +35,11 @@ pub struct Args {
     /// equilibria per second.
     #[arg(long, value_delimiter = ',')]
     statics: Vec<std::path::PathBuf>,
+    /// Instead: time the grasp window of these scenes (comma-separated .toml paths with a
+    /// `[grasp]` limit): the statics (both searches, on two threads) and the whole with its two
+    /// dynamic confirmations.
+    #[arg(long, value_delimiter = ',')]
+    grasp_window: Vec<std::path::PathBuf>,
 }
 
 /// `--threads`: a simulation runs on its own thread and at most one helper.
@@ -55,8 +60,11 @@ pub fn run(args: Args) -> Result<()> {
         options,
         diagnosis,
         statics,
+        grasp_window,
     } = args;
-    if !statics.is_empty() {
+    if !grasp_window.is_empty() {
+        bench_grasp_window(&grasp_window)
+    } else if !statics.is_empty() {
         bench_statics(&statics)
     } else if !diagnosis.is_empty() {
         bench_diagnosis(&diagnosis)
@@ -304,6 +312,46 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
             sim.model.tets.len(),
             loads as f64 / static_s,
             dynamic_s / static_s,
+        );
+    }
+    Ok(())
+}
+
+/// Wall time of the grasp window of each scene: the statics alone, then the dynamic
+/// confirmations of its two bounds.
+fn bench_grasp_window(scenes: &[std::path::PathBuf]) -> Result<()> {
+    use softgrip_lab::grasp::window::{self, Gripper};
+    println!("{}", softgrip_core::bench::machine_description());
+    println!(
+        "| scene | tetrahedra | squeezes | statics (s) | window (N) | two dynamic lifts (s) | peak memory (MiB) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for path in scenes {
+        let scene = super::load::load_scene(Some(path))?;
+        let plan = window::plan(&scene, Default::default())
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let gripper = Gripper::new(&scene, plan.options.profile)?;
+        let started = std::time::Instant::now();
+        let w = gripper.window(plan.options, |_| {})?;
+        let statics = started.elapsed().as_secs_f64();
+        let started = std::time::Instant::now();
+        for f in [Some(w.least_squeeze()), w.most_squeeze()]
+            .into_iter()
+            .flatten()
+        {
+            gripper.confirm(&scene, f, plan.options.damage.measure, plan.hold, |_| {})?;
+        }
+        let lifts = started.elapsed().as_secs_f64();
+        println!(
+            "| {} | {} | {} | {statics:.1} | {:.4} .. {} | {lifts:.1} | {} |",
+            path.display(),
+            softgrip_core::Model::from_scene(&scene)?.tets.len(),
+            w.samples.len(),
+            w.least_squeeze(),
+            w.most_squeeze().map_or("-".into(), |m| format!("{m:.4}")),
+            softgrip_core::bench::peak_memory_mib()
+                .map(|m| format!("{m:.1}"))
+                .unwrap_or_else(|| "n/a".into())
         );
     }
     Ok(())

@@ -124,7 +124,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(out) = scene_out {
         let scene = fit::scene_with(&recording.scene, &result.params, &result.fitted)
             .map_err(anyhow::Error::msg)?;
-        std::fs::write(out, scene.to_toml())
+        std::fs::write(out, scene.to_toml_for(out))
             .with_context(|| format!("writing {}", out.display()))?;
         println!("wrote the fitted scene to {}", out.display());
     }
@@ -282,7 +282,7 @@ fn run_many(args: Args) -> Result<()> {
             let scene = fit::scene_with(&recording.scene, &result.params, &result.fitted)
                 .map_err(anyhow::Error::msg)?;
             let out = dir.join(format!("{name}.toml"));
-            std::fs::write(&out, scene.to_toml())
+            std::fs::write(&out, scene.to_toml_for(&out))
                 .with_context(|| format!("writing {}", out.display()))?;
         }
         println!(

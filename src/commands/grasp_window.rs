@@ -4,7 +4,9 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use softgrip_lab::grasp::window::{self, Asked, Confirmation, Gripper, Measure, Most};
+use softgrip_lab::grasp::compute::{Computed, Stage, compute};
+use softgrip_lab::grasp::uncertainty::{BoundErrors, Z95};
+use softgrip_lab::grasp::window::{self, Asked, Confirmation, Measure, Most};
 use softgrip_lab::report::shown;
 
 use super::figures::write_json_line;
@@ -40,6 +42,10 @@ pub struct Args {
     /// Its limit (strain, or Pa). Default: [grasp] limit, else the material's.
     #[arg(long)]
     limit: Option<f64>,
+    /// The material from a fit (`softgrip fit --json`): its values set in the scene, its standard
+    /// errors carried to both bounds (a central difference per parameter).
+    #[arg(long)]
+    fit: Option<PathBuf>,
     /// Skip the dynamic confirmations (statics only).
     #[arg(long)]
     no_confirm: bool,
@@ -56,11 +62,81 @@ pub const NO_WINDOW: u8 = 5;
 
 pub fn run(args: Args) -> Result<()> {
     let scene = load_scene(Some(&args.scene))?;
-    super::outputs::Outputs::new()
-        .scene(&scene)
+    let mut outputs = super::outputs::Outputs::new().scene(&scene);
+    if let Some(path) = args.fit.as_deref() {
+        outputs = outputs.input(path);
+    }
+    outputs
         .file("--json", args.json.as_deref())
         .dir("--report", args.report.as_deref())
         .check()?;
+    let asked = asked(&args)?;
+    let started = std::time::Instant::now();
+    let bar = progress_bar(0, "steps");
+    bar.set_message("statics");
+    let named = |e: softgrip_lab::error::LabError| match e {
+        softgrip_lab::error::LabError::Input(what) => {
+            anyhow::anyhow!("{}: {what}", args.scene.display())
+        }
+        e => e.into(),
+    };
+    let computed = compute(
+        &scene,
+        asked,
+        args.fit.as_deref(),
+        !args.no_confirm,
+        |stage| match stage {
+            Stage::Squeeze(s) => {
+                bar.inc(1);
+                bar.set_message(format!(
+                    "statics: {:.4} N {}",
+                    s.squeeze,
+                    if s.held { "held" } else { "fell" }
+                ));
+            }
+            Stage::Lift(f, x) => {
+                bar.set_message(format!("dynamic lift at {f:.4} N: {:.0} %", 100.0 * x))
+            }
+            Stage::Uncertainty(done, total) => {
+                bar.set_message(format!("the fit's uncertainty: {done} of {total} windows"))
+            }
+        },
+    )
+    .map_err(named)?;
+    bar.finish_and_clear();
+    let (found, plan) = (&computed.window, &computed.plan);
+    print_window(&args.scene, found, plan, &computed.confirmations);
+    if let Some(e) = &computed.errors {
+        print_errors(found, e);
+    }
+    println!(
+        "solved by statics ({} squeezes){}; {:.1} s in all",
+        found.samples.len(),
+        if computed.confirmations.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", confirmed by {} dynamic lifts",
+                computed.confirmations.len()
+            )
+        },
+        started.elapsed().as_secs_f64()
+    );
+    if let Some(path) = args.json.as_deref() {
+        write_json_line(path, &computed.to_json())?;
+    }
+    if let Some(dir) = args.report.as_deref() {
+        report(dir, &args.scene, &computed)?;
+    }
+    if found.exists() {
+        Ok(())
+    } else {
+        Err(super::errors::Outcome(NO_WINDOW).into())
+    }
+}
+
+/// The options over the scene's `[grasp]`, each checked.
+fn asked(args: &Args) -> Result<Asked> {
     for (name, v) in [
         ("--acceleration", args.acceleration),
         ("--shake", args.shake),
@@ -78,78 +154,62 @@ pub fn run(args: Args) -> Result<()> {
             anyhow::ensure!(v.is_finite() && v > 0.0, "{name} {v}: must be > 0");
         }
     }
-    let asked = Asked {
+    Ok(Asked {
         acceleration: args.acceleration,
         shake: args.shake,
         slip_tolerance: args.slip_tolerance,
         hold: args.hold,
         damage: args.damage.as_deref().and_then(Measure::from_name),
         limit: args.limit,
+    })
+}
+
+/// The report, with the object held at the upper bound (its `.vtu`, and its picture where the
+/// viewer is built in).
+fn report(dir: &std::path::Path, scene: &std::path::Path, c: &Computed) -> Result<()> {
+    let at_most = match c.window.most_squeeze().filter(|&f| f > 0.0) {
+        Some(f) => c.gripper.grip(f, c.plan.options.statics)?.held.ok(),
+        None => None,
     };
-    let named = |e: softgrip_lab::error::LabError| anyhow::anyhow!("{}: {e}", args.scene.display());
-    let plan = window::plan(&scene, asked).map_err(named)?;
-    let gripper = Gripper::new(&scene, plan.options.profile).map_err(named)?;
-    let started = std::time::Instant::now();
-    let bar = progress_bar(0, "squeezes");
-    bar.set_message("statics");
-    let found = gripper.window(plan.options, |s| {
-        bar.inc(1);
-        bar.set_message(format!(
-            "{:.4} N: {}",
-            s.squeeze,
-            if s.held { "held" } else { "fell" }
-        ));
-    })?;
-    bar.finish_and_clear();
-    let statics_seconds = started.elapsed().as_secs_f64();
-    let mut confirmations: Vec<Confirmation> = Vec::new();
-    if !args.no_confirm {
-        let mut bounds = vec![found.least_squeeze()];
-        bounds.extend(found.most_squeeze().filter(|&f| f > 0.0));
-        for f in bounds {
-            let bar = progress_bar(1000, "per mille");
-            bar.set_message(format!("dynamic lift at {f:.4} N"));
-            let c = gripper.confirm(&scene, f, plan.options.damage.measure, plan.hold, |x| {
-                bar.set_position((x * 1000.0) as u64)
-            })?;
-            bar.finish_and_clear();
-            confirmations.push(c);
-        }
-    }
-    print_window(&args.scene, &found, &plan, &confirmations);
-    println!(
-        "solved by statics ({} squeezes, {statics_seconds:.1} s){}; {:.1} s in all",
-        found.samples.len(),
-        if confirmations.is_empty() {
-            String::new()
-        } else {
-            format!(", confirmed by {} dynamic lifts", confirmations.len())
-        },
-        started.elapsed().as_secs_f64()
-    );
-    if let Some(path) = args.json.as_deref() {
-        write_json_line(path, &window::to_json(&found, &plan, &confirmations))?;
-    }
-    if let Some(dir) = args.report.as_deref() {
-        let at_most = match found.most_squeeze().filter(|&f| f > 0.0) {
-            Some(f) => gripper.grip(f, plan.options.statics)?.held.ok(),
-            None => None,
-        };
-        let name = args.scene.display().to_string();
-        let written = softgrip_lab::report::grasp_window(
-            dir,
-            &name,
-            &found,
-            &plan,
-            &confirmations,
-            at_most.as_ref(),
+    let written = softgrip_lab::report::grasp_window(
+        dir,
+        &scene.display().to_string(),
+        &c.window,
+        &c.plan,
+        &c.confirmations,
+        c.errors.as_ref(),
+        at_most.as_ref(),
+    )?;
+    #[cfg(feature = "gui")]
+    if let Some(sim) = at_most.as_ref() {
+        picture(
+            sim,
+            c.plan.options.damage.measure,
+            &dir.join("upper_bound.png"),
         )?;
-        println!("report: {}", written.markdown.display());
+        append_picture(&written.markdown)?;
     }
-    if found.exists() {
-        Ok(())
-    } else {
-        Err(super::errors::Outcome(NO_WINDOW).into())
+    println!("report: {}", written.markdown.display());
+    Ok(())
+}
+
+fn print_errors(w: &window::Window, e: &BoundErrors) {
+    let range = |b: f64, se: f64| {
+        format!(
+            "{b:.4} +/- {se:.4} N (95 %: {:.4} .. {:.4})",
+            b - Z95 * se,
+            b + Z95 * se
+        )
+    };
+    println!(
+        "with the fit's uncertainty: least {}",
+        range(w.least_squeeze(), e.least)
+    );
+    if let (Some(m), Some(se)) = (w.most_squeeze(), e.most) {
+        println!("with the fit's uncertainty: most {}", range(m, se));
+    }
+    if e.overlaps(w) {
+        println!("the two ends overlap within their 95 % ranges: the window may be empty");
     }
 }
 
@@ -215,4 +275,68 @@ fn print_window(
             shown(m, c.peak.value)
         );
     }
+}
+
+/// The object held at the upper bound, coloured by the damage measure (the largest of each
+/// node's elements, or the contact pressure), the most loaded element's centroid (or node) marked
+/// by a magenta dot; headless.
+#[cfg(feature = "gui")]
+fn picture(
+    sim: &softgrip_core::Simulation,
+    measure: Measure,
+    path: &std::path::Path,
+) -> Result<()> {
+    use softgrip_core::fields::Field;
+    use softgrip_viewer::render::{self, View, markers};
+    let field = match measure {
+        Measure::Strain => Field::GreenStrain,
+        Measure::Stress => Field::VonMises,
+        Measure::Pressure => Field::ContactPressure,
+    };
+    let style = render::Style {
+        color_by: Some(field),
+        finger_opacity: 0.3,
+        ..Default::default()
+    };
+    let at = window::peak(measure, sim).at;
+    let (model, state) = (&sim.model, &sim.state);
+    let (width, height) = (900, 700);
+    let renderer = render::Offscreen::new(width, height)?;
+    let mut drawing = render::geometry::build(model, state, &style);
+    markers::add_markers(
+        &mut drawing,
+        model,
+        &[markers::MarkerPair {
+            simulated: at,
+            recorded: at,
+        }],
+        1.0,
+    );
+    let mut camera =
+        render::frame_camera_aspect(model, state, View::Iso, width as f32 / height as f32);
+    // Turned about the vertical to look at the peak from outside the object.
+    let centre = state.centre_of_mass(model);
+    let (dx, dy) = (at.x - centre.x, at.y - centre.y);
+    if dx.hypot(dy) > 1e-9 {
+        camera.yaw = dx.atan2(-dy) as f32;
+    }
+    let mut image = renderer.render(&drawing, &camera)?;
+    if let Some(legend) = &drawing.legend {
+        render::draw_legend_bar(&mut image, legend);
+    }
+    image
+        .save(path)
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
+    Ok(())
+}
+
+/// Shows `upper_bound.png` in the report.
+#[cfg(feature = "gui")]
+fn append_picture(markdown: &std::path::Path) -> Result<()> {
+    let mut text = std::fs::read_to_string(markdown)?;
+    text.push_str(
+        "\n![the object at the upper bound, coloured by the damage measure](upper_bound.png)\n\nThe object held at the upper bound, coloured by the damage measure; the magenta dot marks where it peaks.\n",
+    );
+    std::fs::write(markdown, text)?;
+    Ok(())
 }

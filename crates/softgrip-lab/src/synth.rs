@@ -207,7 +207,8 @@ fn prepare(scene: &Scene, spec: &Synthesis, dir: &Path) -> Result<Recording, Syn
         path: dir.to_path_buf(),
         source,
     })?;
-    write(&dir.join("scene.toml"), &scene.to_toml())?;
+    let file = dir.join("scene.toml");
+    write(&file, &scene.to_toml_for(&file))?;
     let mut header = String::from("# Made by softgrip (synth): simulated, with Gaussian noise.\n");
     let _ = writeln!(
         header,

@@ -599,6 +599,50 @@ fn compare(py: Python<'_>, recording: &Recording, scene: Option<&Scene>) -> PyRe
     pretty(&softgrip_lab::json::compare(&rec.source, &rec, &run, None))
 }
 
+/// `softgrip grasp window --json`: the least squeeze that holds and the most before damage of
+/// `scene`, the options over its `[grasp]`; `fit` a `fit --json` file whose material is set in
+/// and its uncertainty carried to both bounds; `confirm` lifts each bound dynamically.
+#[pyfunction]
+#[pyo3(signature = (scene, acceleration = None, shake = None, slip_tolerance = None, hold = None, damage = None, limit = None, fit = None, confirm = true))]
+#[allow(clippy::too_many_arguments)]
+fn grasp_window(
+    py: Python<'_>,
+    scene: &Scene,
+    acceleration: Option<f64>,
+    shake: Option<f64>,
+    slip_tolerance: Option<f64>,
+    hold: Option<f64>,
+    damage: Option<String>,
+    limit: Option<f64>,
+    fit: Option<std::path::PathBuf>,
+    confirm: bool,
+) -> PyResult<String> {
+    use softgrip_lab::grasp::window::{Asked, Measure};
+    let damage = match damage.as_deref() {
+        None => None,
+        Some(name) => Some(Measure::from_name(name).ok_or_else(|| {
+            err(format!(
+                "damage {name:?}: must be \"strain\", \"stress\" or \"pressure\""
+            ))
+        })?),
+    };
+    let asked = Asked {
+        acceleration,
+        shake,
+        slip_tolerance,
+        hold,
+        damage,
+        limit,
+    };
+    let inner = &scene.inner;
+    let computed = cancellable(py, || {
+        softgrip_lab::grasp::compute::compute(inner, asked, fit.as_deref(), confirm, |_| {})
+            .map_err(|e| e.to_string())
+    })?
+    .map_err(err)?;
+    pretty(&computed.to_json())
+}
+
 /// `softgrip fit`'s JSON: `params` (`name` or `name=low:high`) fitted to the recording.
 #[pyfunction]
 #[pyo3(signature = (recording, params, max_evaluations = 400, workers = 0))]
@@ -780,6 +824,7 @@ fn _softgrip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep_part, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_merge, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(grasp_window, m)?)?;
     m.add_function(wrap_pyfunction!(limit_cores, m)?)?;
     m.add("SoftgripError", m.py().get_type::<SoftgripError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -261,3 +261,21 @@ def test_every_error_with_advice_is_followed_and_the_advice_works(tmp_path):
         softgrip.diagnose(one, checkpoint=tmp_path)  # a directory
     with pytest.raises(SoftgripError, match=r"1 sample\(s\)"):
         softgrip.diagnose(one, checkpoint=tmp_path / "fits.checkpoint")
+
+
+def test_grasp_window_is_the_clis_json_and_its_curves(cli, tmp_path):
+    """The shipped two-finger scene's window from Python: the CLI's JSON, and the squeezes tried
+    as arrays and a frame (the least squeeze held, the one below it not)."""
+    scene_path = Path(__file__).resolve().parents[3] / "assets" / "scenes" / "grasp_lift.toml"
+    w = softgrip.grasp_window(Scene.load(scene_path), damage="pressure", limit=5e3, confirm=False)
+    out = tmp_path / "window.json"
+    subprocess.run([str(cli), "grasp", "window", str(scene_path), "--damage", "pressure",
+                    "--limit", "5000", "--no-confirm", "--json", str(out)],
+                   check=True, capture_output=True)
+    ref = json.loads(out.read_text())
+    assert w.to_dict() == ref
+    assert w.window and 0.28 < w.least_squeeze < w.most_squeeze
+    curves = w.curves
+    held = curves["squeeze"][curves["held"]]
+    assert held.min() == w.least_squeeze
+    assert len(w.to_frame()) == len(curves["squeeze"])

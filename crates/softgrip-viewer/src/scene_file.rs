@@ -73,7 +73,7 @@ impl Panels {
         }
         if ui.button("Save as").clicked() {
             let path = PathBuf::from(self.path.trim());
-            match std::fs::write(&path, self.edited.to_toml()) {
+            match std::fs::write(&path, self.edited.to_toml_for(&path)) {
                 Ok(()) => {
                     self.file_error = None;
                     self.file_status = Some(format!("saved {}", path.display()));

@@ -21,6 +21,40 @@ impl Scene {
     }
 }
 
+impl Scene {
+    /// As [`Scene::to_toml`], for the file `file`: a mesh's path written relative to the file's
+    /// directory, where the reader resolves it (the scene holds it relative to the directory the
+    /// program runs in). Left as it is where either cannot be found.
+    pub fn to_toml_for(&self, file: &std::path::Path) -> String {
+        let mut scene = self.clone();
+        if let Shape::Mesh { path, .. } = &mut scene.object.shape {
+            let dir = file.parent().filter(|d| !d.as_os_str().is_empty());
+            let dir = dir.unwrap_or(std::path::Path::new("."));
+            if let (Ok(mesh), Ok(dir)) = (path.canonicalize(), dir.canonicalize()) {
+                *path = relative(&mesh, &dir);
+            }
+        }
+        scene.to_toml()
+    }
+}
+
+/// `target` relative to the directory `base` (both absolute, canonical).
+fn relative(target: &std::path::Path, base: &std::path::Path) -> std::path::PathBuf {
+    let (t, b): (Vec<_>, Vec<_>) = (target.components().collect(), base.components().collect());
+    let common = t.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    if common == 0 {
+        return target.to_path_buf();
+    }
+    let mut out = std::path::PathBuf::new();
+    for _ in common..b.len() {
+        out.push("..");
+    }
+    for c in &t[common..] {
+        out.push(c);
+    }
+    out
+}
+
 impl FingerShape {
     /// Its `shape` and `radius` or `size` keys, as a scene file writes them
     /// (for a `[[finger]]` and a `[[finger.part]]` alike).

@@ -76,3 +76,25 @@ fn mesh_scenes_rest_with_the_support_carrying_weight_and_loads() {
         );
     }
 }
+
+/// A mesh scene written into another directory (`synth`, `fit --scene-out`) names its mesh
+/// relative to that directory, where the reader resolves it: read back, it is the same mesh.
+#[test]
+fn a_mesh_scene_written_elsewhere_still_finds_its_mesh() {
+    // Read by a path relative to the directory the tests run in (the crate's), as a user's is.
+    let scene = softgrip_core::Scene::load(std::path::Path::new(
+        "../../assets/scenes/tomato_press.toml",
+    ))
+    .expect("the shipped scene");
+    let dir = std::env::temp_dir().join(format!("softgrip-to-toml-for-{}", std::process::id()));
+    let file = dir.join("deeper").join("scene.toml");
+    std::fs::create_dir_all(file.parent().expect("parent")).expect("scratch directory");
+    std::fs::write(&file, scene.to_toml_for(&file)).expect("write the scene");
+    let again = softgrip_core::Scene::load(&file).expect("the written scene reads");
+    let (a, b) = (
+        Model::from_scene(&scene).expect("model"),
+        Model::from_scene(&again).expect("the written scene's model"),
+    );
+    assert_eq!(a.rest_positions, b.rest_positions);
+    let _ = std::fs::remove_dir_all(&dir);
+}

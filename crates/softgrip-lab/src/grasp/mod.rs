@@ -8,6 +8,8 @@
 //! `assets/scenes/grasp_lift.toml`). A run lasts until every lifting finger
 //! has used its travel, then `hold` seconds more.
 
+pub mod compute;
+pub mod uncertainty;
 pub mod window;
 
 use glam::DVec3;

@@ -462,6 +462,90 @@ impl Gripper {
         })
     }
 
+    /// The least squeeze that holds, found again near `guess` (a bound of a nearby model): a
+    /// bracket by steps of 5 %, then bisection to the options' tolerance.
+    pub fn least_near(&self, guess: f64, options: &WindowOptions) -> Result<f64, LabError> {
+        let holds = |f: f64| -> Result<bool, LabError> { Ok(self.sample(f, options)?.held) };
+        let (mut dropped, mut held) = (guess, guess);
+        if holds(guess)? {
+            while {
+                dropped = held / 1.05;
+                holds(dropped)?
+            } {
+                held = dropped;
+            }
+        } else {
+            while {
+                held = dropped * 1.05;
+                !holds(held)?
+            } {
+                dropped = held;
+                if held > SEARCH_RANGE * guess {
+                    return Err(LabError::Input(format!(
+                        "grasp window: not held near {guess:.4} N with the parameter changed: the window is too sensitive to it for a difference"
+                    )));
+                }
+            }
+        }
+        while held - dropped > options.tolerance * held {
+            let mid = 0.5 * (dropped + held);
+            if holds(mid)? {
+                held = mid;
+            } else {
+                dropped = mid;
+            }
+        }
+        Ok(held)
+    }
+
+    /// The most before damage found again near `guess`: a bracket by steps of 5 %, then regula
+    /// falsi to the options' tolerance.
+    pub fn most_near(&self, guess: f64, options: &WindowOptions) -> Result<f64, LabError> {
+        let excess = |f: f64| -> Result<(f64, f64), LabError> {
+            let v = self.sample(f, options)?.peak.value;
+            Ok((
+                f,
+                if v.is_nan() {
+                    f64::INFINITY
+                } else {
+                    v - options.damage.limit
+                },
+            ))
+        };
+        let first = excess(guess)?;
+        let (below, above) = if first.1 < 0.0 {
+            let mut below = first;
+            loop {
+                if below.0 > SEARCH_RANGE * guess {
+                    return Err(LabError::Input(format!(
+                        "grasp window: the limit is not reached near {guess:.4} N with the parameter changed: the window is too sensitive to it for a difference"
+                    )));
+                }
+                let next = excess(below.0 * 1.05)?;
+                if next.1 >= 0.0 {
+                    break (below, next);
+                }
+                below = next;
+            }
+        } else {
+            let mut above = first;
+            loop {
+                if above.0 < guess / SEARCH_RANGE {
+                    return Ok(0.0);
+                }
+                let next = excess(above.0 / 1.05)?;
+                if next.1 < 0.0 {
+                    break (next, above);
+                }
+                above = next;
+            }
+        };
+        match self.regula_falsi(below, above, options, &mut |f| self.sample(f, options))? {
+            Most::Found { below, .. } => Ok(below),
+            Most::NotReached(f) => Ok(f),
+        }
+    }
+
     fn least(
         &self,
         balance: f64,
@@ -802,63 +886,4 @@ pub fn window_statics() -> StaticOptions {
         max_iterations: 2000,
         ..StaticOptions::default()
     }
-}
-
-/// The window's figures as JSON: what `softgrip grasp window --json` writes and Python returns.
-pub fn to_json(window: &Window, plan: &Plan, confirmations: &[Confirmation]) -> serde_json::Value {
-    use serde_json::json;
-    let o = &window.options;
-    let peak = |p: &Peak| json!({"value": p.value, "index": p.index, "at_m": p.at.to_array()});
-    let binding = (!window.exists()).then(|| {
-        window.at_least().map(|s| {
-            json!({
-                "measure": o.damage.measure.name(),
-                "limit": o.damage.limit,
-                "value_at_least_squeeze": s.peak.value,
-                "where": peak(&s.peak),
-            })
-        })
-    });
-    json!({
-        "least_squeeze": window.least_squeeze(),
-        "most_squeeze": window.most_squeeze(),
-        "window": window.exists(),
-        "least_dropped_at": window.least.dropped,
-        "most_reached_at": match window.most {
-            Most::Found { above, .. } => Some(above),
-            Most::NotReached(_) => None,
-        },
-        "most_not_reached_up_to": match window.most {
-            Most::NotReached(f) => Some(f),
-            Most::Found { .. } => None,
-        },
-        "force_balance_squeeze": window.force_balance,
-        "load_n": window.load,
-        "acceleration_m_s2": o.profile.acceleration,
-        "acceleration_from": plan.acceleration_from,
-        "shake_m_s2": o.profile.shake,
-        "slip_tolerance_m": o.profile.slip_tolerance,
-        "measure": o.damage.measure.name(),
-        "unit": o.damage.measure.unit(),
-        "limit": o.damage.limit,
-        "limit_from": plan.limit_from,
-        "tolerance": o.tolerance,
-        "binding": binding.flatten(),
-        "method": "statics: squeeze, then the load m (g - a) with friction by its return mapping; least squeeze bisected, most by regula falsi (Illinois)",
-        "samples": window.samples.iter().map(|s| json!({
-            "squeeze": s.squeeze,
-            "held": s.held,
-            "slip_m": if s.slip.is_finite() { Some(s.slip) } else { None },
-            "margin": s.margin,
-            "peak": peak(&s.peak),
-        })).collect::<Vec<_>>(),
-        "confirmations": confirmations.iter().map(|c| json!({
-            "squeeze": c.squeeze,
-            "held": c.run.held,
-            "off_table": c.run.off_table,
-            "hold_slip_m": c.run.hold_slip,
-            "hold_s": plan.hold,
-            "peak": peak(&c.peak),
-        })).collect::<Vec<_>>(),
-    })
 }

@@ -658,7 +658,11 @@ pub fn write_case(c: &Case, dir: &Path, seed: u64) -> Result<Recording, LabError
 /// Puts `c`'s nominal scene beside the recording in `dir` (the diagnosis is given it, not the
 /// truth's) and reads the recording back.
 pub(super) fn with_nominal_scene(c: &Case, dir: &Path) -> Result<Recording, LabError> {
-    std::fs::write(dir.join("scene.toml"), c.nominal.to_toml()).map_err(|e| LabError::Write {
+    std::fs::write(
+        dir.join("scene.toml"),
+        c.nominal.to_toml_for(&dir.join("scene.toml")),
+    )
+    .map_err(|e| LabError::Write {
         dir: dir.to_path_buf(),
         source: Arc::new(e),
     })?;

@@ -8,6 +8,7 @@ use std::path::Path;
 use softgrip_core::output::vtu::{Encoding, to_vtu_with};
 use softgrip_core::step::Simulation;
 
+use crate::grasp::uncertainty::{BoundErrors, Z95};
 use crate::grasp::window::{Confirmation, Measure, Most, Plan, Window};
 use crate::plot::{Chart, Mark, Series, palette};
 
@@ -79,6 +80,7 @@ pub fn grasp_window(
     window: &Window,
     plan: &Plan,
     confirmations: &[Confirmation],
+    errors: Option<&BoundErrors>,
     at_most: Option<&Simulation>,
 ) -> Result<Written, ReportError> {
     let mut out = Out::new(dir)?;
@@ -94,7 +96,7 @@ pub fn grasp_window(
     };
     let _ = writeln!(
         md,
-        "| | |\n|---|---|\n| least squeeze that holds | {:.4} N (dropped at {:.4} N); rigid force balance {:.4} N |\n| most before damage | {most} |\n| window | {} |\n| load carried | {:.4} N: m |g - a| with a = {:.3} m/s^2 up ({}), shake {:.3} m/s^2 |\n| damage limit | {} {} ({}) |\n| slip tolerance | {:.3} mm (the contacts' mean slide as the object takes its load) |\n",
+        "| | |\n|---|---|\n| least squeeze that holds | {:.4} N (dropped at {:.4} N); rigid force balance {:.4} N |\n| most before damage | {most} |\n| window | {} |\n| load carried | {:.4} N: the mass times the length of g - a, a = {:.3} m/s^2 up ({}), shake {:.3} m/s^2 |\n| damage limit | {} {} ({}) |\n| slip tolerance | {:.3} mm (the contacts' mean slide as the object takes its load) |\n",
         window.least.held,
         window.least.dropped,
         window.force_balance,
@@ -129,6 +131,9 @@ pub fn grasp_window(
             s.peak.at.y * 1e3,
             s.peak.at.z * 1e3
         );
+    }
+    if let Some(e) = errors {
+        md += &uncertainty_table(window, e);
     }
     md += &out.chart(
         "window.png",
@@ -211,4 +216,48 @@ pub fn grasp_window(
         );
     }
     out.finish("window.md", &md)
+}
+
+/// The bounds with their standard errors from the fitted material, and each parameter's share.
+fn uncertainty_table(window: &Window, e: &BoundErrors) -> String {
+    let range = |b: f64, se: f64| {
+        format!(
+            "{b:.4} +/- {se:.4} N (95 %: {:.4} .. {:.4})",
+            b - Z95 * se,
+            b + Z95 * se
+        )
+    };
+    let mut md = String::from(
+        "## With the fitted material's uncertainty
+
+| bound | value, standard error, 95 % range |
+|---|---|
+",
+    );
+    let _ = writeln!(
+        md,
+        "| least squeeze | {} |",
+        range(window.least_squeeze(), e.least)
+    );
+    if let (Some(m), Some(se)) = (window.most_squeeze(), e.most) {
+        let _ = writeln!(md, "| most before damage | {} |", range(m, se));
+    }
+    let _ = writeln!(
+        md,
+        "\n{}\n\nFrom the fit's standard errors, taken as independent: each bound's derivative by a central difference at the parameter +/- its standard error (bounds found to {:.1} %):\n\n| parameter | d least / dp | d most / dp |\n|---|---|---|",
+        if e.overlaps(window) {
+            "**The two ends overlap within their 95 % ranges: the window may be empty.**"
+        } else {
+            "The two ends' 95 % ranges do not overlap."
+        },
+        100.0 * e.tolerance
+    );
+    for (name, l, m) in &e.derivatives {
+        let _ = writeln!(
+            md,
+            "| `{name}` | {l:.4e} | {} |",
+            m.map_or("-".to_string(), |m| format!("{m:.4e}"))
+        );
+    }
+    md + "\n"
 }

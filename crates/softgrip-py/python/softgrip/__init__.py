@@ -22,7 +22,7 @@ import os
 from ._softgrip import Scene, Simulation, SoftgripError, __version__, limit_cores
 from . import _softgrip
 from .recording import Recording
-from .results import CompareResult, Diagnosis, FitResult, Result, SweepResult
+from .results import CompareResult, Diagnosis, FitResult, GraspWindow, Result, SweepResult
 
 __all__ = [
     "Scene",
@@ -33,12 +33,14 @@ __all__ = [
     "fit",
     "sweep",
     "diagnose",
+    "grasp_window",
     "limit_cores",
     "Result",
     "CompareResult",
     "FitResult",
     "SweepResult",
     "Diagnosis",
+    "GraspWindow",
     "__version__",
 ]
 
@@ -100,5 +102,38 @@ def diagnose(
             progress,
             None if checkpoint is None else os.fspath(checkpoint),
             region_scan,
+        )
+    )
+
+
+def grasp_window(
+    scene: Scene,
+    acceleration: float | None = None,
+    shake: float | None = None,
+    slip_tolerance: float | None = None,
+    hold: float | None = None,
+    damage: str | None = None,
+    limit: float | None = None,
+    fit: str | os.PathLike | None = None,
+    confirm: bool = True,
+) -> GraspWindow:
+    """How hard the scene's gripper may squeeze, as ``softgrip grasp window --json``: the least
+    squeeze (N per finger) that holds the object through a lift of ``acceleration`` (m/s^2 up)
+    and the most before ``damage`` ("strain", "stress" or "pressure") reaches ``limit``; each
+    option left out comes from the scene's ``[grasp]``. ``fit``: a ``fit --json`` file whose
+    material is set in and whose standard errors are carried to both bounds. ``confirm`` lifts
+    each bound dynamically. The curves: :meth:`GraspWindow.to_frame`, :attr:`GraspWindow.curves`.
+    A sweep of windows over sizes or materials: :func:`softgrip.distributed.map`."""
+    return GraspWindow.from_json(
+        _softgrip.grasp_window(
+            scene,
+            acceleration,
+            shake,
+            slip_tolerance,
+            hold,
+            damage,
+            limit,
+            None if fit is None else os.fspath(fit),
+            confirm,
         )
     )

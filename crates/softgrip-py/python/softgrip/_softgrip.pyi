@@ -103,3 +103,14 @@ def diagnose(
     checkpoint: str | None = None,
     region_scan: bool = False,
 ) -> str: ...
+def grasp_window(
+    scene: Scene,
+    acceleration: float | None = None,
+    shake: float | None = None,
+    slip_tolerance: float | None = None,
+    hold: float | None = None,
+    damage: str | None = None,
+    limit: float | None = None,
+    fit: str | None = None,
+    confirm: bool = True,
+) -> str: ...

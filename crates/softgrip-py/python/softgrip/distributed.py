@@ -1,5 +1,5 @@
-"""softgrip on more than one machine with Ray: a sweep's points and a series of recordings'
-diagnoses as independent Ray tasks. ``ray.init()`` alone uses this machine's cores;
+"""softgrip on more than one machine with Ray: a sweep's points, a series of recordings'
+diagnoses and a series of scenes' grasp windows as independent Ray tasks. ``ray.init()`` alone uses this machine's cores;
 ``ray.init(address="auto")`` (or ``address=...`` here) a running cluster. The results are
 those of one machine's run, byte for byte (the sweep's CSV and JSON). Every node must read the
 recordings at the paths given (a shared file system). Without Ray: ``softgrip sweep --shard``
@@ -11,7 +11,7 @@ import os
 from pathlib import Path
 
 from . import _softgrip
-from .results import Diagnosis, SweepResult
+from .results import Diagnosis, GraspWindow, SweepResult
 
 
 def _ray(address: str | None):
@@ -97,4 +97,37 @@ def _diagnose(path: str, options: dict, checkpoint: str | None) -> str:
         1,
         None,
         checkpoint,
+    )
+
+
+def grasp_windows(
+    scenes: list[str | os.PathLike],
+    address: str | None = None,
+    **options,
+) -> list[GraspWindow]:
+    """:func:`softgrip.grasp_window` of each scene file as a Ray task (one core each), in the
+    order given: a sweep of windows over object sizes or materials, one scene file each;
+    ``options`` as :func:`softgrip.grasp_window` takes them (``acceleration``, ``damage``,
+    ``limit``, ``fit``, ``confirm``, ...). A scene whose window fails raises its
+    ``SoftgripError`` here."""
+    ray = _ray(address)
+    task = ray.remote(num_cpus=1)(_grasp_window)
+    paths = [str(Path(os.fspath(s)).resolve()) for s in scenes]
+    if "fit" in options and options["fit"] is not None:
+        options["fit"] = str(Path(os.fspath(options["fit"])).resolve())
+    return [GraspWindow.from_json(t) for t in ray.get([task.remote(p, options) for p in paths])]
+
+
+def _grasp_window(path: str, options: dict) -> str:
+    _softgrip.limit_cores(1)
+    return _softgrip.grasp_window(
+        _softgrip.Scene.load(path),
+        options.get("acceleration"),
+        options.get("shake"),
+        options.get("slip_tolerance"),
+        options.get("hold"),
+        options.get("damage"),
+        options.get("limit"),
+        options.get("fit"),
+        options.get("confirm", True),
     )

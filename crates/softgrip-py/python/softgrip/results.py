@@ -214,3 +214,51 @@ class Diagnosis(Result):
             for h in self._data.get("hypotheses", [])
         ]
         return _pandas().DataFrame(rows)
+
+
+class GraspWindow(Result):
+    """``softgrip grasp window --json``: the least squeeze that holds, the most before damage and
+    every squeeze tried."""
+
+    @property
+    def least_squeeze(self) -> float:
+        """The least squeeze per finger that lifts and holds the object (N)."""
+        return self._data["least_squeeze"]
+
+    @property
+    def most_squeeze(self) -> float | None:
+        """The most before the damage measure reaches its limit (N); None where not reached."""
+        return self._data["most_squeeze"]
+
+    @property
+    def window(self) -> bool:
+        """Whether some squeeze both holds and stays below the limit."""
+        return self._data["window"]
+
+    @property
+    def curves(self) -> dict[str, Any]:
+        """The squeezes tried as numpy arrays: ``squeeze`` (N), ``held``, ``margin`` (the slip
+        margin, 1 - load / friction capacity) and ``peak`` (the damage measure's largest value)."""
+        import numpy as np
+
+        samples = self._data["samples"]
+        return {
+            "squeeze": np.array([s["squeeze"] for s in samples]),
+            "held": np.array([s["held"] for s in samples]),
+            "margin": np.array([s["margin"] for s in samples]),
+            "peak": np.array([s["peak"]["value"] for s in samples]),
+        }
+
+    def to_frame(self):
+        """One row per squeeze tried: squeeze, held, slip_m, margin, peak."""
+        rows = [
+            {
+                "squeeze": s["squeeze"],
+                "held": s["held"],
+                "slip_m": s["slip_m"],
+                "margin": s["margin"],
+                "peak": s["peak"]["value"],
+            }
+            for s in self._data["samples"]
+        ]
+        return _pandas().DataFrame(rows)
