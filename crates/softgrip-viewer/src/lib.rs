@@ -17,6 +17,7 @@ pub mod render;
 mod app;
 mod controls;
 mod display;
+pub mod grasp;
 mod jobs;
 mod measure;
 mod parameters;
@@ -89,6 +90,8 @@ pub struct Panels {
     pub last_frame: Option<std::time::Instant>,
     /// The lab recording over the run, its replay and its fit.
     pub recording: RecordingPanel,
+    /// The grasp window of the scene shown.
+    pub grasp: grasp::GraspPanel,
     /// The live run was paused for a fit or a diagnosis, and is played
     /// again when it ends (unless the user played it meanwhile).
     paused_for_job: bool,
@@ -114,6 +117,7 @@ impl Viewer {
         let from_panels = FromPanels {
             frame: panels.frame.clone(),
             recording: &panels.recording,
+            grasp: &panels.grasp,
             style: &panels.style,
             view_request: &mut panels.view_request,
             send: &to_solver,
@@ -146,7 +150,7 @@ impl eframe::App for Viewer {
         if running || self.view.dragging() {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(16));
-        } else if self.panels.recording.busy() {
+        } else if self.panels.recording.busy() || self.panels.grasp.busy() {
             // A progress bar: two frames a second leave the cores to the
             // job (a frame on a software renderer costs about 0.1 s).
             ui.ctx()
@@ -178,6 +182,7 @@ impl Panels {
             file_error: None,
             file_status: None,
             recording: RecordingPanel::default(),
+            grasp: grasp::GraspPanel::default(),
             paused_for_job: false,
         })
     }
@@ -230,6 +235,7 @@ impl Panels {
         self.last_frame = Some(now);
         self.frame = self.live.latest();
         self.recording.poll();
+        self.grasp.poll();
         if let Some(f) = &self.frame
             && f.commands >= self.sent.get()
             && *f.scene != self.edited
@@ -254,6 +260,10 @@ impl Panels {
         ui.separator();
         if let Some(action) = self.recording.ui(ui) {
             self.recording_action(action);
+        }
+        ui.separator();
+        if let Some(grasp::Action::ColorBy(field)) = self.grasp.ui(ui, &self.edited) {
+            self.style.color_by = Some(field);
         }
         self.pause_for_long_jobs();
         if self.paused_for_job {

@@ -33,7 +33,8 @@ impl Panels {
     /// a 2-core machine) and plays again when it ends, unless the user
     /// played it meanwhile (they may: the note says how).
     pub(crate) fn pause_for_long_jobs(&mut self) {
-        let long = self.recording.fitting() || self.recording.diagnosis.running();
+        let long =
+            self.recording.fitting() || self.recording.diagnosis.running() || self.grasp.busy();
         let run = self.frame.as_ref().map(|f| f.run);
         if long && !self.paused_for_job && run == Some(RunState::Running) {
             self.send(Command::Pause);

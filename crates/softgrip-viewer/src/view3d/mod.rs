@@ -44,8 +44,10 @@ pub(crate) struct View3d {
 pub(crate) struct FromPanels<'a> {
     /// The solver's latest frame.
     pub(crate) frame: Option<Arc<Frame>>,
-    /// Its overlay, while shown, replaces the live frame.
+    /// Its overlay, while shown, replaces the live frame ...
     pub(crate) recording: &'a RecordingPanel,
+    /// ... and else the Grasp panel's squeeze, while shown.
+    pub(crate) grasp: &'a crate::grasp::GraspPanel,
     pub(crate) style: &'a Style,
     /// A preset view pressed; taken once there is a model to frame.
     pub(crate) view_request: &'a mut Option<View>,
@@ -110,7 +112,10 @@ impl View3d {
             return;
         };
         // A recording shown replaces the live frame (and is not dragged).
-        let overlay = panels.recording.overlay();
+        let overlay = panels
+            .recording
+            .overlay()
+            .or_else(|| panels.grasp.overlay());
         let meshing = f.run == RunState::Meshing && overlay.is_none();
         let (model, state) = match (&overlay, &f.model) {
             (Some(o), _) => (&o.model, &o.state),

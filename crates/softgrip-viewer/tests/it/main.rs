@@ -4,5 +4,6 @@ mod picking;
 mod screenshots;
 mod support;
 mod viewer_diagnosis;
+mod viewer_grasp;
 mod viewer_recording;
 mod viewer_ui;
