@@ -9,6 +9,42 @@ use super::window::{self, Asked, Confirmation, Gripper, Most, Peak, Plan, Sample
 use crate::error::LabError;
 use softgrip_core::scene::Scene;
 
+/// Both bounds lifted dynamically ([`Gripper::confirm`]), each on a thread of its own.
+pub fn confirm_bounds(
+    gripper: &Gripper,
+    scene: &Scene,
+    found: &Window,
+    plan: &Plan,
+    progress: &(impl Fn(Stage<'_>) + Sync),
+) -> Result<Vec<Confirmation>, LabError> {
+    let mut bounds = vec![found.least_squeeze()];
+    bounds.extend(found.most_squeeze().filter(|&f| f > 0.0));
+    let cancel = softgrip_core::cancel::current();
+    std::thread::scope(|scope| {
+        let lifts: Vec<_> = bounds
+            .iter()
+            .map(|&f| {
+                let cancel = cancel.clone();
+                scope.spawn(move || {
+                    softgrip_core::cancel::scope(cancel, || {
+                        gripper.confirm(scene, f, plan.options.damage.measure, plan.hold, |x| {
+                            progress(Stage::Lift(f, x))
+                        })
+                    })
+                })
+            })
+            .collect();
+        lifts
+            .into_iter()
+            .map(|h| {
+                h.join().unwrap_or_else(|_| {
+                    Err(LabError::input("grasp window: a dynamic lift stopped"))
+                })
+            })
+            .collect()
+    })
+}
+
 /// What [`compute`] found.
 #[derive(Debug, Clone)]
 pub struct Computed {
@@ -62,20 +98,11 @@ pub fn compute(
     let plan = window::plan(&scene, asked)?;
     let gripper = Gripper::new(&scene, plan.options.profile)?;
     let found = gripper.window(plan.options, |s| progress(Stage::Squeeze(s)))?;
-    let mut confirmations = Vec::new();
-    if confirm {
-        let mut bounds = vec![found.least_squeeze()];
-        bounds.extend(found.most_squeeze().filter(|&f| f > 0.0));
-        for f in bounds {
-            confirmations.push(gripper.confirm(
-                &scene,
-                f,
-                plan.options.damage.measure,
-                plan.hold,
-                |x| progress(Stage::Lift(f, x)),
-            )?);
-        }
-    }
+    let confirmations = if confirm {
+        confirm_bounds(&gripper, &scene, &found, &plan, &progress)?
+    } else {
+        Vec::new()
+    };
     let errors = match &fitted {
         Some(f) => Some(uncertainty::propagate(
             &scene,
