@@ -63,3 +63,14 @@ def test_diagnoses_through_ray_are_the_single_machine_ones_and_resume(ray_cluste
     (again,) = softgrip.distributed.diagnose([shipped], model="scene", max_effects=1,
                                              checkpoint=tmp_path)
     assert again.verdict == many.verdict
+
+
+def test_grasp_windows_through_ray_are_the_single_machine_ones(ray_cluster):
+    """Windows of scene files as Ray tasks: each the one :func:`softgrip.grasp_window` gives."""
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[3] / "assets" / "scenes" / "grasp_lift.toml"
+    options = dict(damage="pressure", limit=5e3, confirm=False)
+    local = softgrip.grasp_window(softgrip.Scene.load(scene), **options)
+    remote = softgrip.distributed.grasp_windows([scene, scene], **options)
+    assert [w.to_dict() for w in remote] == [local.to_dict()] * 2
