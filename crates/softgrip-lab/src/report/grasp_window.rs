@@ -39,6 +39,17 @@ pub fn window_chart(window: &Window) -> Chart {
         mark: Mark::Dashed,
         color: [90, 90, 90],
     };
+    let y_top = window
+        .samples
+        .iter()
+        .map(|s| s.peak.value / o.damage.limit)
+        .fold(1.0, f64::max);
+    let bound = |label: &str, x: f64, color| Series {
+        label: label.into(),
+        points: vec![(x, -0.05), (x, y_top)],
+        mark: Mark::Dashed,
+        color,
+    };
     Chart {
         title: "The grasp window: held above the least squeeze, undamaged below the most".into(),
         x_label: "squeeze per finger (N)".into(),
@@ -66,6 +77,12 @@ pub fn window_chart(window: &Window) -> Chart {
             },
             line("", 0.0),
             line("", 1.0),
+            bound("least squeeze", window.least_squeeze(), palette(0)),
+            bound(
+                "most before damage",
+                window.most_squeeze().unwrap_or(f64::NAN),
+                palette(1),
+            ),
         ],
         x_bands,
         ..Chart::default()
