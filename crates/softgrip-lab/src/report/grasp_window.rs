@@ -157,80 +157,10 @@ pub fn grasp_window(
         &window_chart(window),
         "slip margin and damage against squeeze",
     )?;
-    if !confirmations.is_empty() {
-        md += "## Confirmed by dynamic lifts\n\n| squeeze (N) | held | slid over the hold (mm) | peak over the lift |\n|---|---|---|---|\n";
-        for c in confirmations {
-            let _ = writeln!(
-                md,
-                "| {:.4} | {} | {:.4} | {} |",
-                c.squeeze,
-                if c.run.held { "yes" } else { "no" },
-                c.run.hold_slip * 1e3,
-                shown(m, c.peak.value)
-            );
-        }
-        md += "\n";
-    }
-    md += "## Squeezes tried\n\n| squeeze (N) | held | slip (mm) | slip margin | peak | where (mm) |\n|---|---|---|---|---|---|\n";
-    for s in &window.samples {
-        let _ = writeln!(
-            md,
-            "| {:.4} | {} | {} | {:.3} | {} | ({:.1}, {:.1}, {:.1}) |",
-            s.squeeze,
-            if s.held { "yes" } else { "no" },
-            if s.slip.is_finite() {
-                format!("{:.4}", s.slip * 1e3)
-            } else {
-                "fell".into()
-            },
-            s.margin,
-            shown(m, s.peak.value),
-            s.peak.at.x * 1e3,
-            s.peak.at.y * 1e3,
-            s.peak.at.z * 1e3
-        );
-    }
+    md += &confirmations_table(m, confirmations);
+    md += &squeezes_table(window);
     if let Some(sim) = at_most {
-        let values = crate::grasp::window::values(m, sim);
-        let peak = crate::grasp::window::peak(m, sim);
-        let cells: Vec<f64> = if m == Measure::Pressure {
-            // Per node: each element takes its nodes' largest.
-            sim.model
-                .tets
-                .iter()
-                .map(|t| t.iter().map(|&i| values[i as usize]).fold(0.0, f64::max))
-                .collect()
-        } else {
-            values
-        };
-        let marked: Vec<f64> = if m == Measure::Pressure {
-            sim.model
-                .tets
-                .iter()
-                .map(|t| f64::from(u8::from(t.contains(&(peak.index as u32)))))
-                .collect()
-        } else {
-            (0..sim.model.tets.len())
-                .map(|e| f64::from(u8::from(e == peak.index)))
-                .collect()
-        };
-        let text = to_vtu_with(
-            &sim.model,
-            &sim.state,
-            Encoding::Binary,
-            &[("damage", &cells), ("peak", &marked)],
-        );
-        write_file(&dir.join("upper_bound.vtu"), &text)?;
-        let _ = writeln!(
-            md,
-            "\n`upper_bound.vtu`: the object held at the upper bound, cell data `damage` ({}) and `peak` (1 at the most loaded element{}).",
-            m.describe(),
-            if m == Measure::Pressure {
-                "s, those of the node where the pressure peaks"
-            } else {
-                ""
-            }
-        );
+        md += &upper_bound_vtu(dir, m, sim)?;
     }
     out.finish("window.md", &md)
 }
@@ -277,4 +207,98 @@ fn uncertainty_table(window: &Window, e: &BoundErrors) -> String {
         );
     }
     md + "\n"
+}
+
+/// The dynamic lifts' table (empty without any).
+fn confirmations_table(m: Measure, confirmations: &[Confirmation]) -> String {
+    let mut md = String::new();
+    if confirmations.is_empty() {
+        return md;
+    }
+    md += "## Confirmed by dynamic lifts\n\n| squeeze (N) | held | slid over the hold (mm) | peak over the lift |\n|---|---|---|---|\n";
+    for c in confirmations {
+        let _ = writeln!(
+            md,
+            "| {:.4} | {} | {:.4} | {} |",
+            c.squeeze,
+            if c.run.held { "yes" } else { "no" },
+            c.run.hold_slip * 1e3,
+            shown(m, c.peak.value)
+        );
+    }
+    md += "\n";
+    md
+}
+
+/// Every squeeze tried.
+fn squeezes_table(window: &Window) -> String {
+    let m = window.options.damage.measure;
+    let mut md = String::new();
+    md += "## Squeezes tried\n\n| squeeze (N) | held | slip (mm) | slip margin | peak | where (mm) |\n|---|---|---|---|---|---|\n";
+    for s in &window.samples {
+        let _ = writeln!(
+            md,
+            "| {:.4} | {} | {} | {:.3} | {} | ({:.1}, {:.1}, {:.1}) |",
+            s.squeeze,
+            if s.held { "yes" } else { "no" },
+            if s.slip.is_finite() {
+                format!("{:.4}", s.slip * 1e3)
+            } else {
+                "fell".into()
+            },
+            s.margin,
+            shown(m, s.peak.value),
+            s.peak.at.x * 1e3,
+            s.peak.at.y * 1e3,
+            s.peak.at.z * 1e3
+        );
+    }
+    md
+}
+
+/// `upper_bound.vtu` in `dir`: the object held at the upper bound with cell data `damage` and
+/// `peak`; the Markdown that says so.
+fn upper_bound_vtu(dir: &Path, m: Measure, sim: &Simulation) -> Result<String, ReportError> {
+    let mut md = String::new();
+    let values = crate::grasp::window::values(m, sim);
+    let peak = crate::grasp::window::peak(m, sim);
+    let cells: Vec<f64> = if m == Measure::Pressure {
+        // Per node: each element takes its nodes' largest.
+        sim.model
+            .tets
+            .iter()
+            .map(|t| t.iter().map(|&i| values[i as usize]).fold(0.0, f64::max))
+            .collect()
+    } else {
+        values
+    };
+    let marked: Vec<f64> = if m == Measure::Pressure {
+        sim.model
+            .tets
+            .iter()
+            .map(|t| f64::from(u8::from(t.contains(&(peak.index as u32)))))
+            .collect()
+    } else {
+        (0..sim.model.tets.len())
+            .map(|e| f64::from(u8::from(e == peak.index)))
+            .collect()
+    };
+    let text = to_vtu_with(
+        &sim.model,
+        &sim.state,
+        Encoding::Binary,
+        &[("damage", &cells), ("peak", &marked)],
+    );
+    write_file(&dir.join("upper_bound.vtu"), &text)?;
+    let _ = writeln!(
+        md,
+        "\n`upper_bound.vtu`: the object held at the upper bound, cell data `damage` ({}) and `peak` (1 at the most loaded element{}).",
+        m.describe(),
+        if m == Measure::Pressure {
+            "s, those of the node where the pressure peaks"
+        } else {
+            ""
+        }
+    );
+    Ok(md)
 }
