@@ -1,6 +1,6 @@
 //! A fitted material's standard errors carried to the grasp window's two ends: each bound's
 //! derivative in each fitted parameter by a central difference (the bound found again, near
-//! itself, at the parameter plus and minus its standard error), combined as independent errors,
+//! itself, at the parameter plus and minus its standard error), combined as independent errors (the two sides of each difference on a thread each),
 //! `se(B)^2 = sum_p (dB/dp se_p)^2` (`fit --json` gives standard errors, not their correlations).
 
 use std::path::Path;
@@ -123,17 +123,23 @@ pub fn propagate(
     let total = 2 * fitted.len();
     for (k, p) in fitted.iter().enumerate() {
         let h = p.standard_error.max(1e-6 * p.value.abs());
-        let up = bounds(&params::set(
-            &with_fit(scene, fitted)?,
-            &p.name,
-            p.value + h,
-        )?)?;
-        progress(2 * k + 1, total);
-        let down = bounds(&params::set(
-            &with_fit(scene, fitted)?,
-            &p.name,
-            p.value - h,
-        )?)?;
+        let base = with_fit(scene, fitted)?;
+        let (above, below) = (
+            params::set(&base, &p.name, p.value + h)?,
+            params::set(&base, &p.name, p.value - h)?,
+        );
+        // The two sides on a thread each.
+        let cancel = softgrip_core::cancel::current();
+        let (up, down) = std::thread::scope(|scope| {
+            let up =
+                scope.spawn(|| softgrip_core::cancel::scope(cancel.clone(), || bounds(&above)));
+            let down = bounds(&below);
+            let up = up.join().unwrap_or_else(|_| {
+                Err(LabError::input("grasp window: a perturbed window stopped"))
+            });
+            (up, down)
+        });
+        let (up, down) = (up?, down?);
         progress(2 * k + 2, total);
         let d_least = (up.0 - down.0) / (2.0 * h);
         let d_most = up.1.zip(down.1).map(|(a, b)| (a - b) / (2.0 * h));
