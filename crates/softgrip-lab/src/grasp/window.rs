@@ -178,7 +178,19 @@ impl Gripper {
         for (f, p) in sim.state.fingers.iter_mut().zip(&self.per_newton) {
             f.applied_force = *p * squeeze;
         }
-        sim.equilibrium(options).map_err(LabError::from)?;
+        // Where Newton stalls (sphere fingers' contacts switching between sticking and sliding
+        // under a weightless squeeze), time steps settle the squeeze, as replays do.
+        let applied: Vec<DVec3> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+        let rest = softgrip_core::quasi_static::RestTolerance::for_fits();
+        match sim.settle_to_equilibrium(&applied, options, rest, |_| {}) {
+            Ok(_) => {}
+            Err(SimError::NoEquilibrium { why, .. }) => {
+                return Err(LabError::Input(format!(
+                    "grasp window: the squeeze alone, {squeeze:.4} N, has no rest ({why}): the fingers do not hold the object still before it is loaded"
+                )));
+            }
+            Err(e) => return Err(e.into()),
+        }
         if !load {
             return Ok(Grip {
                 squeeze,
