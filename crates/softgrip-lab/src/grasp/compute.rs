@@ -71,12 +71,14 @@ pub enum Stage<'a> {
 impl Computed {
     /// The figures as `--json` writes them.
     pub fn to_json(&self) -> serde_json::Value {
-        to_json(
+        let f = figures(
             &self.window,
             &self.plan,
             &self.confirmations,
             self.errors.as_ref(),
-        )
+        );
+        // Plain numbers, strings and lists: nothing here fails to serialize.
+        serde_json::to_value(f).unwrap_or(serde_json::Value::Null)
     }
 }
 
@@ -123,73 +125,174 @@ pub fn compute(
     })
 }
 
-/// The window's figures as JSON: what `softgrip grasp window --json` writes and Python returns.
-pub fn to_json(
+/// Where a damage measure peaks, in the JSON.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PeakFigures {
+    /// The measure's value (its unit: `unit`).
+    pub value: f64,
+    /// The element (strain, stress) or surface node (pressure).
+    pub index: usize,
+    /// Where it is now (m).
+    pub at_m: [f64; 3],
+}
+
+impl From<&Peak> for PeakFigures {
+    fn from(p: &Peak) -> Self {
+        PeakFigures {
+            value: p.value,
+            index: p.index,
+            at_m: p.at.to_array(),
+        }
+    }
+}
+
+/// The measure that binds where there is no window.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Binding {
+    pub measure: &'static str,
+    pub limit: f64,
+    pub value_at_least_squeeze: f64,
+    #[serde(rename = "where")]
+    pub at: PeakFigures,
+}
+
+/// One squeeze tried.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SampleFigures {
+    pub squeeze: f64,
+    pub held: bool,
+    /// `None` where it fell.
+    pub slip_m: Option<f64>,
+    pub margin: f64,
+    pub peak: PeakFigures,
+}
+
+/// One dynamic lift.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ConfirmationFigures {
+    pub squeeze: f64,
+    pub held: bool,
+    pub off_table: bool,
+    pub hold_slip_m: f64,
+    pub hold_s: f64,
+    pub peak: PeakFigures,
+}
+
+/// A bound's derivative in a fitted parameter (N per the parameter's unit).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Derivative {
+    pub parameter: String,
+    pub d_least: f64,
+    pub d_most: Option<f64>,
+}
+
+/// What `softgrip grasp window --json` writes and Python returns (docs/cli.md): squeezes in N.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct WindowFigures {
+    pub least_squeeze: f64,
+    pub most_squeeze: Option<f64>,
+    pub window: bool,
+    pub least_dropped_at: f64,
+    pub most_reached_at: Option<f64>,
+    pub most_not_reached_up_to: Option<f64>,
+    pub force_balance_squeeze: f64,
+    pub load_n: f64,
+    pub acceleration_m_s2: f64,
+    pub acceleration_from: String,
+    pub shake_m_s2: f64,
+    pub slip_tolerance_m: f64,
+    pub measure: &'static str,
+    pub unit: &'static str,
+    pub limit: f64,
+    pub limit_from: String,
+    pub tolerance: f64,
+    pub binding: Option<Binding>,
+    pub least_squeeze_se: Option<f64>,
+    pub most_squeeze_se: Option<f64>,
+    pub confidence: Option<f64>,
+    pub ends_overlap: Option<bool>,
+    pub derivatives: Option<Vec<Derivative>>,
+    pub method: &'static str,
+    pub samples: Vec<SampleFigures>,
+    pub confirmations: Vec<ConfirmationFigures>,
+}
+
+/// The window's figures: what `softgrip grasp window --json` writes and Python returns.
+pub fn figures(
     window: &Window,
     plan: &Plan,
     confirmations: &[Confirmation],
     errors: Option<&BoundErrors>,
-) -> serde_json::Value {
-    use serde_json::json;
+) -> WindowFigures {
     let o = &window.options;
-    let peak = |p: &Peak| json!({"value": p.value, "index": p.index, "at_m": p.at.to_array()});
-    let binding = (!window.exists()).then(|| {
-        window.at_least().map(|s| {
-            json!({
-                "measure": o.damage.measure.name(),
-                "limit": o.damage.limit,
-                "value_at_least_squeeze": s.peak.value,
-                "where": peak(&s.peak),
+    let binding = window
+        .at_least()
+        .filter(|_| !window.exists())
+        .map(|s| Binding {
+            measure: o.damage.measure.name(),
+            limit: o.damage.limit,
+            value_at_least_squeeze: s.peak.value,
+            at: (&s.peak).into(),
+        });
+    let (most_reached_at, most_not_reached_up_to) = match window.most {
+        Most::Found { above, .. } => (Some(above), None),
+        Most::NotReached(f) => (None, Some(f)),
+    };
+    WindowFigures {
+        least_squeeze: window.least_squeeze(),
+        most_squeeze: window.most_squeeze(),
+        window: window.exists(),
+        least_dropped_at: window.least.dropped,
+        most_reached_at,
+        most_not_reached_up_to,
+        force_balance_squeeze: window.force_balance,
+        load_n: window.load,
+        acceleration_m_s2: o.profile.acceleration,
+        acceleration_from: plan.acceleration_from.clone(),
+        shake_m_s2: o.profile.shake,
+        slip_tolerance_m: o.profile.slip_tolerance,
+        measure: o.damage.measure.name(),
+        unit: o.damage.measure.unit(),
+        limit: o.damage.limit,
+        limit_from: plan.limit_from.clone(),
+        tolerance: o.tolerance,
+        binding,
+        least_squeeze_se: errors.map(|e| e.least),
+        most_squeeze_se: errors.and_then(|e| e.most),
+        confidence: errors.map(|_| 0.95),
+        ends_overlap: errors.map(|e| e.overlaps(window)),
+        derivatives: errors.map(|e| {
+            e.derivatives
+                .iter()
+                .map(|(n, l, m)| Derivative {
+                    parameter: n.clone(),
+                    d_least: *l,
+                    d_most: *m,
+                })
+                .collect()
+        }),
+        method: "statics: squeeze, then the load m (g - a) with friction by its return mapping; least squeeze bisected, most by regula falsi (Illinois)",
+        samples: window
+            .samples
+            .iter()
+            .map(|s| SampleFigures {
+                squeeze: s.squeeze,
+                held: s.held,
+                slip_m: s.slip.is_finite().then_some(s.slip),
+                margin: s.margin,
+                peak: (&s.peak).into(),
             })
-        })
-    });
-    json!({
-        "least_squeeze": window.least_squeeze(),
-        "most_squeeze": window.most_squeeze(),
-        "window": window.exists(),
-        "least_dropped_at": window.least.dropped,
-        "most_reached_at": match window.most {
-            Most::Found { above, .. } => Some(above),
-            Most::NotReached(_) => None,
-        },
-        "most_not_reached_up_to": match window.most {
-            Most::NotReached(f) => Some(f),
-            Most::Found { .. } => None,
-        },
-        "force_balance_squeeze": window.force_balance,
-        "load_n": window.load,
-        "acceleration_m_s2": o.profile.acceleration,
-        "acceleration_from": plan.acceleration_from,
-        "shake_m_s2": o.profile.shake,
-        "slip_tolerance_m": o.profile.slip_tolerance,
-        "measure": o.damage.measure.name(),
-        "unit": o.damage.measure.unit(),
-        "limit": o.damage.limit,
-        "limit_from": plan.limit_from,
-        "tolerance": o.tolerance,
-        "binding": binding.flatten(),
-        "least_squeeze_se": errors.map(|e| e.least),
-        "most_squeeze_se": errors.and_then(|e| e.most),
-        "confidence": errors.map(|_| 0.95),
-        "ends_overlap": errors.map(|e| e.overlaps(window)),
-        "derivatives": errors.map(|e| e.derivatives.iter().map(|(n, l, m)| json!({
-            "parameter": n, "d_least": l, "d_most": m
-        })).collect::<Vec<_>>()),
-        "method": "statics: squeeze, then the load m (g - a) with friction by its return mapping; least squeeze bisected, most by regula falsi (Illinois)",
-        "samples": window.samples.iter().map(|s| json!({
-            "squeeze": s.squeeze,
-            "held": s.held,
-            "slip_m": if s.slip.is_finite() { Some(s.slip) } else { None },
-            "margin": s.margin,
-            "peak": peak(&s.peak),
-        })).collect::<Vec<_>>(),
-        "confirmations": confirmations.iter().map(|c| json!({
-            "squeeze": c.squeeze,
-            "held": c.run.held,
-            "off_table": c.run.off_table,
-            "hold_slip_m": c.run.hold_slip,
-            "hold_s": plan.hold,
-            "peak": peak(&c.peak),
-        })).collect::<Vec<_>>(),
-    })
+            .collect(),
+        confirmations: confirmations
+            .iter()
+            .map(|c| ConfirmationFigures {
+                squeeze: c.squeeze,
+                held: c.run.held,
+                off_table: c.run.off_table,
+                hold_slip_m: c.run.hold_slip,
+                hold_s: plan.hold,
+                peak: (&c.peak).into(),
+            })
+            .collect(),
+    }
 }
