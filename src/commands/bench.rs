@@ -320,7 +320,7 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
 /// Wall time of the grasp window of each scene: the statics alone, then the dynamic
 /// confirmations of its two bounds.
 fn bench_grasp_window(scenes: &[std::path::PathBuf]) -> Result<()> {
-    use softgrip_lab::grasp::window::{self, Gripper};
+    use softgrip_lab::grasp::window::Gripper;
     println!("{}", softgrip_core::bench::machine_description());
     println!(
         "| scene | tetrahedra | squeezes | statics (s) | window (N) | two dynamic lifts, side by side (s) | peak memory (MiB) |"
@@ -328,7 +328,7 @@ fn bench_grasp_window(scenes: &[std::path::PathBuf]) -> Result<()> {
     println!("|---|---|---|---|---|---|---|");
     for path in scenes {
         let scene = super::load::load_scene(Some(path))?;
-        let plan = window::plan(&scene, Default::default())
+        let plan = softgrip_lab::grasp::plan::plan(&scene, Default::default())
             .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         let gripper = Gripper::new(&scene, plan.options.profile)?;
         let started = std::time::Instant::now();

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use softgrip_lab::grasp::compute::{Computed, Stage, compute};
+use softgrip_lab::grasp::plan::{Asked, Plan};
 use softgrip_lab::grasp::uncertainty::{BoundErrors, Z95};
-use softgrip_lab::grasp::window::{self, Asked, Confirmation, Measure, Most};
+use softgrip_lab::grasp::window::{self, Confirmation, Measure, Most};
 use softgrip_lab::report::shown;
 
 use super::figures::write_json_line;
@@ -216,7 +217,7 @@ fn print_errors(w: &window::Window, e: &BoundErrors) {
 fn print_window(
     scene: &std::path::Path,
     w: &window::Window,
-    plan: &window::Plan,
+    plan: &Plan,
     confirmations: &[Confirmation],
 ) {
     let o = &w.options;

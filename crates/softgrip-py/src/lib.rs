@@ -617,7 +617,8 @@ fn grasp_window(
     fit: Option<std::path::PathBuf>,
     confirm: bool,
 ) -> PyResult<String> {
-    use softgrip_lab::grasp::window::{Asked, Measure};
+    use softgrip_lab::grasp::plan::Asked;
+    use softgrip_lab::grasp::window::Measure;
     let damage = match damage.as_deref() {
         None => None,
         Some(name) => Some(Measure::from_name(name).ok_or_else(|| {

@@ -166,7 +166,7 @@ impl GraspPanel {
     }
 
     fn body(&mut self, ui: &mut egui::Ui, scene: &Scene) -> Option<Action> {
-        let plan = window::plan(scene, Default::default());
+        let plan = softgrip_lab::grasp::plan::plan(scene, Default::default());
         match &plan {
             Ok(p) => {
                 ui.label(format!(

@@ -4,8 +4,9 @@
 
 use std::path::Path;
 
+use super::plan::{self, Asked, Plan};
 use super::uncertainty::{self, BoundErrors};
-use super::window::{self, Asked, Confirmation, Gripper, Most, Peak, Plan, Sample, Window};
+use super::window::{Confirmation, Gripper, Most, Peak, Sample, Window};
 use crate::error::LabError;
 use softgrip_core::scene::Scene;
 
@@ -97,7 +98,7 @@ pub fn compute(
         Some(f) => uncertainty::with_fit(scene, f)?,
         None => scene.clone(),
     };
-    let plan = window::plan(&scene, asked)?;
+    let plan = plan::plan(&scene, asked)?;
     let gripper = Gripper::new(&scene, plan.options.profile)?;
     let found = gripper.window(plan.options, |s| progress(Stage::Squeeze(s)))?;
     let confirmations = if confirm {

@@ -9,6 +9,7 @@
 //! has used its travel, then `hold` seconds more.
 
 pub mod compute;
+pub mod plan;
 pub mod uncertainty;
 pub mod window;
 

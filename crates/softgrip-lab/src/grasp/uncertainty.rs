@@ -5,7 +5,8 @@
 
 use std::path::Path;
 
-use super::window::{Gripper, Plan, Window};
+use super::plan::Plan;
+use super::window::{Gripper, Window};
 use crate::error::LabError;
 use crate::params;
 use softgrip_core::scene::Scene;

@@ -8,8 +8,9 @@ use std::path::Path;
 use softgrip_core::output::vtu::{Encoding, to_vtu_with};
 use softgrip_core::step::Simulation;
 
+use crate::grasp::plan::Plan;
 use crate::grasp::uncertainty::{BoundErrors, Z95};
-use crate::grasp::window::{Confirmation, Measure, Most, Plan, Window};
+use crate::grasp::window::{Confirmation, Measure, Most, Window};
 use crate::plot::{Chart, Mark, Series, palette};
 
 use super::out::{Out, ReportError, Written, write_file};

@@ -71,12 +71,12 @@ fn the_shipped_cube_window_holds_dynamically_at_both_bounds() {
         "/../../assets/scenes/grasp_lift.toml"
     )))
     .expect("grasp scene");
-    let asked = softgrip_lab::grasp::window::Asked {
+    let asked = softgrip_lab::grasp::plan::Asked {
         damage: Some(Measure::Pressure),
         limit: Some(5e3),
         ..Default::default()
     };
-    let plan = softgrip_lab::grasp::window::plan(&scene, asked).expect("plan");
+    let plan = softgrip_lab::grasp::plan::plan(&scene, asked).expect("plan");
     assert!(
         (plan.options.profile.acceleration - 0.1).abs() < 1e-12,
         "the scene's lift: 0.02 m/s over 0.2 s"
