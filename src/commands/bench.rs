@@ -235,86 +235,109 @@ fn bench_statics(recordings: &[std::path::PathBuf]) -> Result<()> {
             Ok((started.elapsed().as_secs_f64(), r.errors.nrmse_all))
         };
         let (static_s, static_nrmse) = timed(Settle::Static)?;
-        // A fit's probe: E 5 % up, Newton started from each load's answer at the scene's E.
-        let kept = ReplayOptions {
-            settle: Some(Settle::Static),
-            keep_states: true,
-            ..ReplayOptions::default()
-        };
-        let at_e = replay(&recording, &recording.scene, kept, |_| {})?;
-        let mut probe = recording.scene.clone();
-        probe.object.young_modulus *= 1.05;
-        let started = std::time::Instant::now();
-        softgrip_lab::replay::replay_observing(
-            &recording,
-            &probe,
-            kept,
-            Some(&at_e.states),
-            None,
-            |_| {},
-        )?;
-        let warm_s = started.elapsed().as_secs_f64();
-        let warm = if softgrip_core::model::Model::from_scene(&probe)?.path_independent() {
-            format!("{warm_s:.2}")
-        } else {
-            "n/a (path-dependent)".to_string()
-        };
+        let warm = warm_probe(&recording)?;
         let (dynamic_s, dynamic_nrmse) = timed(Settle::Dynamic)?;
-        // With the sensitivities a baseline fit's Jacobian takes, where the scene has them.
-        let names: Vec<&str> = ["young_modulus", "alpha", "tau_s", "tau_c"]
-            .into_iter()
-            .filter(|n| matches!(softgrip_lab::params::get(&recording.scene, n), Ok(Some(_))))
-            .collect();
-        let started = std::time::Instant::now();
-        let (_, sensitivities) = softgrip_lab::sensitivity::replay_with_sensitivities(
-            &recording,
-            &recording.scene,
-            ReplayOptions {
-                settle: Some(Settle::Static),
-                ..ReplayOptions::default()
-            },
-            None,
-            &names,
-            |_| {},
-        )?;
-        let with_s = started.elapsed().as_secs_f64();
-        let with = if sensitivities.is_some() {
-            format!("{with_s:.2} ({})", names.len())
-        } else {
-            "n/a".to_string()
-        };
-        // The Newton iterations, counted on the same path of loads as the replay takes it.
-        let mut sim = softgrip_core::Simulation::new(&recording.scene)?;
-        let k = sim.load_finger();
-        let (mut iterations, mut handed_over) = (0, 0);
-        for s in &recording.samples {
-            let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
-            if let Some(k) = k {
-                sim.set_load(k, s.load);
-            }
-            let rest = softgrip_core::quasi_static::RestTolerance::default();
-            match sim.settle_to_equilibrium(&from, Default::default(), rest, |_| {})? {
-                softgrip_core::equilibrium::Settled::Static(r) => iterations += r.iterations,
-                softgrip_core::equilibrium::Settled::Dynamic { .. } => handed_over += 1,
-            }
-        }
-        let loads = recording.samples.len();
-        let newton = match handed_over {
-            0 => format!("{:.0}", iterations as f64 / loads as f64),
-            n => format!(
-                "{:.0} ({n} to time steps)",
-                iterations as f64 / (loads - n).max(1) as f64
-            ),
-        };
+        let with = with_sensitivities(&recording)?;
+        let (newton, loads, tetrahedra) = newton_per_load(&recording)?;
         println!(
             "| {} | {} | {loads} | {static_s:.2} | {newton} | {:.1} | {dynamic_s:.2} | {:.1} | {static_nrmse:.4} / {dynamic_nrmse:.4} | {with} | {warm} |",
             path.display(),
-            sim.model.tets.len(),
+            tetrahedra,
             loads as f64 / static_s,
             dynamic_s / static_s,
         );
     }
     Ok(())
+}
+
+/// A fit's probe: E 5 % up, Newton started from each load's answer at the scene's E (s).
+fn warm_probe(recording: &softgrip_lab::recording::Recording) -> Result<String> {
+    use softgrip_core::scene::Settle;
+    use softgrip_lab::replay::{ReplayOptions, replay};
+    let kept = ReplayOptions {
+        settle: Some(Settle::Static),
+        keep_states: true,
+        ..ReplayOptions::default()
+    };
+    let at_e = replay(recording, &recording.scene, kept, |_| {})?;
+    let mut probe = recording.scene.clone();
+    probe.object.young_modulus *= 1.05;
+    let started = std::time::Instant::now();
+    softgrip_lab::replay::replay_observing(
+        recording,
+        &probe,
+        kept,
+        Some(&at_e.states),
+        None,
+        |_| {},
+    )?;
+    let warm_s = started.elapsed().as_secs_f64();
+    let warm = if softgrip_core::model::Model::from_scene(&probe)?.path_independent() {
+        format!("{warm_s:.2}")
+    } else {
+        "n/a (path-dependent)".to_string()
+    };
+    Ok(warm)
+}
+
+/// The static replay with the sensitivities a baseline fit's Jacobian takes, where the scene
+/// has them (s, parameters).
+fn with_sensitivities(recording: &softgrip_lab::recording::Recording) -> Result<String> {
+    use softgrip_core::scene::Settle;
+    use softgrip_lab::replay::ReplayOptions;
+    let names: Vec<&str> = ["young_modulus", "alpha", "tau_s", "tau_c"]
+        .into_iter()
+        .filter(|n| matches!(softgrip_lab::params::get(&recording.scene, n), Ok(Some(_))))
+        .collect();
+    let started = std::time::Instant::now();
+    let (_, sensitivities) = softgrip_lab::sensitivity::replay_with_sensitivities(
+        recording,
+        &recording.scene,
+        ReplayOptions {
+            settle: Some(Settle::Static),
+            ..ReplayOptions::default()
+        },
+        None,
+        &names,
+        |_| {},
+    )?;
+    let with_s = started.elapsed().as_secs_f64();
+    let with = if sensitivities.is_some() {
+        format!("{with_s:.2} ({})", names.len())
+    } else {
+        "n/a".to_string()
+    };
+    Ok(with)
+}
+
+/// The Newton iterations per load, counted on the same path of loads as the replay takes it;
+/// the loads and the tetrahedra.
+fn newton_per_load(
+    recording: &softgrip_lab::recording::Recording,
+) -> Result<(String, usize, usize)> {
+    let mut sim = softgrip_core::Simulation::new(&recording.scene)?;
+    let k = sim.load_finger();
+    let (mut iterations, mut handed_over) = (0, 0);
+    for s in &recording.samples {
+        let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+        if let Some(k) = k {
+            sim.set_load(k, s.load);
+        }
+        let rest = softgrip_core::quasi_static::RestTolerance::default();
+        match sim.settle_to_equilibrium(&from, Default::default(), rest, |_| {})? {
+            softgrip_core::equilibrium::Settled::Static(r) => iterations += r.iterations,
+            softgrip_core::equilibrium::Settled::Dynamic { .. } => handed_over += 1,
+        }
+    }
+    let loads = recording.samples.len();
+    let newton = match handed_over {
+        0 => format!("{:.0}", iterations as f64 / loads as f64),
+        n => format!(
+            "{:.0} ({n} to time steps)",
+            iterations as f64 / (loads - n).max(1) as f64
+        ),
+    };
+    Ok((newton, loads, sim.model.tets.len()))
 }
 
 /// Wall time of the grasp window of each scene: the statics alone, then the dynamic

@@ -216,11 +216,33 @@ fn run_many(args: Args) -> Result<()> {
         bar.set_message(format!("best mean NRMSE {best:.5}"));
     })?;
     bar.finish_and_clear();
+    print_many(paths, &recordings, &result, started.elapsed().as_secs_f64());
+    if let Some(dir) = args.scene_out.as_deref() {
+        write_scenes(dir, &recordings, &result)?;
+    }
+    if let Some(dir) = args.report.dir_many("fit", paths) {
+        wrote(&softgrip_lab::report::fit_many(&dir, &recordings, &result)?);
+    }
+    if let Some(json) = args.json.as_deref() {
+        let paths: Vec<&std::path::Path> = paths.iter().map(|p| p.as_path()).collect();
+        let value = softgrip_lab::json::fit_many(&paths, &recordings, &result);
+        write_json(json, &value)?;
+    }
+    Ok(())
+}
+
+/// What a fit of several recordings found, on the console.
+fn print_many(
+    paths: &[std::path::PathBuf],
+    recordings: &[Recording],
+    result: &softgrip_lab::fit::FitMany,
+    seconds: f64,
+) {
     println!(
         "{} points of {} simulations each in {:.0} s ({}); mean NRMSE {:.5} at the start, {:.5} fitted",
         result.trials.len(),
         recordings.len(),
-        started.elapsed().as_secs_f64(),
+        seconds,
         if result.converged {
             "converged"
         } else {
@@ -255,7 +277,7 @@ fn run_many(args: Args) -> Result<()> {
         &result.sensitivity,
         &result.at_bound,
     );
-    for ((path, recording), part) in paths.iter().zip(&recordings).zip(&result.recordings) {
+    for ((path, recording), part) in paths.iter().zip(recordings).zip(&result.recordings) {
         let replays = [
             ("at the start", &part.start_replay),
             ("fitted", &part.replay),
@@ -265,6 +287,15 @@ fn run_many(args: Args) -> Result<()> {
             print_ringing(recording, &replays);
         }
     }
+}
+
+/// One fitted scene per recording in `dir`, `NN-NAME.toml`.
+fn write_scenes(
+    dir: &std::path::Path,
+    recordings: &[Recording],
+    result: &softgrip_lab::fit::FitMany,
+) -> Result<()> {
+    use softgrip_lab::fit;
     let names: Vec<String> = recordings
         .iter()
         .enumerate()
@@ -276,32 +307,22 @@ fn run_many(args: Args) -> Result<()> {
             )
         })
         .collect();
-    if let Some(dir) = args.scene_out.as_deref() {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        for (recording, name) in recordings.iter().zip(&names) {
-            let scene = fit::scene_with(&recording.scene, &result.params, &result.fitted)
-                .map_err(anyhow::Error::msg)?;
-            let out = dir.join(format!("{name}.toml"));
-            std::fs::write(&out, scene.to_toml_for(&out))
-                .with_context(|| format!("writing {}", out.display()))?;
-        }
-        println!(
-            "wrote the fitted scenes to {} ({})",
-            dir.display(),
-            names
-                .iter()
-                .map(|n| format!("{n}.toml"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    for (recording, name) in recordings.iter().zip(&names) {
+        let scene = fit::scene_with(&recording.scene, &result.params, &result.fitted)
+            .map_err(anyhow::Error::msg)?;
+        let out = dir.join(format!("{name}.toml"));
+        std::fs::write(&out, scene.to_toml_for(&out))
+            .with_context(|| format!("writing {}", out.display()))?;
     }
-    if let Some(dir) = args.report.dir_many("fit", paths) {
-        wrote(&softgrip_lab::report::fit_many(&dir, &recordings, &result)?);
-    }
-    if let Some(json) = args.json.as_deref() {
-        let paths: Vec<&std::path::Path> = paths.iter().map(|p| p.as_path()).collect();
-        let value = softgrip_lab::json::fit_many(&paths, &recordings, &result);
-        write_json(json, &value)?;
-    }
+    println!(
+        "wrote the fitted scenes to {} ({})",
+        dir.display(),
+        names
+            .iter()
+            .map(|n| format!("{n}.toml"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     Ok(())
 }

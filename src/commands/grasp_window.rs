@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use softgrip_lab::grasp::compute::{Computed, Stage, compute};
 use softgrip_lab::grasp::plan::{Asked, Plan};
-use softgrip_lab::grasp::uncertainty::{BoundErrors, Z95};
+use softgrip_lab::grasp::uncertainty::{self, BoundErrors};
 use softgrip_lab::grasp::window::{self, Confirmation, Measure, Most};
 use softgrip_lab::report::shown;
 
@@ -195,13 +195,7 @@ fn report(dir: &std::path::Path, scene: &std::path::Path, c: &Computed) -> Resul
 }
 
 fn print_errors(w: &window::Window, e: &BoundErrors) {
-    let range = |b: f64, se: f64| {
-        format!(
-            "{b:.4} +/- {se:.4} N (95 %: {:.4} .. {:.4})",
-            b - Z95 * se,
-            b + Z95 * se
-        )
-    };
+    let range = uncertainty::range_text;
     println!(
         "with the fit's uncertainty: least {}",
         range(w.least_squeeze(), e.least)

@@ -10,7 +10,12 @@ use crate::support::{free_block, simulation};
 
 /// A free block with every particle moved from its rest position `x0` to `map(x0)`.
 fn deformed(map: impl Fn(DVec3) -> DVec3) -> Simulation {
-    let mut sim = simulation(&free_block("", ""), "block");
+    deformed_as("", map)
+}
+
+/// [`deformed`], the block's `[model]` holding `model` (springs or continuum).
+fn deformed_as(model: &str, map: impl Fn(DVec3) -> DVec3) -> Simulation {
+    let mut sim = simulation(&free_block("", model), "block");
     for (x, x0) in sim
         .state
         .positions
@@ -90,16 +95,7 @@ fn contact_pressure_integrates_to_the_normal_force() {
 
 /// A block (springs or continuum, `model`) with every particle moved by `f`.
 fn homogeneous(model: &str, f: DMat3) -> Simulation {
-    let mut sim = simulation(&free_block("", model), "block");
-    for (x, x0) in sim
-        .state
-        .positions
-        .iter_mut()
-        .zip(&sim.model.rest_positions)
-    {
-        *x = f * *x0;
-    }
-    sim
+    deformed_as(model, |x0| f * x0)
 }
 
 #[test]

@@ -84,6 +84,15 @@ pub struct BoundErrors {
     pub fitted: Vec<Fitted>,
 }
 
+/// `bound +/- se N (95 %: low .. high)`, as the console and the report say it.
+pub fn range_text(bound: f64, se: f64) -> String {
+    format!(
+        "{bound:.4} +/- {se:.4} N (95 %: {:.4} .. {:.4})",
+        bound - Z95 * se,
+        bound + Z95 * se
+    )
+}
+
 /// The two-sided 95 % normal quantile.
 pub const Z95: f64 = 1.959_963_984_540_054;
 

@@ -406,7 +406,7 @@ impl Gripper {
         load: bool,
     ) -> Result<Sample, LabError> {
         let grip = self.grip_as(squeeze, options.statics, load)?;
-        let held = grip.held.is_ok() && grip.slip <= options.profile.slip_tolerance;
+        let held = grip.holds(&options.profile);
         let state = grip.held.as_ref().unwrap_or(&grip.squeezed);
         let capacity = friction_capacity(state);
         Ok(Sample {

@@ -9,7 +9,7 @@ use softgrip_core::output::vtu::{Encoding, to_vtu_with};
 use softgrip_core::step::Simulation;
 
 use crate::grasp::plan::Plan;
-use crate::grasp::uncertainty::{BoundErrors, Z95};
+use crate::grasp::uncertainty::{self, BoundErrors};
 use crate::grasp::window::{Confirmation, Measure, Most, Window};
 use crate::plot::{Chart, Mark, Series, palette};
 
@@ -168,13 +168,7 @@ pub fn grasp_window(
 
 /// The bounds with their standard errors from the fitted material, and each parameter's share.
 fn uncertainty_table(window: &Window, e: &BoundErrors) -> String {
-    let range = |b: f64, se: f64| {
-        format!(
-            "{b:.4} +/- {se:.4} N (95 %: {:.4} .. {:.4})",
-            b - Z95 * se,
-            b + Z95 * se
-        )
-    };
+    let range = uncertainty::range_text;
     let mut md = String::from(
         "## With the fitted material's uncertainty
 

@@ -103,6 +103,74 @@ impl View3d {
         self.drag != Drag::None
     }
 
+    /// The legend, the recording's caption, the hint and the meshing clock over the view.
+    fn draw_labels(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        f: &Frame,
+        overlay: Option<&crate::recording::Overlay>,
+        meshing: bool,
+    ) {
+        if let Some(legend) = &self.legend {
+            labels::draw_legend(ui, rect, legend);
+        }
+        if let Some(o) = overlay {
+            labels::draw_recording_caption(ui, rect, &o.caption);
+        }
+        labels::draw_hint(ui, rect, f, overlay.is_some(), self.drag);
+        if meshing {
+            let since = *self
+                .meshing_since
+                .get_or_insert_with(std::time::Instant::now);
+            labels::draw_meshing(ui, rect, f, since);
+        } else {
+            self.meshing_since = None;
+        }
+    }
+
+    /// Draws `model` in `state` into the view's texture, unless what it shows is unchanged.
+    #[allow(clippy::too_many_arguments)]
+    fn draw(
+        &mut self,
+        rs: &eframe::egui_wgpu::RenderState,
+        f: &Arc<Frame>,
+        camera: Camera,
+        style: &Style,
+        (w, h): (u32, u32),
+        overlay: Option<&crate::recording::Overlay>,
+        (model, state): (&softgrip_core::model::Model, &softgrip_core::state::State),
+    ) {
+        let live = if overlay.is_some() {
+            0
+        } else {
+            Arc::as_ptr(f) as usize
+        };
+        let key = (live, camera, *style, w, h, overlay.as_ref().map(|o| o.key));
+        if self.drawn != Some(key) {
+            let mut drawing = render::geometry::build(model, state, style);
+            if let Some(o) = &overlay {
+                render::markers::add_markers(&mut drawing, model, &o.markers, o.exaggerate);
+            }
+            let mut encoder = rs
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("3-D view"),
+                });
+            self.pipeline.draw(
+                &rs.device,
+                &rs.queue,
+                &mut encoder,
+                &self.target,
+                &drawing,
+                &camera,
+            );
+            rs.queue.submit([encoder.finish()]);
+            self.drawn = Some(key);
+            self.legend = drawing.legend;
+        }
+    }
+
     /// Draws the 3-D view into the panel; drag orbits, right-drag pans,
     /// scroll zooms.
     pub(crate) fn ui(&mut self, ui: &mut egui::Ui, frame: &eframe::Frame, panels: FromPanels<'_>) {
@@ -176,61 +244,22 @@ impl View3d {
                 self.texture,
             );
         }
-        let live = if overlay.is_some() {
-            0
-        } else {
-            Arc::as_ptr(&f) as usize
-        };
-        let key = (
-            live,
-            *camera,
-            *panels.style,
-            w,
-            h,
-            overlay.as_ref().map(|o| o.key),
+        let camera = *camera;
+        self.draw(
+            rs,
+            &f,
+            camera,
+            panels.style,
+            (w, h),
+            overlay.as_ref(),
+            (model, state),
         );
-        if self.drawn != Some(key) {
-            let mut drawing = render::geometry::build(model, state, panels.style);
-            if let Some(o) = &overlay {
-                render::markers::add_markers(&mut drawing, model, &o.markers, o.exaggerate);
-            }
-            let mut encoder = rs
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("3-D view"),
-                });
-            self.pipeline.draw(
-                &rs.device,
-                &rs.queue,
-                &mut encoder,
-                &self.target,
-                &drawing,
-                camera,
-            );
-            rs.queue.submit([encoder.finish()]);
-            self.drawn = Some(key);
-            self.legend = drawing.legend;
-        }
         ui.painter().image(
             self.texture,
             rect,
             egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
             egui::Color32::WHITE,
         );
-        if let Some(legend) = &self.legend {
-            labels::draw_legend(ui, rect, legend);
-        }
-        if let Some(o) = &overlay {
-            labels::draw_recording_caption(ui, rect, &o.caption);
-        }
-        labels::draw_hint(ui, rect, &f, overlay.is_some(), self.drag);
-        if meshing {
-            let since = *self
-                .meshing_since
-                .get_or_insert_with(std::time::Instant::now);
-            labels::draw_meshing(ui, rect, &f, since);
-        } else {
-            self.meshing_since = None;
-        }
+        self.draw_labels(ui, rect, &f, overlay.as_ref(), meshing);
     }
 }
