@@ -102,21 +102,44 @@ fn bench_sizes(edges_mm: &[f64], seconds: f64, threads: usize) -> Result<()> {
         );
     }
     println!();
-    println!("| edge (mm) | forces | solve (CG) | projection | diagnostics |");
-    println!("|---|---|---|---|---|");
-    for (e, r) in breakdown {
+    println!("| edge (mm) | forces | solve (CG) | projection | arms | diagnostics |");
+    println!("|---|---|---|---|---|---|");
+    for (e, r) in &breakdown {
         let ms = |s: f64| format!("{:.3}", 1e3 * s / r.steps as f64);
         let t = r.stages;
         println!(
-            "| {e:.1} | {} | {} | {} | {} |",
+            "| {e:.1} | {} | {} | {} | {} | {} |",
             ms(t.forces),
             ms(t.solve),
             ms(t.projection),
+            ms(t.arms),
             ms(t.diagnostics)
         );
     }
     println!("(ms per step in each stage)");
+    print_force_stages(&breakdown);
     Ok(())
+}
+
+/// The force stages one by one (`softgrip_core::step::assemble`), both threads' time summed,
+/// for the stages that ran.
+fn print_force_stages(breakdown: &[(f64, softgrip_core::bench::BenchRun)]) {
+    use softgrip_core::step::assemble::Stage;
+    let ran: Vec<usize> = (0..Stage::ALL.len())
+        .filter(|&k| breakdown.iter().any(|(_, r)| r.stages.stages[k] > 0.0))
+        .collect();
+    let names: Vec<&str> = ran.iter().map(|&k| Stage::ALL[k].name()).collect();
+    println!();
+    println!("| edge (mm) | {} |", names.join(" | "));
+    println!("|---|{}", "---|".repeat(ran.len()));
+    for (e, r) in breakdown {
+        let ms: Vec<String> = ran
+            .iter()
+            .map(|&k| format!("{:.3}", 1e3 * r.stages.stages[k] / r.steps as f64))
+            .collect();
+        println!("| {e:.1} | {} |", ms.join(" | "));
+    }
+    println!("(ms per step in each force stage, both threads)");
 }
 
 /// The cost of each physics option on the thesis scene.

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
+use softgrip_lab::json::commands::{CheckFigures, CheckMeshFigures, CheckModelFigures};
 
 use super::load::{load_scene, simulation};
 
@@ -56,26 +57,26 @@ pub fn run(args: Args) -> Result<()> {
     println!("scene is valid");
     if let Some(path) = &args.json {
         let stats = mesh.stats();
-        let value = serde_json::json!({
-            "defaults_applied": scene.defaults_applied,
-            "mesh": {
-                "nodes": stats.nodes,
-                "tetrahedra": stats.tets,
-                "boundary_facets": stats.boundary_facets,
-                "volume_m3": stats.volume,
-                "min_edge_m": stats.min_edge,
-                "max_edge_m": stats.max_edge,
-                "worst_quality": stats.worst_quality,
+        let figures = CheckFigures {
+            defaults_applied: scene.defaults_applied.clone(),
+            mesh: CheckMeshFigures {
+                nodes: stats.nodes,
+                tetrahedra: stats.tets,
+                boundary_facets: stats.boundary_facets,
+                volume_m3: stats.volume,
+                min_edge_m: stats.min_edge,
+                max_edge_m: stats.max_edge,
+                worst_quality: stats.worst_quality,
             },
-            "model": {
-                "springs": m.springs.len(),
-                "mass_kg": m.total_mass(),
-                "pinned_particles": m.fixed.iter().filter(|f| **f).count(),
-                "fingers": m.fingers.len(),
+            model: CheckModelFigures {
+                springs: m.springs.len(),
+                mass_kg: m.total_mass(),
+                pinned_particles: m.fixed.iter().filter(|f| **f).count(),
+                fingers: m.fingers.len(),
             },
-            "warnings": warning.into_iter().collect::<Vec<_>>(),
-        });
-        super::figures::write_json_line(path, &value)?;
+            warnings: warning.into_iter().collect(),
+        };
+        super::figures::write_json_line(path, &serde_json::to_value(&figures)?)?;
     }
     Ok(())
 }

@@ -90,48 +90,27 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(b) = balance {
         println!("force balance: weight / squeeze = {b:.4} (the least friction that can hold it)");
     }
-    let mut found = None;
-    if boundary {
-        let high = (2.0 * friction).max(1.0);
-        let bar = progress_bar(1, "lifts");
-        bar.set_message("bisecting the friction");
-        let b = grasp::boundary_friction(scene, options, (0.0, high), 0.002, |done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        })?;
-        bar.finish_and_clear();
-        print!(
-            "boundary friction {:.4} (dropped at {:.4}, held at {:.4}; {} lifts)",
-            b.estimate(),
-            b.dropped,
-            b.held,
-            b.tries.len()
-        );
-        match balance {
-            Some(bal) => println!(
-                "; force balance {bal:.4} ({:+.1} %)",
-                100.0 * (b.estimate() / bal - 1.0)
-            ),
-            None => println!(),
-        }
-        found = Some(b);
-    }
+    let found = if boundary {
+        Some(find_boundary(scene, options, friction, balance)?)
+    } else {
+        None
+    };
     if let Some(path) = json {
-        let value = serde_json::json!({
-            "friction": friction,
-            "lift_end_s": end,
-            "finger_rise_m": run.finger_rise,
-            "object_rise_m": run.object_rise,
-            "hold_s": hold,
-            "hold_slip_m": run.hold_slip,
-            "slip_bound_m": slip_bound,
-            "off_table": run.off_table,
-            "held": run.held,
-            "force_balance_friction": balance,
-            "boundary_friction": found.as_ref().map(|b| b.estimate()),
-            "boundary_tries": found.as_ref().map(|b| &b.tries),
-        });
-        write_json_line(path, &value)?;
+        let figures = softgrip_lab::json::commands::GraspFigures {
+            friction,
+            lift_end_s: end,
+            finger_rise_m: run.finger_rise,
+            object_rise_m: run.object_rise,
+            hold_s: hold,
+            hold_slip_m: run.hold_slip,
+            slip_bound_m: slip_bound,
+            off_table: run.off_table,
+            held: run.held,
+            force_balance_friction: balance,
+            boundary_friction: found.as_ref().map(|b| b.estimate()),
+            boundary_tries: found.as_ref().map(|b| b.tries.clone()),
+        };
+        write_json_line(path, &serde_json::to_value(&figures)?)?;
     }
     // Scripts tell the three apart without parsing the text.
     match (run.held, run.off_table) {
@@ -139,6 +118,39 @@ pub fn run(args: Args) -> Result<()> {
         (false, true) => Err(super::errors::Outcome(SLIPPING).into()),
         (false, false) => Err(super::errors::Outcome(DROPPED).into()),
     }
+}
+
+/// `--boundary`: the least friction that holds, bisected in `[0, max(2 friction, 1)]` with a
+/// progress bar, printed with its distance from the force balance's.
+fn find_boundary(
+    scene: &softgrip_core::Scene,
+    options: GraspOptions,
+    friction: f64,
+    balance: Option<f64>,
+) -> Result<grasp::Boundary> {
+    let high = (2.0 * friction).max(1.0);
+    let bar = progress_bar(1, "lifts");
+    bar.set_message("bisecting the friction");
+    let b = grasp::boundary_friction(scene, options, (0.0, high), 0.002, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    print!(
+        "boundary friction {:.4} (dropped at {:.4}, held at {:.4}; {} lifts)",
+        b.estimate(),
+        b.dropped,
+        b.held,
+        b.tries.len()
+    );
+    match balance {
+        Some(bal) => println!(
+            "; force balance {bal:.4} ({:+.1} %)",
+            100.0 * (b.estimate() / bal - 1.0)
+        ),
+        None => println!(),
+    }
+    Ok(b)
 }
 
 /// The exit code of a lift that is still off the table but slid past the bound ...

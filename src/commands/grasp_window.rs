@@ -1,5 +1,7 @@
 //! `softgrip grasp window SCENE`: the least squeeze that lifts the object and holds it through
 //! the lift, the most before a damage measure reaches its limit, and the window between.
+// The options' doc comments are the command's help, where `[grasp]` names the scene's table.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 use std::path::PathBuf;
 

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use softgrip_core::mesh::{TetMesh, checks, io};
 use softgrip_core::scene::Scene;
+use softgrip_lab::json::commands::{MeshFigures, SurfaceFigures, TetMeshFigures};
 
 /// Mesh files: figures, conversion, and the mesh a scene uses.
 #[derive(clap::Args)]
@@ -31,7 +32,7 @@ enum Action {
         input: PathBuf,
         output: PathBuf,
         #[arg(long, value_enum)]
-        format: Option<io::Format>,
+        format: Option<super::values::MeshFormat>,
     },
     /// Write the mesh a scene uses (built-in shapes meshed at their edge
     /// length; mesh files checked, scaled and placed).
@@ -39,7 +40,7 @@ enum Action {
         scene: PathBuf,
         output: PathBuf,
         #[arg(long, value_enum)]
-        format: Option<io::Format>,
+        format: Option<super::values::MeshFormat>,
     },
 }
 
@@ -105,12 +106,12 @@ pub fn run(args: Args) -> Result<()> {
             input,
             output,
             format,
-        } => convert(&input, &output, format),
+        } => convert(&input, &output, format.map(|f| f.0)),
         Action::Make {
             scene,
             output,
             format,
-        } => make(&scene, &output, format),
+        } => make(&scene, &output, format.map(|f| f.0)),
     }
 }
 
@@ -134,15 +135,15 @@ fn info_surface(file: &Path, json: Option<&Path>) -> Result<()> {
     softgrip_core::mesh::surface::check(&surface, &file.display().to_string())?;
     println!("  closed, consistently oriented, outward, not self-intersecting");
     if let Some(path) = json {
-        let value = serde_json::json!({
-            "file": file.display().to_string(),
-            "surface": true,
-            "triangles": surface.triangles.len(),
-            "vertices": surface.vertices.len(),
-            "volume_m3": surface.volume(),
-            "mean_edge_m": surface.mean_edge(),
+        let figures = MeshFigures::Surface(SurfaceFigures {
+            file: file.display().to_string(),
+            surface: true,
+            triangles: surface.triangles.len(),
+            vertices: surface.vertices.len(),
+            volume_m3: surface.volume(),
+            mean_edge_m: surface.mean_edge(),
         });
-        super::figures::write_json_line(path, &value)?;
+        super::figures::write_json_line(path, &serde_json::to_value(&figures)?)?;
     }
     Ok(())
 }
@@ -194,21 +195,26 @@ fn info_tets(file: &Path, json: Option<&Path>) -> Result<()> {
     println!("  worst aspect ratio (longest edge / smallest height): {aspect:.2}");
     println!("  connected parts: {}", report.parts);
     if let Some(path) = json {
-        let value = serde_json::json!({
-            "file": file.display().to_string(),
-            "nodes": stats.nodes,
-            "tetrahedra": stats.tets,
-            "boundary_facets": stats.boundary_facets,
-            "volume_m3": stats.volume,
-            "bounds_m": [lo.to_array(), hi.to_array()],
-            "min_edge_m": stats.min_edge,
-            "max_edge_m": stats.max_edge,
-            "smallest_dihedral_deg": angle,
-            "worst_aspect_ratio": aspect,
-            "connected_parts": report.parts,
-            "warnings": imported.warnings.iter().chain(&report.warnings).collect::<Vec<_>>(),
+        let figures = MeshFigures::Tetrahedra(TetMeshFigures {
+            file: file.display().to_string(),
+            nodes: stats.nodes,
+            tetrahedra: stats.tets,
+            boundary_facets: stats.boundary_facets,
+            volume_m3: stats.volume,
+            bounds_m: [lo.to_array(), hi.to_array()],
+            min_edge_m: stats.min_edge,
+            max_edge_m: stats.max_edge,
+            smallest_dihedral_deg: angle,
+            worst_aspect_ratio: aspect,
+            connected_parts: report.parts,
+            warnings: imported
+                .warnings
+                .iter()
+                .chain(&report.warnings)
+                .cloned()
+                .collect(),
         });
-        super::figures::write_json_line(path, &value)?;
+        super::figures::write_json_line(path, &serde_json::to_value(&figures)?)?;
     }
     Ok(())
 }

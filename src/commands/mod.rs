@@ -32,6 +32,7 @@ mod scene;
 mod screenshot;
 mod sweep;
 mod synth;
+mod values;
 #[cfg(feature = "gui")]
 mod view;
 

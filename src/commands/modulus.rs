@@ -55,16 +55,16 @@ pub fn run(args: Args) -> Result<()> {
         wrote(&softgrip_lab::report::modulus(&dir, &recording, &fit)?);
     }
     if let Some(json) = json {
-        let value = serde_json::json!({
-            "recording": path.display().to_string(),
-            "young_modulus": fit.young_modulus,
-            "young_modulus_range": [fit.e_range.0, fit.e_range.1],
-            "r_squared": fit.r_squared,
-            "strain_range": [fit.strain_range.0, fit.strain_range.1],
-            "points": fit.points,
-            "intercept_pa": fit.intercept,
-        });
-        write_json(json, &value)?;
+        let figures = softgrip_lab::json::commands::ModulusFigures {
+            recording: path.display().to_string(),
+            young_modulus: fit.young_modulus,
+            young_modulus_range: [fit.e_range.0, fit.e_range.1],
+            r_squared: fit.r_squared,
+            strain_range: [fit.strain_range.0, fit.strain_range.1],
+            points: fit.points,
+            intercept_pa: fit.intercept,
+        };
+        write_json(json, &serde_json::to_value(&figures)?)?;
     }
     Ok(())
 }

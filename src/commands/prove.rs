@@ -50,9 +50,45 @@ pub struct Args {
     region_scan: bool,
 }
 
+/// `softgrip prove`: for each seed, the suite's cases made and diagnosed blind, the report
+/// rewritten after each case (marked partial), then written whole and printed.
 pub fn run(args: Args) -> Result<()> {
     let (out, only, report) = (&args.out, &args.only, &args.report);
-    let options = &softgrip_lab::prove::ProveOptions {
+    let options = &prove_options(&args)?;
+    super::outputs::Outputs::new()
+        .dir("--out", Some(out))
+        .file("--report", Some(report))
+        .check()?;
+    let seeds = if args.seed.is_empty() {
+        softgrip_lab::prove::SCORED_SEEDS.to_vec()
+    } else {
+        args.seed.clone()
+    };
+    let proof = Proof {
+        args: &args,
+        options,
+        models: baseline_models(&args.model),
+        seed_count: seeds.len(),
+    };
+    let mut outcomes = Vec::new();
+    for (k, seed) in seeds.into_iter().enumerate() {
+        let found = proof.seed(k, seed, &outcomes);
+        outcomes.extend(found);
+    }
+    anyhow::ensure!(
+        !outcomes.is_empty(),
+        "--only {only:?}: no case of the suite matches"
+    );
+    let text = softgrip_lab::prove::report(&outcomes, options);
+    std::fs::write(report, &text).with_context(|| format!("cannot write {}", report.display()))?;
+    print!("{text}");
+    Ok(())
+}
+
+/// The lab's options of the proof from `--e-measured-within` and `--truth-edge-length` (both
+/// checked), this build's commit and its name for the checkpoints.
+fn prove_options(args: &Args) -> Result<softgrip_lab::prove::ProveOptions> {
+    let options = softgrip_lab::prove::ProveOptions {
         e_measured_within: args.e_measured_within,
         truth_edge_length: args.truth_edge_length,
         commit: Some(env!("SOFTGRIP_COMMIT")),
@@ -71,18 +107,14 @@ pub fn run(args: Args) -> Result<()> {
             "--truth-edge-length {h}: give an edge length in metres between 0.002 and 0.01 (the suite's is 0.002, the diagnosis's 0.004)"
         );
     }
-    super::outputs::Outputs::new()
-        .dir("--out", Some(out))
-        .file("--report", Some(report))
-        .check()?;
-    let seeds = if args.seed.is_empty() {
-        softgrip_lab::prove::SCORED_SEEDS.to_vec()
-    } else {
-        args.seed.clone()
-    };
+    Ok(options)
+}
+
+/// The baseline models of `--model` (unknown names skipped, repeats in a row dropped); all of
+/// them when none is given.
+fn baseline_models(names: &[String]) -> Vec<softgrip_lab::diagnose::BaselineModel> {
     use softgrip_lab::diagnose::BaselineModel;
-    let mut models: Vec<BaselineModel> = args
-        .model
+    let mut models: Vec<BaselineModel> = names
         .iter()
         .filter_map(|m| BaselineModel::from_name(m))
         .collect();
@@ -90,14 +122,38 @@ pub fn run(args: Args) -> Result<()> {
         models = BaselineModel::ALL.to_vec();
     }
     models.dedup();
-    let mut outcomes = Vec::new();
-    let seed_count = seeds.len();
-    for (k, seed) in seeds.into_iter().enumerate() {
+    models
+}
+
+/// What every seed of the proof shares.
+struct Proof<'a> {
+    /// The command's arguments.
+    args: &'a Args,
+    /// The lab's options of the proof.
+    options: &'a softgrip_lab::prove::ProveOptions,
+    /// The models each case is diagnosed from.
+    models: Vec<softgrip_lab::diagnose::BaselineModel>,
+    /// How many seeds the proof runs.
+    seed_count: usize,
+}
+
+impl Proof<'_> {
+    /// The outcomes of seed `seed` (the `k`th, from 0), each case's printed as it ends and the
+    /// partial report rewritten after it, with the outcomes of the seeds before it
+    /// (`before_seeds`).
+    fn seed(
+        &self,
+        k: usize,
+        seed: u64,
+        before_seeds: &[softgrip_lab::prove::Outcome],
+    ) -> Vec<softgrip_lab::prove::Outcome> {
+        let (args, options, models) = (self.args, self.options, &self.models);
+        let (seed_count, report) = (self.seed_count, &args.report);
         let bar = progress_bar(1, "recordings");
-        let before = outcomes.len();
+        let before = before_seeds.len();
         // The report so far after each case, marked as such: a run of hours is read as it goes.
         let mut partial = |so_far: &[softgrip_lab::prove::Outcome], cases: usize| {
-            let mut all = outcomes.clone();
+            let mut all = before_seeds.to_vec();
             all.extend_from_slice(so_far);
             // The last case's outcomes: one per model.
             for o in &so_far[so_far.len().saturating_sub(models.len())..] {
@@ -127,11 +183,11 @@ pub fn run(args: Args) -> Result<()> {
             // The final write below reports an unwritable path; a partial one need not.
             let _ = std::fs::write(report, text);
         };
-        outcomes.extend(softgrip_lab::prove::run(
-            out,
+        let found = softgrip_lab::prove::run(
+            &args.out,
             seed,
-            only,
-            &models,
+            &args.only,
+            models,
             &softgrip_lab::diagnose::DiagnoseOptions {
                 region_scan: args.region_scan,
                 ..Default::default()
@@ -139,15 +195,8 @@ pub fn run(args: Args) -> Result<()> {
             options,
             &show_stages(&bar),
             &mut partial,
-        ));
+        );
         bar.finish_and_clear();
+        found
     }
-    anyhow::ensure!(
-        !outcomes.is_empty(),
-        "--only {only:?}: no case of the suite matches"
-    );
-    let text = softgrip_lab::prove::report(&outcomes, options);
-    std::fs::write(report, &text).with_context(|| format!("cannot write {}", report.display()))?;
-    print!("{text}");
-    Ok(())
 }

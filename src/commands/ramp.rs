@@ -49,6 +49,8 @@ struct Row {
 const CSV_HEADER: &str =
     "load_n,indentation_m,contact_force_n,penetration_m,volume_error,inverted_elements,to_rest";
 
+/// `softgrip ramp`: each load in turn on the scene's first force-controlled finger, brought to
+/// rest, a table row printed per load; with `--csv` and `--json` the table written.
 pub fn run(args: Args) -> Result<()> {
     let (loads, max_seconds, rest_speed) = (&args.loads, args.max_seconds, args.rest_speed);
     if let Some(bad) = loads.iter().find(|l| **l < 0.0) {
@@ -63,17 +65,7 @@ pub fn run(args: Args) -> Result<()> {
         .file("--json", args.json.as_deref())
         .check()?;
     let mut sim = simulation(&scene)?;
-    let Some(k) = sim.load_finger() else {
-        anyhow::bail!(
-            "the scene has no force-controlled finger to load; add a [[finger]] with control = \"force\""
-        );
-    };
-    if sim.model.fingers[k].load_direction == glam::DVec3::ZERO {
-        anyhow::bail!(
-            "finger {} has force = [0, 0, 0], so the load has no direction; give it a force (e.g. [0, 0, -1]) and, for a pure load, mass = 0",
-            k + 1
-        );
-    }
+    let k = loaded_finger(&sim)?;
     let tol = softgrip_core::quasi_static::RestTolerance {
         speed: rest_speed,
         consecutive_steps: 20,
@@ -94,47 +86,7 @@ pub fn run(args: Args) -> Result<()> {
     println!("|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();
     for &load in loads {
-        let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
-        sim.set_load(k, load);
-        let bar = progress_bar((max_seconds / sim.model.dt) as u64, "steps");
-        bar.set_message(format!("load {load} N"));
-        let rest = match settle {
-            Settle::Dynamic => sim
-                .settle(tol, |s| bar.set_position(s))
-                .map(|r| r.steps.to_string()),
-            Settle::Static => sim
-                .settle_to_equilibrium(&from, Default::default(), tol, |s| bar.set_position(s))
-                .map(|r| match r {
-                    Settled::Static(r) => format!("{} Newton iterations", r.iterations),
-                    Settled::Dynamic { rest, stalled } => format!(
-                        "Newton {}, then {} time steps",
-                        if stalled {
-                            "stalled"
-                        } else {
-                            "did not converge"
-                        },
-                        rest.steps
-                    ),
-                }),
-        };
-        bar.finish_and_clear();
-        let f = sim.state.fingers[k];
-        let rest = match rest {
-            Ok(r) => r,
-            Err(softgrip_core::SimError::NoRest { max_speed, .. }) => {
-                format!("not at rest (speed {max_speed:.1e} m/s)")
-            }
-            Err(e) => return Err(e.into()),
-        };
-        let row = Row {
-            load,
-            indentation: sim.indentation(k),
-            contact_force: -f.contact_force.dot(sim.model.fingers[k].load_direction),
-            penetration: f.max_penetration,
-            volume_error: sim.state.stats.volume_error,
-            inverted: sim.state.inverted_elements(&sim.model),
-            rest,
-        };
+        let row = rest_at(&mut sim, k, load, settle, tol, max_seconds)?;
         println!(
             "| {load} | {:.3} | {:.4} | {:.3} | {:.2e} | {} | {} |",
             row.indentation * 1e3,
@@ -147,38 +99,118 @@ pub fn run(args: Args) -> Result<()> {
         rows.push(row);
     }
     if let Some(path) = &args.csv {
-        let mut text = format!("{CSV_HEADER}\n");
-        for r in &rows {
-            text.push_str(&format!(
-                "{},{:e},{:e},{:e},{:e},{},\"{}\"\n",
-                r.load,
-                r.indentation,
-                r.contact_force,
-                r.penetration,
-                r.volume_error,
-                r.inverted,
-                r.rest
-            ));
-        }
-        std::fs::write(path, text)
-            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+        write_csv(path, &rows)?;
     }
     if let Some(path) = &args.json {
-        let rows: Vec<_> = rows
-            .iter()
-            .map(|r| {
-                serde_json::json!({
-                    "load_n": r.load,
-                    "indentation_m": r.indentation,
-                    "contact_force_n": r.contact_force,
-                    "penetration_m": r.penetration,
-                    "volume_error": r.volume_error,
-                    "inverted_elements": r.inverted,
-                    "to_rest": r.rest,
-                })
-            })
-            .collect();
-        super::figures::write_json_line(path, &serde_json::json!({ "loads": rows }))?;
+        write_json(path, &rows)?;
     }
     Ok(())
+}
+
+/// The finger the loads go on: the first force-controlled one, which must have a load
+/// direction.
+fn loaded_finger(sim: &softgrip_core::Simulation) -> Result<usize> {
+    let Some(k) = sim.load_finger() else {
+        anyhow::bail!(
+            "the scene has no force-controlled finger to load; add a [[finger]] with control = \"force\""
+        );
+    };
+    if sim.model.fingers[k].load_direction == glam::DVec3::ZERO {
+        anyhow::bail!(
+            "finger {} has force = [0, 0, 0], so the load has no direction; give it a force (e.g. [0, 0, -1]) and, for a pure load, mass = 0",
+            k + 1
+        );
+    }
+    Ok(k)
+}
+
+/// Sets finger `k`'s load to `load` (N), brings the run to rest as `settle` says (time steps
+/// within `max_seconds` simulated, or Newton), and reads its row.
+fn rest_at(
+    sim: &mut softgrip_core::Simulation,
+    k: usize,
+    load: f64,
+    settle: Settle,
+    tol: softgrip_core::quasi_static::RestTolerance,
+    max_seconds: f64,
+) -> Result<Row> {
+    let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
+    sim.set_load(k, load);
+    let bar = progress_bar((max_seconds / sim.model.dt) as u64, "steps");
+    bar.set_message(format!("load {load} N"));
+    let rest = match settle {
+        Settle::Dynamic => sim
+            .settle(tol, |s| bar.set_position(s))
+            .map(|r| r.steps.to_string()),
+        Settle::Static => sim
+            .settle_to_equilibrium(&from, Default::default(), tol, |s| bar.set_position(s))
+            .map(|r| match r {
+                Settled::Static(r) => format!("{} Newton iterations", r.iterations),
+                Settled::Dynamic { rest, stalled } => format!(
+                    "Newton {}, then {} time steps",
+                    if stalled {
+                        "stalled"
+                    } else {
+                        "did not converge"
+                    },
+                    rest.steps
+                ),
+            }),
+    };
+    bar.finish_and_clear();
+    let f = sim.state.fingers[k];
+    let rest = match rest {
+        Ok(r) => r,
+        Err(softgrip_core::SimError::NoRest { max_speed, .. }) => {
+            format!("not at rest (speed {max_speed:.1e} m/s)")
+        }
+        Err(e) => return Err(e.into()),
+    };
+    Ok(Row {
+        load,
+        indentation: sim.indentation(k),
+        contact_force: -f.contact_force.dot(sim.model.fingers[k].load_direction),
+        penetration: f.max_penetration,
+        volume_error: sim.state.stats.volume_error,
+        inverted: sim.state.inverted_elements(&sim.model),
+        rest,
+    })
+}
+
+/// Writes the table as CSV (`--csv`), SI units.
+fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<()> {
+    let mut text = format!("{CSV_HEADER}\n");
+    for r in rows {
+        text.push_str(&format!(
+            "{},{:e},{:e},{:e},{:e},{},\"{}\"\n",
+            r.load,
+            r.indentation,
+            r.contact_force,
+            r.penetration,
+            r.volume_error,
+            r.inverted,
+            r.rest
+        ));
+    }
+    std::fs::write(path, text)
+        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    Ok(())
+}
+
+/// Writes the table as JSON (`--json`), SI units.
+fn write_json(path: &std::path::Path, rows: &[Row]) -> Result<()> {
+    use softgrip_lab::json::commands::{RampFigures, RampRowFigures};
+    let loads = rows
+        .iter()
+        .map(|r| RampRowFigures {
+            load_n: r.load,
+            indentation_m: r.indentation,
+            contact_force_n: r.contact_force,
+            penetration_m: r.penetration,
+            volume_error: r.volume_error,
+            inverted_elements: r.inverted,
+            to_rest: r.rest.clone(),
+        })
+        .collect();
+    super::figures::write_json_line(path, &serde_json::to_value(&RampFigures { loads })?)
 }

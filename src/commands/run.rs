@@ -29,7 +29,7 @@ pub struct Args {
     /// With --out: also write each frame's deformed surface
     /// (surface_NNNNN.stl or .obj).
     #[arg(long, value_enum, requires = "out")]
-    surface: Option<softgrip_core::output::surface::SurfaceFormat>,
+    surface: Option<super::values::SurfaceFormat>,
     /// Fail (exit 1) when a physical check finds the result unphysical (a finger through the
     /// object, a load not carried, spring limits not held, energy gained, elements inside
     /// out); without it they are warnings.
@@ -68,9 +68,11 @@ const MAX_STEPS: f64 = 1e7;
 /// Frames a `run --out` may write.
 const MAX_FRAMES: f64 = 1e5;
 
+/// `softgrip run`: steps the scene to the end, then prints (and with `--json` writes) its
+/// figures and warnings; `--strict` turns the warnings into a failure.
 pub fn run(args: Args) -> Result<()> {
     let (scene_path, out) = (args.scene.as_deref(), args.out.as_deref());
-    let (duration, fps, surface) = (args.duration, args.fps, args.surface);
+    let (duration, fps, surface) = (args.duration, args.fps, args.surface.map(|f| f.0));
     let scene = load_scene(scene_path)?;
     super::outputs::Outputs::new()
         .scene(&scene)
@@ -91,21 +93,7 @@ pub fn run(args: Args) -> Result<()> {
         sim.model.dt,
         duration
     );
-    // A run of years or of a million frames is a typo, not a job: say so before it fills the disk.
-    let steps = duration / sim.model.dt;
-    anyhow::ensure!(
-        steps <= MAX_STEPS,
-        "{duration} s to simulate is {steps:.1e} steps of dt = {} s, more than {MAX_STEPS:.0e}: give a shorter --duration (or the scene's [simulation] duration)",
-        sim.model.dt
-    );
-    if out.is_some() {
-        let frames = duration * fps.min(1.0 / sim.model.dt);
-        anyhow::ensure!(
-            frames <= MAX_FRAMES,
-            "--out would write {frames:.0} frames ({duration} s at {fps} frames/s), more than {MAX_FRAMES:.0}: give a lower --fps or a shorter --duration"
-        );
-    }
-    let steps = steps.round() as u64;
+    let steps = step_count(&sim, duration, fps, out.is_some())?;
     let frame_every = ((1.0 / fps.max(1e-9)) / sim.model.dt).round().max(1.0) as u64;
     let mut writer = match out {
         Some(dir) => {
@@ -119,6 +107,91 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => None,
     };
+    let ran = step_all(&mut sim, &scene, &name, steps, frame_every, &mut writer)?;
+
+    let st = sim.state.stats;
+    println!(
+        "t = {:.3} s after {} steps in {:.2} s wall ({:.2} x real time)",
+        sim.state.time,
+        sim.state.step,
+        sim.wall_seconds,
+        sim.state.time / sim.wall_seconds.max(1e-12)
+    );
+    let untouched = print_fingers(&sim, &ran.touched);
+    println!(
+        "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J; top particle speed {:.1e} m/s",
+        st.volume_error, st.contacts, st.limit_violation, st.energy, st.max_speed
+    );
+    let (warnings, inverted) = warnings(&scene, &sim, ran.watch, untouched);
+    for w in &warnings {
+        println!("warning: {w}");
+    }
+    println!(
+        "solver: {:.1} CG iterations per step on average, last residual {:.2e}",
+        ran.cg_total as f64 / steps.max(1) as f64,
+        st.cg_residual
+    );
+    if let Some(w) = writer {
+        let pvd = w.finish()?;
+        println!("wrote {} (open in ParaView) and fingers.csv", pvd.display());
+    }
+    if let Some(path) = &args.json {
+        write_json(path, &name, &sim, inverted, &warnings)?;
+    }
+    anyhow::ensure!(
+        !args.strict || warnings.is_empty(),
+        "--strict: {} physical check(s) failed (the warnings above)",
+        warnings.len()
+    );
+    Ok(())
+}
+
+/// The time steps to `duration`, refused where they (or, with `--out`, the frames at `fps`)
+/// would be more than a run may take.
+fn step_count(
+    sim: &softgrip_core::Simulation,
+    duration: f64,
+    fps: f64,
+    writes_frames: bool,
+) -> Result<u64> {
+    // A run of years or of a million frames is a typo, not a job: say so before it fills the disk.
+    let steps = duration / sim.model.dt;
+    anyhow::ensure!(
+        steps <= MAX_STEPS,
+        "{duration} s to simulate is {steps:.1e} steps of dt = {} s, more than {MAX_STEPS:.0e}: give a shorter --duration (or the scene's [simulation] duration)",
+        sim.model.dt
+    );
+    if writes_frames {
+        let frames = duration * fps.min(1.0 / sim.model.dt);
+        anyhow::ensure!(
+            frames <= MAX_FRAMES,
+            "--out would write {frames:.0} frames ({duration} s at {fps} frames/s), more than {MAX_FRAMES:.0}: give a lower --fps or a shorter --duration"
+        );
+    }
+    Ok(steps.round() as u64)
+}
+
+/// What stepping the whole run gathered beside the state.
+struct Ran {
+    /// CG iterations summed over the steps.
+    cg_total: u64,
+    /// The physical checks, fed every step that succeeded.
+    watch: softgrip_core::watch::Watch,
+    /// Whether each finger touched the object at any step.
+    touched: Vec<bool>,
+}
+
+/// Takes `steps` time steps with the progress bar, writing a frame every `frame_every` and at
+/// the end; on a failure, writes what was computed (the failing state last) and returns the
+/// error with its advice checked.
+fn step_all(
+    sim: &mut softgrip_core::Simulation,
+    scene: &softgrip_core::Scene,
+    name: &str,
+    steps: u64,
+    frame_every: u64,
+    writer: &mut Option<TrajectoryWriter>,
+) -> Result<Ran> {
     let bar = progress_bar(steps, "steps");
     let mut cg_total = 0u64;
     let mut watch = softgrip_core::watch::Watch::new();
@@ -141,7 +214,7 @@ pub fn run(args: Args) -> Result<()> {
                     pvd.display()
                 );
             }
-            let e = check_the_advice(&scene, e);
+            let e = check_the_advice(scene, e);
             return Err(e).with_context(|| format!("while running {name}"));
         }
         for (t, f) in touched.iter_mut().zip(&sim.state.fingers) {
@@ -160,15 +233,17 @@ pub fn run(args: Args) -> Result<()> {
         bar.inc(1);
     }
     bar.finish_and_clear();
+    Ok(Ran {
+        cg_total,
+        watch,
+        touched,
+    })
+}
 
-    let st = sim.state.stats;
-    println!(
-        "t = {:.3} s after {} steps in {:.2} s wall ({:.2} x real time)",
-        sim.state.time,
-        sim.state.step,
-        sim.wall_seconds,
-        sim.state.time / sim.wall_seconds.max(1e-12)
-    );
+/// Prints each finger's line: how far it moved and, if it `touched` the object, its
+/// indentation, contact force and deepest penetration. Returns the fingers (from 1) that never
+/// touched it.
+fn print_fingers(sim: &softgrip_core::Simulation, touched: &[bool]) -> Vec<usize> {
     let mut untouched = Vec::new();
     for (k, f) in sim.state.fingers.iter().enumerate() {
         let moved = f.position - sim.model.fingers[k].initial_position;
@@ -197,15 +272,23 @@ pub fn run(args: Args) -> Result<()> {
             f.max_penetration * 1e3
         );
     }
-    println!(
-        "volume error {:.3e} (|V - V0| / V0); contacts {}; spring-limit violation {:.2e}; energy {:.4e} J; top particle speed {:.1e} m/s",
-        st.volume_error, st.contacts, st.limit_violation, st.energy, st.max_speed
-    );
+    untouched
+}
+
+/// The run's warnings: the physical checks' findings (a tunnelling one with its smaller `dt`
+/// checked), the `untouched` fingers that did not pass through, and elements inside out; and
+/// the count of those elements.
+fn warnings(
+    scene: &softgrip_core::Scene,
+    sim: &softgrip_core::Simulation,
+    mut watch: softgrip_core::watch::Watch,
+    untouched: Vec<usize>,
+) -> (Vec<String>, usize) {
     let findings = watch.finish(&sim.model, &sim.state);
     let mut warnings: Vec<String> = findings
         .iter()
         .map(|f| match f.try_dt {
-            Some(dt) => format!("{} {}", f.message, check_tunnelling(&scene, f, dt)),
+            Some(dt) => format!("{} {}", f.message, check_tunnelling(scene, f, dt)),
             None => f.message.clone(),
         })
         .collect();
@@ -237,56 +320,47 @@ pub fn run(args: Args) -> Result<()> {
             sim.model.tets.len(),
         ));
     }
-    for w in &warnings {
-        println!("warning: {w}");
-    }
-    println!(
-        "solver: {:.1} CG iterations per step on average, last residual {:.2e}",
-        cg_total as f64 / steps.max(1) as f64,
-        st.cg_residual
-    );
-    if let Some(w) = writer {
-        let pvd = w.finish()?;
-        println!("wrote {} (open in ParaView) and fingers.csv", pvd.display());
-    }
-    if let Some(path) = &args.json {
-        let fingers: Vec<_> = sim
-            .state
-            .fingers
-            .iter()
-            .enumerate()
-            .map(|(k, f)| {
-                serde_json::json!({
-                    "finger": k + 1,
-                    "indentation_m": sim.indentation(k),
-                    "moved_m": (f.position - sim.model.fingers[k].initial_position).to_array(),
-                    "contact_force_n": f.contact_force.to_array(),
-                    "normal_force_n": f.normal_force,
-                    "penetration_m": f.max_penetration,
-                })
-            })
-            .collect();
-        let value = serde_json::json!({
-            "scene": name,
-            "time_s": sim.state.time,
-            "steps": sim.state.step,
-            "wall_s": sim.wall_seconds,
-            "fingers": fingers,
-            "volume_error": st.volume_error,
-            "contacts": st.contacts,
-            "limit_violation": st.limit_violation,
-            "energy_j": st.energy,
-            "inverted_elements": inverted,
-            "warnings": warnings,
-        });
-        super::figures::write_json_line(path, &value)?;
-    }
-    anyhow::ensure!(
-        !args.strict || warnings.is_empty(),
-        "--strict: {} physical check(s) failed (the warnings above)",
-        warnings.len()
-    );
-    Ok(())
+    (warnings, inverted)
+}
+
+/// Writes `--json`: the end figures (SI units), each finger's, and the warnings.
+fn write_json(
+    path: &std::path::Path,
+    name: &str,
+    sim: &softgrip_core::Simulation,
+    inverted: usize,
+    warnings: &[String],
+) -> Result<()> {
+    use softgrip_lab::json::commands::{RunFigures, RunFingerFigures};
+    let st = sim.state.stats;
+    let fingers = sim
+        .state
+        .fingers
+        .iter()
+        .enumerate()
+        .map(|(k, f)| RunFingerFigures {
+            finger: k + 1,
+            indentation_m: sim.indentation(k),
+            moved_m: (f.position - sim.model.fingers[k].initial_position).to_array(),
+            contact_force_n: f.contact_force.to_array(),
+            normal_force_n: f.normal_force,
+            penetration_m: f.max_penetration,
+        })
+        .collect();
+    let figures = RunFigures {
+        scene: name.to_string(),
+        time_s: sim.state.time,
+        steps: sim.state.step,
+        wall_s: sim.wall_seconds,
+        fingers,
+        volume_error: st.volume_error,
+        contacts: st.contacts,
+        limit_violation: st.limit_violation,
+        energy_j: st.energy,
+        inverted_elements: inverted,
+        warnings: warnings.to_vec(),
+    };
+    super::figures::write_json_line(path, &serde_json::to_value(&figures)?)
 }
 
 /// Steps a check of a smaller `dt` may take.

@@ -23,12 +23,12 @@ pub struct Args {
     /// Image size, WIDTHxHEIGHT in pixels.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     size: (u32, u32),
-    #[arg(long, value_enum, default_value_t = softgrip_viewer::render::View::Iso)]
-    view: softgrip_viewer::render::View,
+    #[arg(long, value_enum, default_value_t = super::values::View(softgrip_viewer::render::View::Iso))]
+    view: super::values::View,
     /// Colour the object by a field, with a colour bar at the right
     /// (its range is printed).
     #[arg(long, value_enum)]
-    color: Option<softgrip_core::fields::Field>,
+    color: Option<super::values::Field>,
     /// Draw the springs as lines.
     #[arg(long)]
     wireframe: bool,
@@ -44,7 +44,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let style = softgrip_viewer::render::Style {
-        color_by: args.color,
+        color_by: args.color.map(|f| f.0),
         wireframe: args.wireframe,
         surface: !args.no_surface,
         cut: args.cut,
@@ -57,7 +57,7 @@ pub fn run(args: Args) -> Result<()> {
         args.at,
         &args.out,
         args.size,
-        args.view,
+        args.view.0,
         &style,
     )
 }
@@ -96,7 +96,7 @@ fn render(
         "{}: {width}x{height}, t = {:.3} s, view {}",
         out.display(),
         sim.state.time,
-        clap::ValueEnum::to_possible_value(&view)
+        clap::ValueEnum::to_possible_value(&super::values::View(view))
             .map_or_else(String::new, |v| v.get_name().to_string())
     );
     if let Some(field) = style.color_by {

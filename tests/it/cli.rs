@@ -187,17 +187,14 @@ fn lab_command(command: &str, rec: &str, options: &[&str], json: &Path, report: 
 }
 
 #[test]
-fn modulus_and_compare_write_their_figures() {
+fn modulus_is_the_datasets_small_strain_modulus_and_compare_writes_its_figures() {
     let dir = scratch_dir("softgrip-cli-rec");
     let (json, report) = (dir.join("e.json"), dir.join("modulus"));
     let rec = recording("ecoflex_compression/EF30_0T_A1/recording.toml");
     let o = lab_command("modulus", &rec, &[], &json, &report);
     assert!(o.status.success(), "{o:?}");
     let md = std::fs::read_to_string(dir.join("modulus/modulus.md")).unwrap();
-    assert!(
-        md.contains("| Young's modulus E (slope) | 100.3 kPa |"),
-        "{md}"
-    );
+    assert!(md.contains("| Young's modulus E (slope) | "), "{md}");
     assert!(
         std::fs::read(dir.join("modulus/stress_strain.png"))
             .unwrap()
@@ -210,7 +207,12 @@ fn modulus_and_compare_write_their_figures() {
     );
     let v = read_json(&json);
     let e = v["young_modulus"].as_f64().expect("young_modulus in Pa");
-    assert!((90e3..115e3).contains(&e), "{e}");
+    // The independent value: the dataset's own small-strain modulus of Ecoflex 00-30, 103.46 +/-
+    // 2.32 kPa over its samples (assets/recordings/README.md); within two of its spreads.
+    assert!((e - 103.46e3).abs() < 2.0 * 2.32e3, "{e}");
+    // The report prints the same figure, to 0.1 kPa.
+    let row = format!("| Young's modulus E (slope) | {:.1} kPa |", e / 1e3);
+    assert!(md.contains(&row), "{row} in {md}");
 
     let (json, report) = (dir.join("c.json"), dir.join("report"));
     let rec = recording("beam_ds10/gravity_a/recording.toml");
@@ -689,6 +691,8 @@ fn grasp_window_writes_both_bounds_and_exits_5_without_a_window() {
     let text = stdout(&o);
     assert!(o.status.success(), "{text}{}", stderr(&o));
     let v = read_json(&json);
+    // The JSON is its type's (docs/schema/grasp_window.json).
+    softgrip_lab::schema::round_trip("grasp_window", &v).unwrap();
     let least = v["least_squeeze"].as_f64().expect("least_squeeze");
     let most = v["most_squeeze"].as_f64().expect("most_squeeze");
     assert!(least > 0.28 && least < most, "{least} .. {most}");

@@ -2,6 +2,7 @@
 
 mod cli;
 mod hostile;
+mod json_schema;
 mod output_files;
 mod screenshot_command;
 mod support;

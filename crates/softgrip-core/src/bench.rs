@@ -4,13 +4,20 @@ use crate::error::SimError;
 use crate::scene::Scene;
 use crate::step::{Simulation, StageSeconds};
 
+/// What a timed run measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BenchRun {
+    /// Particles of the model.
     pub particles: usize,
+    /// Tetrahedra of the model.
     pub tets: usize,
+    /// Time steps taken.
     pub steps: u64,
+    /// Simulated time at the end, s.
     pub simulated_seconds: f64,
+    /// Wall time spent stepping, s.
     pub wall_seconds: f64,
+    /// CG iterations summed over the steps.
     pub cg_iterations: u64,
     /// Where the time went, per stage of the step.
     pub stages: StageSeconds,

@@ -7,7 +7,7 @@ use crate::model::Model;
 use crate::state::State;
 
 /// A field the object can be coloured by.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Field {
     /// Distance from the rest position (m).
     Displacement,
@@ -33,6 +33,7 @@ pub enum Field {
 }
 
 impl Field {
+    /// Every field, in the order the viewer lists them.
     pub const ALL: [Field; 7] = [
         Field::Displacement,
         Field::SpringStrain,
@@ -43,6 +44,7 @@ impl Field {
         Field::VonMises,
     ];
 
+    /// The field's name, for legends and menus.
     pub fn label(self) -> &'static str {
         match self {
             Field::Displacement => "displacement",
@@ -95,6 +97,7 @@ impl Field {
     }
 }
 
+/// Each particle's distance from its rest position, m (length: particles).
 pub fn displacement(model: &Model, state: &State) -> Vec<f64> {
     state
         .positions

@@ -8,11 +8,15 @@ use std::path::Path;
 /// Why a file could not be read whole.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
+    /// Opening or reading it failed.
     #[error("{0}")]
     Io(#[from] std::io::Error),
     /// It holds more than `max` bytes (it may never end).
     #[error("more than {} MB: is this the right file?", *max as f64 / 1e6)]
-    TooLarge { max: u64 },
+    TooLarge {
+        /// The most bytes read.
+        max: u64,
+    },
 }
 
 /// The bytes of `path`, at most `max` of them: a file with more is refused after reading

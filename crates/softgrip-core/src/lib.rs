@@ -7,11 +7,13 @@
 //! Euler and conjugate gradient integrate it.
 //!
 //! Layers, lowest first (each module imports only those before it; `ARCHITECTURE.md`):
-//! [`mesh`] -> [`scene`] -> [`model`] -> [`state`] -> [`solver`] -> [`forces`], [`contact`]
-//! -> [`step`] -> [`quasi_static`], [`equilibrium`], [`live`], [`output`], [`fields`], [`mod@bench`]
-//! -> [`sensitivity`].
+//! [`geometry`] -> [`mesh`] -> [`scene`] -> [`model`] -> [`state`] -> [`watch`], [`solver`]
+//! -> [`forces`], [`contact`] -> [`step`] -> [`quasi_static`], [`equilibrium`], [`live`],
+//! [`output`], [`fields`], [`mod@bench`] -> [`sensitivity`]. The step's force stages are listed,
+//! in order, in [`step::assemble`].
 //! [`error`], [`cancel`] and [`files`] are shared by all.
 
+#![warn(missing_docs)]
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bench;

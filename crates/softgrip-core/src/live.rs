@@ -41,6 +41,7 @@ pub const HISTORY_LENGTH: usize = 2000;
 pub enum Command {
     /// Run (paced by the speed; see [`Command::SetSpeed`]).
     Play,
+    /// Stop stepping; the state stays.
     Pause,
     /// Pause and take this many steps.
     Step(u32),
@@ -57,7 +58,9 @@ pub enum Command {
     /// axes: the viewer drags it), or let it go (`None`) back to its
     /// control mode. Not part of the scene; a reset lets go.
     Hold {
+        /// The finger (index into the scene's fingers).
         finger: usize,
+        /// The point to hold it at, m; `None` lets it go.
         at: Option<DVec3>,
     },
     /// Pull a point of the object with the mouse spring, or stop (`None`).
@@ -67,8 +70,10 @@ pub enum Command {
 /// Why a command was not taken.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum SendError {
+    /// The channel is full ([`CHANNEL_CAPACITY`] commands waiting).
     #[error("the solver has {CHANNEL_CAPACITY} commands waiting; try again next frame")]
     Busy,
+    /// The solver thread has ended.
     #[error("the solver thread has stopped")]
     Stopped,
 }
@@ -76,7 +81,9 @@ pub enum SendError {
 /// Run state of the solver thread.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RunState {
+    /// Stepping.
     Running,
+    /// Not stepping (or taking the steps of a [`Command::Step`]).
     Paused,
     /// Building a new mesh and model; no state to show yet.
     Meshing,
@@ -85,6 +92,7 @@ pub enum RunState {
 /// One finger's history sample, for plots.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FingerSample {
+    /// Simulated time of the sample, s.
     pub time: f64,
     /// Indentation depth (m), as `Simulation::indentation`.
     pub depth: f64,
@@ -102,7 +110,9 @@ pub struct Frame {
     /// The model in use; `None` while the first one is being built, or if
     /// no scene could be built at all.
     pub model: Option<Arc<Model>>,
+    /// The state at the frame's time.
     pub state: State,
+    /// Whether the solver thread is running, paused or meshing.
     pub run: RunState,
     /// The last error (a bad edit, a failed step), cleared by the next
     /// command that succeeds.
@@ -110,6 +120,7 @@ pub struct Frame {
     /// Steps per wall second and simulated seconds per wall second, over
     /// the last publishing interval while running (0 when paused).
     pub steps_per_second: f64,
+    /// Simulated seconds per wall second (see `steps_per_second`).
     pub realtime_factor: f64,
     /// Per finger, its recent history (time-ordered).
     pub history: Arc<Vec<Vec<FingerSample>>>,

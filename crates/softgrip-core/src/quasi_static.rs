@@ -12,10 +12,12 @@ use glam::DVec3;
 use crate::error::SimError;
 use crate::step::Simulation;
 
+/// When a dynamically settled load counts as at rest, and how long it may take.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RestTolerance {
-    /// m/s.
+    /// The top particle speed below which a step counts as at rest, m/s.
     pub speed: f64,
+    /// Steps in a row at rest that end the settle.
     pub consecutive_steps: u32,
     /// Simulated seconds allowed per load before giving up.
     pub max_seconds: f64,
@@ -69,10 +71,14 @@ impl RestTolerance {
     }
 }
 
+/// How a load came to rest by time steps.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RestReport {
+    /// Steps taken.
     pub steps: u64,
+    /// Simulated time taken, s.
     pub seconds: f64,
+    /// The top particle speed at the end, m/s.
     pub max_speed: f64,
 }
 
@@ -240,24 +246,9 @@ impl Simulation {
     /// Sum of the forces the pinned particles `pick` selects (by index) need to stay put (N):
     /// what a bonded plate holding them carries.
     pub fn reaction(&self, pick: impl Fn(usize) -> bool) -> DVec3 {
-        let (model, state) = (&self.model, &self.state);
-        let n = model.particle_count();
-        let mut force = vec![DVec3::ZERO; n + model.fingers.len()];
-        // The same force stages as a step (their Jacobians go to a throwaway system) ...
-        let mut system = crate::solver::System::default();
-        system.begin(model, model.dt);
-        crate::forces::springs::accumulate(model, state, &mut force, &mut system);
-        crate::forces::external::accumulate(model, state, &mut force, &mut system);
-        crate::forces::volume::accumulate(model, state, &mut force, &mut system);
-        crate::forces::viscosity::accumulate(model, state, &mut force, &mut system);
-        // ... and the contact forces of the last step.
-        for c in &state.contacts {
-            let tri = model.facets[c.facet as usize];
-            for a in 0..3 {
-                force[tri[a] as usize] +=
-                    c.weights[a] * (c.normal_force * c.normal + c.tangential_force);
-            }
-        }
+        // The step's own stages (`step::assemble`) at the present state, on a copy.
+        let force = self.assembled_force();
+        let (model, n) = (&self.model, self.model.particle_count());
         -(0..n)
             .filter(|&i| model.fixed[i] && pick(i))
             .map(|i| force[i])

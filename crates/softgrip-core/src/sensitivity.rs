@@ -32,8 +32,11 @@ pub const AT_EQUILIBRIUM: f64 = 1e-4;
 /// (`p - delta`, `p + delta`) where the parameter allows, forward at a bound (`p`, `p + delta`).
 #[derive(Debug, Clone)]
 pub struct ParameterStep {
+    /// The parameter's value in `plus` less its value in `minus`, in the parameter's unit.
     pub span: f64,
+    /// The model at the lower value.
     pub minus: Model,
+    /// The model at the higher value.
     pub plus: Model,
 }
 
@@ -51,6 +54,7 @@ pub struct SensitivityOptions {
     pub restart: usize,
     /// The preconditioner's CG tolerance (relative).
     pub cg_tolerance: f64,
+    /// The preconditioner's CG iterations at most, per application.
     pub cg_max_iterations: usize,
     /// The largest move of a point in a product's force difference, in edge lengths: small
     /// enough to cross no kink of the force (a limit spring's start, a contact's edge), large
@@ -114,19 +118,14 @@ impl Simulation {
     }
 }
 
+/// `dx/dp` for one parameter step: `df/dp` by a central difference of the force, then the
+/// solve with `-df/dx` (CG on the assembled tangent with `exact = false`, else GMRES).
 fn sensitivity_to(
     fixed: &mut FixedState,
     step: &ParameterStep,
     o: SensitivityOptions,
 ) -> Result<Sensitivity, SimError> {
-    let minus = Arc::new(static_model(&step.minus));
-    let plus = Arc::new(static_model(&step.plus));
-    let (f_minus, f_plus) = (fixed.force(&minus, None), fixed.force(&plus, None));
-    let df_dp: Vec<DVec3> = f_plus
-        .iter()
-        .zip(&f_minus)
-        .map(|(p, m)| (*p - *m) / step.span)
-        .collect();
+    let df_dp = force_derivative(fixed, step);
     let cg = CgParams {
         tolerance: o.cg_tolerance,
         reference: 0.0,
@@ -146,6 +145,36 @@ fn sensitivity_to(
             },
         });
     }
+    let report = solve_exact(fixed, &df_dp, &mut dx_dp, cg, o)?;
+    Ok(Sensitivity {
+        dx_dp,
+        df_dp,
+        report,
+    })
+}
+
+/// `df/dp` at the equilibrium held fixed: the force on the step's `plus` model less that on
+/// its `minus` model, over the span.
+fn force_derivative(fixed: &mut FixedState, step: &ParameterStep) -> Vec<DVec3> {
+    let minus = Arc::new(static_model(&step.minus));
+    let plus = Arc::new(static_model(&step.plus));
+    let (f_minus, f_plus) = (fixed.force(&minus, None), fixed.force(&plus, None));
+    f_plus
+        .iter()
+        .zip(&f_minus)
+        .map(|(p, m)| (*p - *m) / step.span)
+        .collect()
+}
+
+/// Solves `-df/dx dx_dp = df_dp` by flexible GMRES on central differences of the force,
+/// preconditioned by CG on the assembled tangent.
+fn solve_exact(
+    fixed: &mut FixedState,
+    df_dp: &[DVec3],
+    dx_dp: &mut Vec<DVec3>,
+    cg: CgParams,
+    o: SensitivityOptions,
+) -> Result<GmresReport, SimError> {
     let model = Arc::clone(fixed.model());
     let probe = o.probe * model.edge_length;
     let fixed = std::cell::RefCell::new(fixed);
@@ -183,33 +212,38 @@ fn sensitivity_to(
         restart: o.restart,
     };
     dx_dp.resize(df_dp.len(), DVec3::ZERO);
-    let report = match flexible_gmres(apply, precondition, &df_dp, &mut dx_dp, params) {
-        Ok(report) => report,
-        Err(GmresError::Operator(e)) => return Err(e),
+    gmres_outcome(
+        flexible_gmres(apply, precondition, df_dp, dx_dp, params),
+        o.acceptable,
+    )
+}
+
+/// GMRES's report, also when it stopped short of its tolerance at a residual of at most
+/// `acceptable`; otherwise the error.
+fn gmres_outcome(
+    result: Result<GmresReport, GmresError<SimError>>,
+    acceptable: f64,
+) -> Result<GmresReport, SimError> {
+    match result {
+        Ok(report) => Ok(report),
+        Err(GmresError::Operator(e)) => Err(e),
         Err(GmresError::NoConvergence {
             iterations,
             residual,
-        }) if residual <= o.acceptable => GmresReport {
+        }) if residual <= acceptable => Ok(GmresReport {
             iterations,
             relative_residual: residual,
-        },
+        }),
         Err(GmresError::NoConvergence {
             iterations,
             residual,
-        }) => {
-            return Err(SimError::NoSensitivity {
-                why: format!(
-                    "GMRES on the static tangent left a relative residual of {residual:.1e} \
-                     after {iterations} products"
-                ),
-            });
-        }
-    };
-    Ok(Sensitivity {
-        dx_dp,
-        df_dp,
-        report,
-    })
+        }) => Err(SimError::NoSensitivity {
+            why: format!(
+                "GMRES on the static tangent left a relative residual of {residual:.1e} \
+                 after {iterations} products"
+            ),
+        }),
+    }
 }
 
 fn tangent_failed(e: &CgError) -> SimError {

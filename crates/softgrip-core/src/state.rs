@@ -10,7 +10,9 @@ use crate::model::Model;
 /// The state of one finger.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FingerState {
+    /// The finger's position (its first shape's centre), m.
     pub position: DVec3,
+    /// The finger's velocity, m/s.
     pub velocity: DVec3,
     /// Total contact force the object exerts on the finger (N).
     pub contact_force: DVec3,
@@ -36,8 +38,9 @@ pub struct FingerState {
 /// the viewer's mouse spring (MuJoCo's perturbation). See `forces::pull`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pull {
-    /// The boundary facet the point lies on, and its barycentric weights.
+    /// The boundary facet the point lies on (index into `Model::facets`).
     pub facet: u32,
+    /// The point's barycentric weights on the facet.
     pub weights: [f64; 3],
     /// Where the spring's other end is (m).
     pub target: DVec3,
@@ -58,12 +61,17 @@ impl Pull {
 /// One finger-facet contact of the last step (for output and the viewer).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
+    /// The finger (index into `Model::fingers`).
     pub finger: u32,
+    /// The boundary facet touched (index into `Model::facets`).
     pub facet: u32,
+    /// The contact point on the facet, m.
     pub point: DVec3,
     /// Unit normal from the finger into the object (the force on the object is along it).
     pub normal: DVec3,
+    /// How deep the finger is into the facet along `normal`, m.
     pub penetration: f64,
+    /// Magnitude of the normal force (Hunt-Crossley, thesis eq. 26), N.
     pub normal_force: f64,
     /// Tangential force on the object (N).
     pub tangential_force: DVec3,
@@ -101,7 +109,9 @@ pub struct ContactMemory {
 /// (`contact::self_collision`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SelfContact {
+    /// The boundary particle pressed (index into the positions).
     pub particle: u32,
+    /// The facet it presses against (index into `Model::facets`).
     pub facet: u32,
     /// The facet's point closest to the particle.
     pub point: DVec3,
@@ -129,6 +139,7 @@ pub enum TableMode {
 /// remembers between steps, and the forces of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct TableContact {
+    /// Free, sticking or slipping.
     pub mode: TableMode,
     /// Where the stick spring is tied to the table (z = 0).
     pub anchor: DVec3,
@@ -154,9 +165,11 @@ pub struct TableContact {
 /// Diagnostics of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
+    /// CG iterations of the step's linear solve.
     pub cg_iterations: usize,
     /// Relative residual |b - A dv| / |b| at the end of CG.
     pub cg_residual: f64,
+    /// Kinetic energy of the particles and the fingers, J.
     pub kinetic_energy: f64,
     /// Kinetic + spring (with limit springs) + bulk + gravity + applied-force
     /// + contact (with stick springs) energy (J).
@@ -167,6 +180,7 @@ pub struct StepStats {
     pub limit_violation: f64,
     /// Jacobi sweeps of the spring-limit projection that moved particles.
     pub projection_sweeps: usize,
+    /// Number of finger-facet contacts.
     pub contacts: usize,
     /// Largest particle speed (m/s).
     pub max_speed: f64,
@@ -175,13 +189,20 @@ pub struct StepStats {
     pub force_residual: f64,
 }
 
+/// The state of a run: what changes as it steps.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct State {
+    /// Simulated time, s.
     pub time: f64,
+    /// Steps taken.
     pub step: u64,
+    /// Position of each particle, m (length: particles).
     pub positions: Vec<DVec3>,
+    /// Velocity of each particle, m/s (length: particles).
     pub velocities: Vec<DVec3>,
+    /// The state of each finger (length: fingers).
     pub fingers: Vec<FingerState>,
+    /// The finger-facet contacts of the last step (length: contacts).
     pub contacts: Vec<Contact>,
     /// Keyed by (finger, facet); ordered, so runs are deterministic.
     pub contact_memory: BTreeMap<(u32, u32), ContactMemory>,
@@ -196,6 +217,7 @@ pub struct State {
     pub maxwell: Vec<f64>,
     /// This step's self-collision contacts (`[model] self_collision`).
     pub self_contacts: Vec<SelfContact>,
+    /// Diagnostics of the last step.
     pub stats: StepStats,
 }
 

@@ -38,10 +38,13 @@ impl Kind {
 /// One finding: its kind, the finger (if one), when it was first seen, and what it means.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Finding {
+    /// What was found.
     pub kind: Kind,
-    /// 0-based.
+    /// The finger concerned, 0-based; `None` for the object as a whole.
     pub finger: Option<usize>,
+    /// Simulated time it was first seen, s.
     pub time: f64,
+    /// What it means, in words for the user.
     pub message: String,
     /// The cause may be the time step: the caller may check whether this smaller `dt` helps
     /// before it advises one (`softgrip run` does).
@@ -78,6 +81,7 @@ pub struct Watch {
 }
 
 impl Watch {
+    /// A watch that has found nothing yet.
     pub fn new() -> Watch {
         Watch::default()
     }

@@ -15,7 +15,9 @@ use softgrip_core::state::State;
 /// weights of the point nearest its reference position.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Attachment {
+    /// Index of the boundary facet in the model's `facets`.
     pub facet: u32,
+    /// Barycentric weights of the point on that facet's three nodes.
     pub weights: [f64; 3],
     /// How far the reference position was from the undeformed surface (m).
     pub distance: f64,
@@ -76,9 +78,13 @@ pub fn marker_position(
 /// axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Residual {
+    /// Index of the sample, from 0.
     pub sample: usize,
+    /// The marker.
     pub marker: MarkerRef,
+    /// Its simulated position, m.
     pub simulated: DVec3,
+    /// Its recorded position per axis x, y, z, m; `None` where not observed.
     pub recorded: [Option<f64>; 3],
 }
 
@@ -106,6 +112,7 @@ pub struct Errors {
     pub nrmse: f64,
     /// The same over all markers, fingers included.
     pub rmse_all_m: f64,
+    /// `rmse_all_m` over the object's largest extent.
     pub nrmse_all: f64,
     /// Observations counted in `rmse_m`.
     pub count: usize,
@@ -166,8 +173,11 @@ pub fn components(residuals: &[Residual]) -> Vec<f64> {
 /// was never observed) and of the distance, m.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MarkerError {
+    /// The marker.
     pub marker: MarkerRef,
+    /// RMS residual per axis x, y, z, m.
     pub axes: [Option<f64>; 3],
+    /// RMS distance over the observed axes, m.
     pub distance: f64,
 }
 

@@ -9,6 +9,9 @@
 //! than missing physics. Why, and what it measures on the proof's cuboid:
 //! `docs/design/diagnosis.md`.
 
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
 use crate::compare::{Residual, per_marker};
 use crate::diagnose::noise::{Noise, weighted_residuals};
 use crate::recording::{Mode, Recording};
@@ -25,6 +28,7 @@ pub const FINER: f64 = 0.8;
 pub struct Check {
     /// The scene's edge length or time step, and the refined one.
     pub coarse: f64,
+    /// The refined edge length (m) or time step (s).
     pub fine: f64,
     /// RMS move of the observed coordinates, fingers included (m).
     pub rms_m: f64,
@@ -46,11 +50,14 @@ pub struct Check {
 /// A check made, or why not.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {
+    /// The check was made.
     Measured(Check),
+    /// Why the check was not made.
     Skipped(String),
 }
 
 impl Outcome {
+    /// The check, where it was made.
     pub fn measured(&self) -> Option<&Check> {
         match self {
             Outcome::Measured(c) => Some(c),
@@ -62,7 +69,9 @@ impl Outcome {
 /// Both checks.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Discretisation {
+    /// The mesh refined: edge length times [`FINER`].
     pub mesh: Outcome,
+    /// The time step halved.
     pub time_step: Outcome,
 }
 
@@ -133,20 +142,79 @@ impl Discretisation {
         })
     }
 
+    /// Both checks as JSON (SI units).
     pub fn to_json(&self) -> serde_json::Value {
-        let one = |o: &Outcome| match o {
-            Outcome::Measured(c) => serde_json::json!({
-                "coarse": c.coarse,
-                "fine": c.fine,
-                "rms_m": c.rms_m,
-                "over_noise": c.noise_measured.then_some(c.over_noise),
-                "worst_marker": c.worst.0,
-                "worst_m": c.worst.1,
-            }),
-            Outcome::Skipped(why) => serde_json::json!({"skipped": why}),
-        };
-        serde_json::json!({"mesh": one(&self.mesh), "time_step": one(&self.time_step)})
+        // Numbers and strings only: nothing here fails to serialize.
+        serde_json::to_value(self.figures()).unwrap_or(serde_json::Value::Null)
     }
+
+    /// Both checks as the JSON outputs give them (SI units).
+    pub fn figures(&self) -> DiscretisationFigures {
+        let one = |o: &Outcome| match o {
+            Outcome::Measured(c) => OutcomeFigures::Measured(MeasuredFigures {
+                coarse: c.coarse,
+                fine: c.fine,
+                rms_m: c.rms_m,
+                over_noise: c.noise_measured.then_some(c.over_noise),
+                worst_marker: c.worst.0.clone(),
+                worst_m: c.worst.1,
+            }),
+            Outcome::Skipped(why) => OutcomeFigures::Skipped(SkippedFigures {
+                skipped: why.clone(),
+            }),
+        };
+        DiscretisationFigures {
+            mesh: one(&self.mesh),
+            time_step: one(&self.time_step),
+        }
+    }
+}
+
+/// Both discretisation checks, as `compare --discretisation --json` and `diagnose --json` give
+/// them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DiscretisationFigures {
+    /// The mesh refined: edge length times 0.8.
+    pub mesh: OutcomeFigures,
+    /// The time step halved (skipped for a quasi-static recording).
+    pub time_step: OutcomeFigures,
+}
+
+/// One check in the JSON outputs: made, or why not.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum OutcomeFigures {
+    /// The check was made.
+    Measured(MeasuredFigures),
+    /// Why it was not.
+    Skipped(SkippedFigures),
+}
+
+/// A check made: the fitted model against itself refined.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MeasuredFigures {
+    /// The scene's edge length (m) or time step (s).
+    pub coarse: f64,
+    /// The refined edge length (m) or time step (s).
+    pub fine: f64,
+    /// RMS move of the observed coordinates, fingers included, m.
+    pub rms_m: f64,
+    /// The move over the noise level, dimensionless; null where the recording showed no noise.
+    pub over_noise: Option<f64>,
+    /// The marker that moves most.
+    pub worst_marker: String,
+    /// That marker's RMS move over the observed axes, m.
+    pub worst_m: f64,
+}
+
+/// A check not made.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SkippedFigures {
+    /// Why the check was not made, in words.
+    pub skipped: String,
 }
 
 /// `v` with no trailing zeros: 4, 4.5, 0.25.

@@ -10,6 +10,7 @@ use crate::recording::RecordingError;
 use crate::synth::SynthError;
 use softgrip_core::error::SimError;
 
+/// Why a lab sweep, fit, diagnosis or proof could not run.
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum LabError {
     /// What the user gave cannot be used: an unknown parameter, a value the scene file would
@@ -22,16 +23,20 @@ pub enum LabError {
     #[error(transparent)]
     Sim(Arc<SimError>),
 
+    /// A recording could not be read.
     #[error(transparent)]
     Recording(Arc<RecordingError>),
 
+    /// A synthetic recording could not be made.
     #[error(transparent)]
     Synth(Arc<SynthError>),
 
     /// A file could not be written into the directory `dir`.
     #[error("{}: {source}", dir.display())]
     Write {
+        /// The directory.
         dir: PathBuf,
+        /// Why not.
         source: Arc<std::io::Error>,
     },
 

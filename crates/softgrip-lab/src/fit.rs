@@ -13,6 +13,7 @@
 //! NRMSE; [`fit`] is it for one. The method in full: `docs/design/fitting.md`.
 
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 use crate::compare::{Errors, components};
 use crate::error::LabError;
@@ -32,8 +33,11 @@ pub use crate::optimize::{
 /// A parameter to fit and its bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitParam {
+    /// The parameter.
     pub param: &'static Param,
+    /// Lower bound, in the parameter's unit.
     pub lower: f64,
+    /// Upper bound, in the parameter's unit.
     pub upper: f64,
     /// Searched on a log scale.
     pub log: bool,
@@ -244,6 +248,7 @@ pub enum Identifiability {
 }
 
 impl Identifiability {
+    /// As the report writes it.
     pub fn label(self) -> &'static str {
         match self {
             Identifiability::Identified => "identified",
@@ -259,7 +264,9 @@ impl Identifiability {
 pub struct Sensitivity {
     /// `None`: the value is not allowed or the run failed.
     pub minus: Option<f64>,
+    /// NRMSE at +10 %; `None`: the value is not allowed or the run failed.
     pub plus: Option<f64>,
+    /// What the data say about the parameter.
     pub verdict: Identifiability,
 }
 
@@ -280,6 +287,7 @@ pub struct Uncertainty {
 /// One simulation of the search.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trial {
+    /// The parameters' values tried, in their units (one per fitted parameter).
     pub values: Vec<f64>,
     /// NRMSE, or why the run failed.
     pub nrmse: Result<f64, LabError>,
@@ -288,13 +296,19 @@ pub struct Trial {
 /// A fit and its evidence.
 #[derive(Debug, Clone)]
 pub struct Fit {
+    /// The parameters fitted.
     pub params: Vec<FitParam>,
+    /// Their values at the start, in their units.
     pub start: Vec<f64>,
+    /// The errors at the start.
     pub before: Errors,
+    /// The fitted values, in their units.
     pub fitted: Vec<f64>,
+    /// The errors at the fit.
     pub after: Errors,
     /// The replays at the start and at the fit.
     pub start_replay: Replay,
+    /// The replay at the fit.
     pub replay: Replay,
     /// Every simulation of the search, in order.
     pub trials: Vec<Trial>,
@@ -303,7 +317,9 @@ pub struct Fit {
     pub converged: bool,
     /// Fitted values at (within 0.1 % of) a bound.
     pub at_bound: Vec<bool>,
+    /// The noise-implied standard errors and correlations at the fit.
     pub uncertainty: Uncertainty,
+    /// NRMSE at +/-10 % of each fitted value, and its verdict.
     pub sensitivity: Vec<Sensitivity>,
 }
 
@@ -350,28 +366,37 @@ pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
 /// One recording's part in a fit over several ([`fit_many`]).
 #[derive(Debug, Clone)]
 pub struct RecordingFit {
+    /// Its errors at the start.
     pub before: Errors,
+    /// Its errors at the fit.
     pub after: Errors,
     /// Its replays at the start and at the fit.
     pub start_replay: Replay,
+    /// Its replay at the fit.
     pub replay: Replay,
 }
 
 /// One parameter vector fitted to several recordings at once, and its evidence.
 #[derive(Debug, Clone)]
 pub struct FitMany {
+    /// The parameters fitted.
     pub params: Vec<FitParam>,
+    /// Their values at the start (the first recording's scene), in their units.
     pub start: Vec<f64>,
+    /// The fitted values, in their units.
     pub fitted: Vec<f64>,
     /// The objective, the mean of the recordings' NRMSE, at the start and at the fit.
     pub before: f64,
+    /// The mean NRMSE at the fit.
     pub after: f64,
     /// One per recording, in the order given.
     pub recordings: Vec<RecordingFit>,
     /// Every point of the search, in order, with its mean NRMSE (each point is one
     /// simulation per recording).
     pub trials: Vec<Trial>,
+    /// The search converged or stopped improving (not stopped by its budget).
     pub converged: bool,
+    /// Fitted values at (within 0.1 % of) a bound.
     pub at_bound: Vec<bool>,
     /// From the recordings' residuals stacked into one vector.
     pub uncertainty: Uncertainty,
@@ -472,187 +497,32 @@ pub fn fit_many(
     options: FitOptions,
     progress: Progress,
 ) -> Result<FitMany, LabError> {
-    let Some(first_recording) = recordings.first() else {
-        return Err(LabError::input("a fit needs at least one recording"));
+    let first_recording = check_request(recordings, params, options)?;
+    let start = start_values(&first_recording.scene, params);
+    let runs = Runs {
+        recordings,
+        params,
+        workers: options.workers,
     };
-    check_params(recordings, params)?;
-    let least = options.least_evaluations(params.len());
-    if options.max_evaluations < least {
-        return Err(LabError::input(format!(
-            "--max-evaluations {}: a fit of {} parameter(s) takes at least {least} simulations (the start, a space-filling design of {}, and the fitted point); give {least} or more (default 400)",
-            options.max_evaluations,
-            params.len(),
-            options.design_points(params.len())
-        )));
-    }
-    let several = recordings.len() > 1;
-    let scene = &first_recording.scene;
-    let start: Vec<f64> = params
-        .iter()
-        .map(|p| {
-            let v = params::get(scene, p.param.name).ok().flatten();
-            v.map_or_else(|| p.value(0.5), |v| p.value(p.unit(v)))
-        })
-        .collect();
-    // One recording's replay at `values`; of several, the error names the recording.
-    let run_one = |recording: &Recording, values: &[f64]| -> Result<Replay, LabError> {
-        run(recording, &scene_with(&recording.scene, params, values)?).map_err(|e| {
-            if several && !matches!(e, LabError::Cancelled) {
-                LabError::Input(format!("{}: {e}", recording.source.display()))
-            } else {
-                e
-            }
-        })
-    };
-    let at_values = |values: &[f64]| -> Result<Vec<Replay>, LabError> {
-        each(recordings, options.workers, |r| run_one(r, values))
-            .into_iter()
-            .collect()
-    };
-    let mean_nrmse = |replays: &[Replay]| -> f64 {
-        replays.iter().map(|r| r.errors.nrmse).sum::<f64>() / replays.len() as f64
-    };
-    let first = at_values(&start).map_err(start_error)?;
+    let first = runs.at(&start).map_err(start_error)?;
     let before = mean_nrmse(&first);
-    let mut trials = vec![Trial {
-        values: start.clone(),
-        nrmse: Ok(before),
-    }];
-    let mut cache: HashMap<Vec<u64>, f64> = HashMap::new();
-    let key = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
     let u0: Vec<f64> = params.iter().zip(&start).map(|(p, v)| p.unit(*v)).collect();
-    cache.insert(key(&u0), before);
-    let k = recordings.len();
-    let best_so_far = std::sync::Mutex::new(before);
-    let mut evaluate = |points: &[Vec<f64>]| -> Vec<f64> {
-        let todo: Vec<Vec<f64>> = points
-            .iter()
-            .filter(|u| !cache.contains_key(&key(u)))
-            .cloned()
-            .collect();
-        let done_before = trials.len();
-        // One job per point and recording; a point's mean once its last recording is in.
-        let jobs: Vec<(usize, usize)> = (0..todo.len())
-            .flat_map(|i| (0..k).map(move |j| (i, j)))
-            .collect();
-        let partial = std::sync::Mutex::new(vec![(0usize, 0.0f64); todo.len()]);
-        let results = parallel_map(
-            &jobs,
-            options.workers,
-            |&(i, j)| {
-                let values: Vec<f64> = params
-                    .iter()
-                    .zip(&todo[i])
-                    .map(|(p, x)| p.value(*x))
-                    .collect();
-                let r = run_one(&recordings[j], &values).map(|r| r.errors.nrmse);
-                if let (Ok(f), Ok(mut part)) = (&r, partial.lock()) {
-                    part[i].0 += 1;
-                    part[i].1 += f;
-                    if part[i].0 == k
-                        && let Ok(mut b) = best_so_far.lock()
-                    {
-                        *b = b.min(part[i].1 / k as f64);
-                    }
-                }
-                r
-            },
-            &|n| {
-                let best = best_so_far.lock().map_or(f64::NAN, |b| *b);
-                progress(done_before + n / k, best);
-            },
-        );
-        let mut results = results.into_iter();
-        for u in &todo {
-            let values: Vec<f64> = params.iter().zip(u).map(|(p, x)| p.value(*x)).collect();
-            // All k taken before the first error is looked for (a collect into a `Result`
-            // would stop there and leave the point's other results for the next).
-            let mine: Vec<Result<f64, LabError>> = results.by_ref().take(k).collect();
-            let r = mine
-                .into_iter()
-                .collect::<Result<Vec<f64>, LabError>>()
-                .map(|f| f.iter().sum::<f64>() / k as f64);
-            let f = r.as_ref().map_or(f64::INFINITY, |f| *f);
-            cache.insert(key(u), f);
-            trials.push(Trial { values, nrmse: r });
-        }
-        points
-            .iter()
-            .map(|u| cache.get(&key(u)).copied().unwrap_or(f64::INFINITY))
-            .collect()
+    let mut search = Search {
+        runs: &runs,
+        progress,
+        cache: HashMap::new(),
+        trials: vec![Trial {
+            values: start.clone(),
+            nrmse: Ok(before),
+        }],
+        best_so_far: Mutex::new(before),
     };
-    // A space-filling design first: NRMSE is flat wherever a spring limit
-    // acts on no spring, and a local search that starts on such a plateau
-    // never leaves it.
-    let (mut best_u, mut best_f) = (u0, before);
-    let design: Vec<Vec<f64>> = (1..=options.design_points(params.len()))
-        .map(|k| halton(k, params.len()))
-        .collect();
-    for (u, f) in design.iter().zip(evaluate(&design)) {
-        if f < best_f {
-            (best_u, best_f) = (u.clone(), f);
-        }
-    }
-    let mut spent = 1 + design.len();
-    let mut converged;
-    let first_search = minimize(
-        &mut evaluate,
-        &best_u,
-        best_f,
-        options.max_evaluations.saturating_sub(spent),
-        options,
-    );
-    spent += first_search.evaluations;
-    (best_u, best_f, converged) = (first_search.x, first_search.f, first_search.converged);
-    let value_at =
-        |u: &[f64]| -> Vec<f64> { params.iter().zip(u).map(|(p, x)| p.value(*x)).collect() };
-    let mut fitted_replays = at_values(&value_at(&best_u)).map_err(start_error)?;
-    // The largest spring stretch and compression of the fitted runs, over the recordings.
-    let largest_strain = |replays: &[Replay]| -> [f64; 2] {
-        replays.iter().fold([0.0f64; 2], |m, r| {
-            [m[0].max(r.largest_strain[0]), m[1].max(r.largest_strain[1])]
-        })
-    };
-    // A spring limit above every strain of the fitted run acts nowhere, and
-    // NRMSE is flat in it: the search may have settled there with the
-    // modulus making up for it. Try again with such limits just below the
-    // largest strain (so that they act), and keep what fits better.
-    for _ in 0..2 {
-        let strain = largest_strain(&fitted_replays);
-        let mut retry = best_u.clone();
-        let mut changed = false;
-        for (i, p) in params.iter().enumerate() {
-            let largest = match p.param.name {
-                "tau_s" => strain[0],
-                "tau_c" => strain[1],
-                _ => continue,
-            };
-            if p.value(best_u[i]) > largest && largest > 0.0 {
-                retry[i] = p.unit(0.8 * largest);
-                changed |= retry[i] != best_u[i];
-            }
-        }
-        if !changed || spent >= options.max_evaluations {
-            break;
-        }
-        let f = evaluate(std::slice::from_ref(&retry))[0];
-        spent += 1;
-        let r = minimize(
-            &mut evaluate,
-            &retry,
-            f,
-            options.max_evaluations.saturating_sub(spent),
-            options,
-        );
-        spent += r.evaluations;
-        if r.f >= best_f {
-            break;
-        }
-        (best_u, best_f, converged) = (r.x, r.f, r.converged);
-        fitted_replays = at_values(&value_at(&best_u)).map_err(start_error)?;
-    }
-    let fitted = value_at(&best_u);
-    let at_bound = best_u.iter().map(|u| at_bound(*u)).collect();
+    search.cache.insert(key(&u0), before);
+    let mut best = search.design_then_minimize(u0, before, options);
+    let mut fitted_replays = runs.at(&runs.values(&best.u)).map_err(start_error)?;
+    search.retry_spring_limits(&mut best, &mut fitted_replays, options)?;
+    let fitted = runs.values(&best.u);
+    let at_bound = best.u.iter().map(|u| at_bound(*u)).collect();
     let after = mean_nrmse(&fitted_replays);
     check_cancel()?;
     let (uncertainty, sensitivity) =
@@ -675,13 +545,300 @@ pub fn fit_many(
         before,
         after,
         recordings,
-        trials,
-        converged,
+        trials: search.trials,
+        converged: best.converged,
         at_bound,
         uncertainty,
         sensitivity,
     })
 }
+
+/// The first recording, once every recording's scene takes the parameters and the budget
+/// covers the fewest simulations a fit takes.
+fn check_request<'r>(
+    recordings: &'r [Recording],
+    params: &[FitParam],
+    options: FitOptions,
+) -> Result<&'r Recording, LabError> {
+    let Some(first_recording) = recordings.first() else {
+        return Err(LabError::input("a fit needs at least one recording"));
+    };
+    check_params(recordings, params)?;
+    let least = options.least_evaluations(params.len());
+    if options.max_evaluations < least {
+        return Err(LabError::input(format!(
+            "--max-evaluations {}: a fit of {} parameter(s) takes at least {least} simulations (the start, a space-filling design of {}, and the fitted point); give {least} or more (default 400)",
+            options.max_evaluations,
+            params.len(),
+            options.design_points(params.len())
+        )));
+    }
+    Ok(first_recording)
+}
+
+/// The search's start: the scene's values clamped into the bounds, the middle of the bounds
+/// where the scene has none (a spring limit that is off).
+fn start_values(scene: &Scene, params: &[FitParam]) -> Vec<f64> {
+    params
+        .iter()
+        .map(|p| {
+            let v = params::get(scene, p.param.name).ok().flatten();
+            v.map_or_else(|| p.value(0.5), |v| p.value(p.unit(v)))
+        })
+        .collect()
+}
+
+/// The mean of the replays' NRMSE: the objective of a fit over several recordings.
+fn mean_nrmse(replays: &[Replay]) -> f64 {
+    replays.iter().map(|r| r.errors.nrmse).sum::<f64>() / replays.len() as f64
+}
+
+/// The largest spring stretch and compression of the runs, over the recordings.
+fn largest_strain(replays: &[Replay]) -> [f64; 2] {
+    replays.iter().fold([0.0f64; 2], |m, r| {
+        [m[0].max(r.largest_strain[0]), m[1].max(r.largest_strain[1])]
+    })
+}
+
+/// The cache key of a point in unit coordinates: its exact bits.
+fn key(u: &[f64]) -> Vec<u64> {
+    u.iter().map(|x| x.to_bits()).collect::<Vec<u64>>()
+}
+
+/// The fit's simulations: the recordings, each on its own scene with the parameters set.
+struct Runs<'a> {
+    /// The recordings fitted, in the order given.
+    recordings: &'a [Recording],
+    /// The parameters fitted.
+    params: &'a [FitParam],
+    /// Simulations at once (0: one per core).
+    workers: usize,
+}
+
+impl Runs<'_> {
+    /// One recording's replay at `values`; of several, the error names the recording.
+    fn one(&self, recording: &Recording, values: &[f64]) -> Result<Replay, LabError> {
+        let several = self.recordings.len() > 1;
+        run(
+            recording,
+            &scene_with(&recording.scene, self.params, values)?,
+        )
+        .map_err(|e| {
+            if several && !matches!(e, LabError::Cancelled) {
+                LabError::Input(format!("{}: {e}", recording.source.display()))
+            } else {
+                e
+            }
+        })
+    }
+
+    /// Every recording's replay at `values`, in the recordings' order.
+    fn at(&self, values: &[f64]) -> Result<Vec<Replay>, LabError> {
+        each(self.recordings, self.workers, |r| self.one(r, values))
+            .into_iter()
+            .collect()
+    }
+
+    /// The parameter values at `u` in 0..1 of their bounds.
+    fn values(&self, u: &[f64]) -> Vec<f64> {
+        self.params
+            .iter()
+            .zip(u)
+            .map(|(p, x)| p.value(*x))
+            .collect()
+    }
+}
+
+/// Where the search stands.
+struct Best {
+    /// The best point, in 0..1 of the bounds.
+    u: Vec<f64>,
+    /// Its mean NRMSE.
+    f: f64,
+    /// The local search that found it converged (not stopped by its budget).
+    converged: bool,
+    /// Simulations spent so far (points; each is one per recording).
+    spent: usize,
+}
+
+/// The search's memory: every point tried, in order, and its mean NRMSE.
+struct Search<'a> {
+    /// The simulations it runs.
+    runs: &'a Runs<'a>,
+    /// Told the points done and the best mean NRMSE.
+    progress: Progress<'a>,
+    /// Mean NRMSE by point (`key`); infinite where a run failed.
+    cache: HashMap<Vec<u64>, f64>,
+    /// Every point simulated, in order.
+    trials: Vec<Trial>,
+    /// The best mean NRMSE so far, for progress.
+    best_so_far: Mutex<f64>,
+}
+
+impl Search<'_> {
+    /// The mean NRMSE at each point (unit coordinates), simulating those not yet tried.
+    fn evaluate(&mut self, points: &[Vec<f64>]) -> Vec<f64> {
+        let todo: Vec<Vec<f64>> = points
+            .iter()
+            .filter(|u| !self.cache.contains_key(&key(u)))
+            .cloned()
+            .collect();
+        let results = self.simulate(&todo);
+        self.record(&todo, results);
+        points
+            .iter()
+            .map(|u| self.cache.get(&key(u)).copied().unwrap_or(f64::INFINITY))
+            .collect()
+    }
+
+    /// Each point's NRMSE on each recording, point by point (recordings in order), in parallel.
+    fn simulate(&self, todo: &[Vec<f64>]) -> Vec<Result<f64, LabError>> {
+        let k = self.runs.recordings.len();
+        let done_before = self.trials.len();
+        // One job per point and recording; a point's mean once its last recording is in.
+        let jobs: Vec<(usize, usize)> = (0..todo.len())
+            .flat_map(|i| (0..k).map(move |j| (i, j)))
+            .collect();
+        let partial = Mutex::new(vec![(0usize, 0.0f64); todo.len()]);
+        let best_so_far = &self.best_so_far;
+        parallel_map(
+            &jobs,
+            self.runs.workers,
+            |&(i, j)| {
+                let values = self.runs.values(&todo[i]);
+                let r = self
+                    .runs
+                    .one(&self.runs.recordings[j], &values)
+                    .map(|r| r.errors.nrmse);
+                if let (Ok(f), Ok(mut part)) = (&r, partial.lock()) {
+                    part[i].0 += 1;
+                    part[i].1 += f;
+                    if part[i].0 == k
+                        && let Ok(mut b) = best_so_far.lock()
+                    {
+                        *b = b.min(part[i].1 / k as f64);
+                    }
+                }
+                r
+            },
+            &|n| {
+                let best = best_so_far.lock().map_or(f64::NAN, |b| *b);
+                (self.progress)(done_before + n / k, best);
+            },
+        )
+    }
+
+    /// Files each point's mean NRMSE (infinite if a recording's run failed) and its trial.
+    fn record(&mut self, todo: &[Vec<f64>], results: Vec<Result<f64, LabError>>) {
+        let k = self.runs.recordings.len();
+        let mut results = results.into_iter();
+        for u in todo {
+            let values = self.runs.values(u);
+            // All k taken before the first error is looked for (a collect into a `Result`
+            // would stop there and leave the point's other results for the next).
+            let mine: Vec<Result<f64, LabError>> = results.by_ref().take(k).collect();
+            let r = mine
+                .into_iter()
+                .collect::<Result<Vec<f64>, LabError>>()
+                .map(|f| f.iter().sum::<f64>() / k as f64);
+            let f = r.as_ref().map_or(f64::INFINITY, |f| *f);
+            self.cache.insert(key(u), f);
+            self.trials.push(Trial { values, nrmse: r });
+        }
+    }
+
+    /// The space-filling design from `u0` (NRMSE `f0`), then Nelder-Mead from its best point.
+    fn design_then_minimize(&mut self, u0: Vec<f64>, f0: f64, options: FitOptions) -> Best {
+        let n = self.runs.params.len();
+        // A space-filling design first: NRMSE is flat wherever a spring limit
+        // acts on no spring, and a local search that starts on such a plateau
+        // never leaves it.
+        let (mut best_u, mut best_f) = (u0, f0);
+        let design: Vec<Vec<f64>> = (1..=options.design_points(n))
+            .map(|k| halton(k, n))
+            .collect();
+        for (u, f) in design.iter().zip(self.evaluate(&design)) {
+            if f < best_f {
+                (best_u, best_f) = (u.clone(), f);
+            }
+        }
+        let mut spent = 1 + design.len();
+        let first_search = minimize(
+            &mut |points: &[Vec<f64>]| self.evaluate(points),
+            &best_u,
+            best_f,
+            options.max_evaluations.saturating_sub(spent),
+            options,
+        );
+        spent += first_search.evaluations;
+        Best {
+            u: first_search.x,
+            f: first_search.f,
+            converged: first_search.converged,
+            spent,
+        }
+    }
+
+    /// A spring limit above every strain of the fitted run acts nowhere, and
+    /// NRMSE is flat in it: the search may have settled there with the
+    /// modulus making up for it. Try again with such limits just below the
+    /// largest strain (so that they act), and keep what fits better.
+    fn retry_spring_limits(
+        &mut self,
+        best: &mut Best,
+        fitted_replays: &mut Vec<Replay>,
+        options: FitOptions,
+    ) -> Result<(), LabError> {
+        for _ in 0..2 {
+            let strain = largest_strain(fitted_replays);
+            let (retry, changed) = limits_below(self.runs.params, &best.u, strain);
+            if !changed || best.spent >= options.max_evaluations {
+                break;
+            }
+            let f = self.evaluate(std::slice::from_ref(&retry))[0];
+            best.spent += 1;
+            let r = minimize(
+                &mut |points: &[Vec<f64>]| self.evaluate(points),
+                &retry,
+                f,
+                options.max_evaluations.saturating_sub(best.spent),
+                options,
+            );
+            best.spent += r.evaluations;
+            if r.f >= best.f {
+                break;
+            }
+            (best.u, best.f, best.converged) = (r.x, r.f, r.converged);
+            *fitted_replays = self
+                .runs
+                .at(&self.runs.values(&best.u))
+                .map_err(start_error)?;
+        }
+        Ok(())
+    }
+}
+
+/// `best_u` with each spring limit above the largest strain moved to 0.8 of it, and whether
+/// any moved.
+fn limits_below(params: &[FitParam], best_u: &[f64], strain: [f64; 2]) -> (Vec<f64>, bool) {
+    let mut retry = best_u.to_vec();
+    let mut changed = false;
+    for (i, p) in params.iter().enumerate() {
+        let largest = match p.param.name {
+            "tau_s" => strain[0],
+            "tau_c" => strain[1],
+            _ => continue,
+        };
+        if p.value(best_u[i]) > largest && largest > 0.0 {
+            retry[i] = p.unit(0.8 * largest);
+            changed |= retry[i] != best_u[i];
+        }
+    }
+    (retry, changed)
+}
+
+/// NRMSE at -10 % and +10 % of a value, and whether each rise of the error is significant.
+type Probe = (Option<f64>, Option<f64>, bool, bool);
 
 /// The uncertainty and the sensitivity at the fit, from the recordings' residuals stacked.
 fn evidence(
@@ -693,18 +850,73 @@ fn evidence(
 ) -> (Uncertainty, Vec<Sensitivity>) {
     let p = params.len();
     let k = recordings.len();
-    let stacked = |replays: &[&Replay]| -> Vec<f64> {
-        replays
-            .iter()
-            .flat_map(|r| components(&r.residuals))
-            .collect()
-    };
     let r0 = stacked(&at_fit.iter().collect::<Vec<_>>());
     let m = r0.len();
     let ssr: f64 = r0.iter().map(|x| x * x).sum();
     let dof = m.saturating_sub(p).max(1) as f64;
     // A floor far below any measurement keeps a perfect fit well defined.
     let sigma2 = (ssr / dof).max(1e-24);
+    let (steps, points) = probe_points(params, fitted);
+    let runs = run_points(recordings, params, &points, options.workers);
+    // A point's replays, one per recording, or `None` if one failed.
+    let point = |i: usize| -> Option<Vec<&Replay>> {
+        runs[k * i..k * (i + 1)]
+            .iter()
+            .map(|r| r.as_ref().ok())
+            .collect()
+    };
+    let mut jacobian: Vec<Option<Vec<f64>>> = Vec::with_capacity(p);
+    let mut sensitivity: Vec<Probe> = Vec::with_capacity(p);
+    // The rise of the sum of squared residuals against chi-square's 95 %.
+    let significant = |e: Option<&Vec<&Replay>>| {
+        e.is_some_and(|rs| {
+            let total: f64 = rs
+                .iter()
+                .map(|r| r.errors.count as f64 * r.errors.rmse_m.powi(2))
+                .sum();
+            total - ssr > 3.84 * sigma2
+        })
+    };
+    let mean = |rs: &Vec<&Replay>| rs.iter().map(|r| r.errors.nrmse).sum::<f64>() / k as f64;
+    for i in 0..p {
+        let column = match (point(4 * i), point(4 * i + 1)) {
+            (Some(a), Some(b)) => central_difference(&a, &b, m, steps[i]),
+            _ => None,
+        };
+        jacobian.push(column);
+        let (minus, plus) = (point(4 * i + 2), point(4 * i + 3));
+        sensitivity.push((
+            minus.as_ref().map(mean),
+            plus.as_ref().map(mean),
+            significant(minus.as_ref()),
+            significant(plus.as_ref()),
+        ));
+    }
+    let (standard_errors, correlations) = covariance(&jacobian, m, sigma2);
+    let sensitivity = verdicts(sensitivity, &standard_errors, fitted);
+    (
+        Uncertainty {
+            residuals: m,
+            sigma_m: sigma2.sqrt(),
+            standard_errors,
+            correlations,
+        },
+        sensitivity,
+    )
+}
+
+/// The replays' residual coordinates stacked into one vector, recording after recording (m).
+fn stacked(replays: &[&Replay]) -> Vec<f64> {
+    replays
+        .iter()
+        .flat_map(|r| components(&r.residuals))
+        .collect()
+}
+
+/// The central-difference steps, and the points around the fit: per parameter, -step, +step,
+/// -10 % and +10 %.
+fn probe_points(params: &[FitParam], fitted: &[f64]) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let p = params.len();
     // Central-difference steps, then the +/-10 % points.
     let steps: Vec<f64> = params
         .iter()
@@ -725,63 +937,47 @@ fn evidence(
             points.push(v);
         }
     }
+    (steps, points)
+}
+
+/// Each point's replay on each recording, point by point (recordings in order), in parallel.
+fn run_points(
+    recordings: &[Recording],
+    params: &[FitParam],
+    points: &[Vec<f64>],
+    workers: usize,
+) -> Vec<Result<Replay, LabError>> {
+    let k = recordings.len();
     // One job per point and recording.
     let jobs: Vec<(usize, usize)> = (0..points.len())
         .flat_map(|i| (0..k).map(move |j| (i, j)))
         .collect();
-    let runs = parallel_map(
+    parallel_map(
         &jobs,
-        options.workers,
+        workers,
         |&(i, j)| {
             let recording = &recordings[j];
             scene_with(&recording.scene, params, &points[i]).and_then(|s| run(recording, &s))
         },
         &|_| {},
-    );
-    // A point's replays, one per recording, or `None` if one failed.
-    let point = |i: usize| -> Option<Vec<&Replay>> {
-        runs[k * i..k * (i + 1)]
-            .iter()
-            .map(|r| r.as_ref().ok())
+    )
+}
+
+/// A Jacobian column from the stacked residuals at -step (`a`) and +step (`b`), m/unit;
+/// `None` when either has not `m` coordinates.
+fn central_difference(a: &[&Replay], b: &[&Replay], m: usize, step: f64) -> Option<Vec<f64>> {
+    let (ra, rb) = (stacked(a), stacked(b));
+    (ra.len() == m && rb.len() == m).then(|| {
+        ra.iter()
+            .zip(&rb)
+            .map(|(x, y)| (y - x) / (2.0 * step))
             .collect()
-    };
-    let mut jacobian: Vec<Option<Vec<f64>>> = Vec::with_capacity(p);
-    let mut sensitivity: Vec<(Option<f64>, Option<f64>, bool, bool)> = Vec::with_capacity(p);
-    // The rise of the sum of squared residuals against chi-square's 95 %.
-    let significant = |e: Option<&Vec<&Replay>>| {
-        e.is_some_and(|rs| {
-            let total: f64 = rs
-                .iter()
-                .map(|r| r.errors.count as f64 * r.errors.rmse_m.powi(2))
-                .sum();
-            total - ssr > 3.84 * sigma2
-        })
-    };
-    let mean = |rs: &Vec<&Replay>| rs.iter().map(|r| r.errors.nrmse).sum::<f64>() / k as f64;
-    for i in 0..p {
-        let column = match (point(4 * i), point(4 * i + 1)) {
-            (Some(a), Some(b)) => {
-                let (ra, rb) = (stacked(&a), stacked(&b));
-                (ra.len() == m && rb.len() == m).then(|| {
-                    ra.iter()
-                        .zip(&rb)
-                        .map(|(x, y)| (y - x) / (2.0 * steps[i]))
-                        .collect()
-                })
-            }
-            _ => None,
-        };
-        jacobian.push(column);
-        let (minus, plus) = (point(4 * i + 2), point(4 * i + 3));
-        sensitivity.push((
-            minus.as_ref().map(mean),
-            plus.as_ref().map(mean),
-            significant(minus.as_ref()),
-            significant(plus.as_ref()),
-        ));
-    }
-    let (standard_errors, correlations) = covariance(&jacobian, m, sigma2);
-    let sensitivity = sensitivity
+    })
+}
+
+/// Each parameter's sensitivity with its verdict, from its probe and standard error.
+fn verdicts(probes: Vec<Probe>, standard_errors: &[f64], fitted: &[f64]) -> Vec<Sensitivity> {
+    probes
         .into_iter()
         .enumerate()
         .map(|(i, (minus, plus, low, high))| {
@@ -798,16 +994,7 @@ fn evidence(
                 verdict,
             }
         })
-        .collect();
-    (
-        Uncertainty {
-            residuals: m,
-            sigma_m: sigma2.sqrt(),
-            standard_errors,
-            correlations,
-        },
-        sensitivity,
-    )
+        .collect()
 }
 
 /// Standard errors and correlations from Jacobian columns (`None`: not

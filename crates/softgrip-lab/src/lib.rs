@@ -16,6 +16,7 @@
 //! - [`plot`], [`report`]: PNG plots and the Markdown reports around them.
 //! - [`LabError`]: why a sweep, fit, diagnosis or proof could not run.
 
+#![warn(missing_docs)]
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod compare;
@@ -34,6 +35,7 @@ pub mod recording;
 pub mod replay;
 pub mod report;
 pub mod ringing;
+pub mod schema;
 pub mod sensitivity;
 pub mod shard;
 pub mod sweep;

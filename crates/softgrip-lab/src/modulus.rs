@@ -16,6 +16,7 @@ use softgrip_core::scene::{FingerShape, Shape};
 /// the curve is no longer taken as linear.
 pub const LINEAR_TOLERANCE: f64 = 0.10;
 
+/// Young's modulus fitted to a compression recording, and what it rests on.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModulusFit {
     /// Pa: the slope of the line through the initial linear part.
@@ -26,6 +27,7 @@ pub struct ModulusFit {
     pub r_squared: f64,
     /// The strain range fitted, and how many points it holds.
     pub strain_range: (f64, f64),
+    /// Points in the fit.
     pub points: usize,
     /// The smallest and largest E over the candidate ranges from 2 points
     /// up to the chosen one: how much the answer depends on the range.
@@ -34,23 +36,30 @@ pub struct ModulusFit {
     pub curve: Vec<(f64, f64)>,
     /// m^2 and m: the area and the initial length used.
     pub area: f64,
+    /// The object's initial height along the compression, m.
     pub length: f64,
 }
 
+/// Why no modulus could be measured from a recording.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModulusError {
+    /// The recording is a time series.
     #[error("{0}: modulus needs a quasi-static recording (loads with plate positions)")]
     NotQuasiStatic(String),
+    /// No finger marker observes z (the plate's travel).
     #[error(
         "{0}: no finger marker with an observed z: modulus reads the plate's travel from the `finger` marker"
     )]
     NoTravel(String),
+    /// The object is a mesh: its area and height are unknown.
     #[error(
         "{0}: the object is a mesh; modulus needs a cuboid or a cylinder to know the area and height"
     )]
     UnknownGeometry(String),
+    /// Fewer than 2 load levels compress the object.
     #[error("{0}: fewer than 2 load levels with positive strain; nothing to fit")]
     TooFew(String),
+    /// The recording is no flat-plate compression, and why (recording, reason).
     #[error("{0}: not a flat-plate compression: {1}")]
     NotCompression(String, String),
 }
@@ -135,8 +144,11 @@ fn line(points: &[(f64, f64)]) -> (f64, f64, f64) {
 /// A line through the initial linear part of a curve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LineFit {
+    /// Slope of the line (the curve's y unit per x unit; Pa for stress against strain).
     pub slope: f64,
+    /// Intercept of the line (the curve's y unit).
     pub intercept: f64,
+    /// Coefficient of determination of the fit.
     pub r_squared: f64,
     /// Points of the curve in the fit (from its start).
     pub points: usize,

@@ -9,16 +9,20 @@ use softgrip_core::scene::Scene;
 /// A parameter that sweeps and fits may vary.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Param {
+    /// The name sweeps and fits give (`--params young_modulus`).
     pub name: &'static str,
+    /// Its SI unit (`Pa`, `kg/m^3`; empty for a dimensionless one).
     pub unit: &'static str,
     /// Natural on a log scale (moduli, alpha, the spring limits: their
     /// plausible values span decades, and a search needs as many trials
     /// at 0.02 to 0.05, where a limit acts, as at 0.2 to 0.5, where it
     /// often does not).
     pub log: bool,
+    /// The scene file's key it sets (e.g. `[object] young_modulus`).
     pub about: &'static str,
 }
 
+/// Every parameter sweeps and fits may vary.
 pub const PARAMS: &[Param] = &[
     Param {
         name: "young_modulus",
@@ -234,6 +238,12 @@ pub fn get(scene: &Scene, name: &str) -> Result<Option<f64>, LabError> {
 pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
     find(name)?;
     let mut s = scene.clone();
+    assign(&mut s, name, value)?;
+    checked(scene, &s, name, value)
+}
+
+/// Sets `name` to `value` in `s`, unchecked; an error where the scene has nothing it applies to.
+fn assign(s: &mut Scene, name: &str, value: f64) -> Result<(), LabError> {
     match name {
         "young_modulus" => s.object.young_modulus = value,
         "poisson_ratio" => s.object.poisson_ratio = value,
@@ -299,6 +309,12 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
         "dt" => s.simulation.dt = value,
         _ => {}
     }
+    Ok(())
+}
+
+/// `s` (`scene` with `name` set to `value`) read back as a scene file is, keeping `scene`'s
+/// source and mesh path; a value the file would reject is an error naming the rule.
+fn checked(scene: &Scene, s: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
     let mut checked = Scene::from_toml_str(&s.to_toml(), "parameter").map_err(|e| {
         let message = e.to_string();
         let rule = message
@@ -320,7 +336,9 @@ pub fn set(scene: &Scene, name: &str, value: f64) -> Result<Scene, LabError> {
 /// One axis of a sweep: a parameter and its values.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
+    /// The parameter.
     pub param: &'static Param,
+    /// Its values, in its unit, in the sweep's order.
     pub values: Vec<f64>,
 }
 

@@ -35,8 +35,11 @@ pub const OFF_SURFACE: f64 = 0.1;
 /// What simulating a recording gives.
 #[derive(Debug, Clone)]
 pub struct Replay {
+    /// Where each recorded marker attaches to the object's surface.
     pub attachments: Vec<Attachment>,
+    /// Simulated against recorded marker positions, sample by sample.
     pub residuals: Vec<Residual>,
+    /// The errors over the residuals.
     pub errors: Errors,
     /// Volume error |V - V0| / V0 at each sample (thesis eq. 47-48).
     pub volume_errors: Vec<f64>,
@@ -51,7 +54,9 @@ pub struct Replay {
 /// The object and the fingers where a sample was taken.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampleState {
+    /// Particle positions, m.
     pub positions: Vec<DVec3>,
+    /// Finger centres, m.
     pub fingers: Vec<DVec3>,
 }
 
@@ -67,6 +72,7 @@ pub struct ReplayOptions {
     pub settle: Option<Settle>,
     /// For [`Settle::Dynamic`], and for a static solve that a moving finger hands to it.
     pub rest: RestTolerance,
+    /// The static solver's settings, for [`Settle::Static`].
     pub statics: StaticOptions,
     /// Threads for the simulation (see `Simulation::set_threads`; 0 =
     /// up to 2, as the machine has cores free: see
@@ -131,13 +137,11 @@ pub fn replay_observing(
     scene: &Scene,
     options: ReplayOptions,
     warm: Option<&[SampleState]>,
-    mut at_equilibrium: Option<&mut AtEquilibrium>,
+    at_equilibrium: Option<&mut AtEquilibrium>,
     mut progress: impl FnMut(usize),
 ) -> Result<(Replay, Option<MarkerSensitivities>), SimError> {
     let mesh = softgrip_core::model::Model::mesh_of(scene)?;
     let mut sim = Simulation::on_mesh(scene, mesh.clone())?;
-    let mut sensitivities: Option<MarkerSensitivities> =
-        (at_equilibrium.is_some() && recording.mode == Mode::QuasiStatic).then(Vec::new);
     sim.set_threads(options.threads);
     let options = ReplayOptions {
         settle: Some(options.settle.unwrap_or(scene.simulation.settle)),
@@ -145,11 +149,43 @@ pub fn replay_observing(
     };
     let references: Vec<_> = recording.markers.iter().map(|m| m.reference).collect();
     let attachments = attach(&sim.model, &references);
+    check_markers(recording, &sim, &attachments)?;
+    let loaded = sim.load_finger();
+    check_loads(recording, scene, &sim, loaded)?;
+    let keep_states = options.keep_states || (options.warm_seeds && sim.model.path_independent());
+    let mut run = Replaying {
+        recording,
+        sim,
+        options,
+        loaded,
+        attachments,
+        residuals: Vec::new(),
+        volume_errors: Vec::with_capacity(recording.samples.len()),
+        largest_strain: [0.0f64; 2],
+        states: Vec::new(),
+        keep_states,
+    };
+    let sensitivities = match recording.mode {
+        Mode::QuasiStatic => run.quasi_static(&mesh, warm, at_equilibrium, &mut progress)?,
+        Mode::TimeSeries => {
+            run.time_series(&mut progress)?;
+            None
+        }
+    };
+    Ok((run.finish(), sensitivities))
+}
+
+/// Every marker's reference lies on the scene's object: within [`OFF_SURFACE`] of its extent.
+fn check_markers(
+    recording: &Recording,
+    sim: &Simulation,
+    attachments: &[Attachment],
+) -> Result<(), SimError> {
     let limit = OFF_SURFACE * sim.model.extent;
     if let Some((m, a)) = recording
         .markers
         .iter()
-        .zip(&attachments)
+        .zip(attachments)
         .find(|(_, a)| a.distance > limit)
     {
         return Err(SimError::MarkerOffSurface {
@@ -160,7 +196,17 @@ pub fn replay_observing(
             limit_mm: 1e3 * limit,
         });
     }
-    let loaded = sim.load_finger();
+    Ok(())
+}
+
+/// A recording with loads has a force-controlled finger with a direction (`loaded`), and no
+/// negative load.
+fn check_loads(
+    recording: &Recording,
+    scene: &Scene,
+    sim: &Simulation,
+    loaded: Option<usize>,
+) -> Result<(), SimError> {
     let load = recording
         .samples
         .iter()
@@ -202,32 +248,57 @@ pub fn replay_observing(
             direction: sim.model.fingers[k].load_direction.to_array(),
         });
     }
-    let set_load = |sim: &mut Simulation, load: f64| {
-        if let Some(k) = loaded {
-            sim.set_load(k, load);
+    Ok(())
+}
+
+/// A replay under way: the simulation and what it has gathered, sample by sample.
+struct Replaying<'a> {
+    /// The recording replayed.
+    recording: &'a Recording,
+    /// The scene's simulation.
+    sim: Simulation,
+    /// The replay's options, `settle` resolved.
+    options: ReplayOptions,
+    /// The force-controlled finger the samples' loads go to, if any.
+    loaded: Option<usize>,
+    /// Where each recorded marker sits on the object.
+    attachments: Vec<Attachment>,
+    /// Simulated against recorded marker positions, sample by sample.
+    residuals: Vec<Residual>,
+    /// Volume error |V - V0| / V0 at each sample.
+    volume_errors: Vec<f64>,
+    /// The largest spring stretch and compression so far (strain, positive).
+    largest_strain: [f64; 2],
+    /// Each sample's particle and finger positions, where kept.
+    states: Vec<SampleState>,
+    /// Keep each sample's positions in `states`.
+    keep_states: bool,
+}
+
+impl Replaying<'_> {
+    /// Sets the loaded finger's load, N (nothing without one).
+    fn set_load(&mut self, load: f64) {
+        if let Some(k) = self.loaded {
+            self.sim.set_load(k, load);
         }
-    };
-    let mut residuals = Vec::new();
-    let mut volume_errors = Vec::with_capacity(recording.samples.len());
-    let mut largest_strain = [0.0f64; 2];
-    let mut states = Vec::new();
-    let keep_states = options.keep_states || (options.warm_seeds && sim.model.path_independent());
-    let mut strains = |sim: &Simulation| {
-        for e in softgrip_core::fields::spring_strain(&sim.model, &sim.state) {
-            largest_strain[0] = largest_strain[0].max(e);
-            largest_strain[1] = largest_strain[1].max(-e);
-        }
-        if keep_states {
-            states.push(SampleState {
-                positions: sim.state.positions.clone(),
-                fingers: sim.state.fingers.iter().map(|f| f.position).collect(),
-            });
-        }
-    };
-    let record = |sim: &Simulation, i: usize, residuals: &mut Vec<Residual>| {
-        for o in &recording.samples[i].observations {
-            if let Some(p) = marker_position(&sim.model, &sim.state, &attachments, o.marker) {
-                residuals.push(Residual {
+    }
+
+    /// The force applied to each finger now, N.
+    fn applied_forces(&self) -> Vec<DVec3> {
+        self.sim
+            .state
+            .fingers
+            .iter()
+            .map(|f| f.applied_force)
+            .collect()
+    }
+
+    /// Sample `i`'s residuals: each observed marker's simulated and recorded position.
+    fn record(&mut self, i: usize) {
+        let sim = &self.sim;
+        for o in &self.recording.samples[i].observations {
+            if let Some(p) = marker_position(&sim.model, &sim.state, &self.attachments, o.marker) {
+                self.residuals.push(Residual {
                     sample: i,
                     marker: o.marker,
                     simulated: p,
@@ -235,107 +306,149 @@ pub fn replay_observing(
                 });
             }
         }
-    };
-    match recording.mode {
-        Mode::QuasiStatic => {
-            for (i, sample) in recording.samples.iter().enumerate() {
-                let from: Vec<_> = sim.state.fingers.iter().map(|f| f.applied_force).collect();
-                set_load(&mut sim, sample.load);
-                let guess = warm.and_then(|w| w.get(i));
-                let near = match (guess, options.settle) {
-                    (Some(g), Some(Settle::Static)) if !sim.has_moving_input() => sim
-                        .equilibrium_near(&g.positions, &g.fingers, options.statics)?
-                        .is_some(),
-                    _ => false,
-                };
-                if !near {
-                    // Where the load is the recording's: which sample asked for it.
-                    settle(&mut sim, &from, options).map_err(|e| match e {
-                        SimError::NoEquilibrium {
-                            load,
-                            why,
-                            inverted,
-                            near,
-                            advice,
-                            stalled,
-                        } => SimError::NoEquilibrium {
-                            load,
-                            why: format!(
-                                "sample {} of {} asks for {} N; {why}",
-                                i + 1,
-                                recording.samples_path.display(),
-                                sample.load
-                            ),
-                            inverted,
-                            near,
-                            advice,
-                            stalled,
-                        },
-                        e => e,
-                    })?;
-                }
-                record(&sim, i, &mut residuals);
-                if let (Some(columns), Some(f)) = (sensitivities.as_mut(), at_equilibrium.as_mut())
-                {
-                    match f(&sim, &mesh) {
-                        Some(d) => columns.extend(marker_sensitivities(
-                            &sim,
-                            &attachments,
-                            &recording.samples[i].observations,
-                            &d,
-                        )),
-                        None => sensitivities = None,
-                    }
-                }
-                volume_errors.push(sim.state.stats.volume_error);
-                strains(&sim);
-                progress(i + 1);
-            }
+    }
+
+    /// The springs' strains into the largest so far, and the state kept where asked.
+    fn strains(&mut self) {
+        let sim = &self.sim;
+        for e in softgrip_core::fields::spring_strain(&sim.model, &sim.state) {
+            self.largest_strain[0] = self.largest_strain[0].max(e);
+            self.largest_strain[1] = self.largest_strain[1].max(-e);
         }
-        Mode::TimeSeries => {
-            let first = recording.samples.first().map_or(0.0, |s| s.load);
-            set_load(&mut sim, first);
-            if recording.start == Start::Equilibrium {
-                settle_still(&mut sim, options)?;
-                sim.state.time = 0.0;
-                sim.state.step = 0;
-            }
-            let mut control = options.adaptive.map(|a| Adaptive::new(&sim, a));
-            for (i, sample) in recording.samples.iter().enumerate() {
-                let t = sample.time.unwrap_or(0.0);
-                match control.as_mut() {
-                    Some(c) => sim.run_until_adaptive(t, c)?,
-                    None => sim.run_until(t)?,
-                }
-                record(&sim, i, &mut residuals);
-                volume_errors.push(sim.state.stats.volume_error);
-                strains(&sim);
-                let before: Vec<DVec3> =
-                    sim.state.fingers.iter().map(|f| f.applied_force).collect();
-                set_load(&mut sim, sample.load);
-                let changed = sim
-                    .state
-                    .fingers
-                    .iter()
-                    .zip(&before)
-                    .any(|(f, b)| f.applied_force != *b);
-                if let (true, Some(c)) = (changed, control.as_mut()) {
-                    c.restart();
-                }
-                progress(i + 1);
-            }
+        if self.keep_states {
+            self.states.push(SampleState {
+                positions: sim.state.positions.clone(),
+                fingers: sim.state.fingers.iter().map(|f| f.position).collect(),
+            });
         }
     }
-    let errors = errors(&residuals, sim.model.extent);
-    let replay = Replay {
-        attachments,
-        residuals,
-        errors,
-        volume_errors,
-        largest_strain,
-        states,
-    };
-    Ok((replay, sensitivities))
+
+    /// Each sample's load brought to rest in turn, and the markers' sensitivities where
+    /// `at_equilibrium` gives them at every load.
+    fn quasi_static(
+        &mut self,
+        mesh: &TetMesh,
+        warm: Option<&[SampleState]>,
+        mut at_equilibrium: Option<&mut AtEquilibrium>,
+        progress: &mut impl FnMut(usize),
+    ) -> Result<Option<MarkerSensitivities>, SimError> {
+        let recording = self.recording;
+        let options = self.options;
+        let mut sensitivities: Option<MarkerSensitivities> =
+            at_equilibrium.is_some().then(Vec::new);
+        for (i, sample) in recording.samples.iter().enumerate() {
+            let from = self.applied_forces();
+            self.set_load(sample.load);
+            let sim = &mut self.sim;
+            let guess = warm.and_then(|w| w.get(i));
+            let near = match (guess, options.settle) {
+                (Some(g), Some(Settle::Static)) if !sim.has_moving_input() => sim
+                    .equilibrium_near(&g.positions, &g.fingers, options.statics)?
+                    .is_some(),
+                _ => false,
+            };
+            if !near {
+                // Where the load is the recording's: which sample asked for it.
+                settle(sim, &from, options).map_err(|e| asked_by(e, recording, i, sample.load))?;
+            }
+            self.record(i);
+            if let (Some(columns), Some(f)) = (sensitivities.as_mut(), at_equilibrium.as_mut()) {
+                match f(&self.sim, mesh) {
+                    Some(d) => columns.extend(marker_sensitivities(
+                        &self.sim,
+                        &self.attachments,
+                        &recording.samples[i].observations,
+                        &d,
+                    )),
+                    None => sensitivities = None,
+                }
+            }
+            self.volume_errors.push(self.sim.state.stats.volume_error);
+            self.strains();
+            progress(i + 1);
+        }
+        Ok(sensitivities)
+    }
+
+    /// The time series: from rest or equilibrium, stepped to each sample's time, where its
+    /// load then takes over.
+    fn time_series(&mut self, progress: &mut impl FnMut(usize)) -> Result<(), SimError> {
+        let recording = self.recording;
+        let options = self.options;
+        let first = recording.samples.first().map_or(0.0, |s| s.load);
+        self.set_load(first);
+        if recording.start == Start::Equilibrium {
+            settle_still(&mut self.sim, options)?;
+            self.sim.state.time = 0.0;
+            self.sim.state.step = 0;
+        }
+        let mut control = options.adaptive.map(|a| Adaptive::new(&self.sim, a));
+        for (i, sample) in recording.samples.iter().enumerate() {
+            let t = sample.time.unwrap_or(0.0);
+            match control.as_mut() {
+                Some(c) => self.sim.run_until_adaptive(t, c)?,
+                None => self.sim.run_until(t)?,
+            }
+            self.record(i);
+            self.volume_errors.push(self.sim.state.stats.volume_error);
+            self.strains();
+            let before = self.applied_forces();
+            self.set_load(sample.load);
+            let changed = self
+                .sim
+                .state
+                .fingers
+                .iter()
+                .zip(&before)
+                .any(|(f, b)| f.applied_force != *b);
+            if let (true, Some(c)) = (changed, control.as_mut()) {
+                c.restart();
+            }
+            progress(i + 1);
+        }
+        Ok(())
+    }
+
+    /// The replay: what was gathered, with its errors.
+    fn finish(self) -> Replay {
+        let errors = errors(&self.residuals, self.sim.model.extent);
+        Replay {
+            attachments: self.attachments,
+            residuals: self.residuals,
+            errors,
+            volume_errors: self.volume_errors,
+            largest_strain: self.largest_strain,
+            states: self.states,
+        }
+    }
+}
+
+/// A quasi-static load's `NoEquilibrium` with the sample that asked for the load (`i`, from 0)
+/// named in its `why`; other errors as they are.
+fn asked_by(e: SimError, recording: &Recording, i: usize, sample_load: f64) -> SimError {
+    match e {
+        SimError::NoEquilibrium {
+            load,
+            why,
+            inverted,
+            near,
+            advice,
+            stalled,
+        } => SimError::NoEquilibrium {
+            load,
+            why: format!(
+                "sample {} of {} asks for {} N; {why}",
+                i + 1,
+                recording.samples_path.display(),
+                sample_load
+            ),
+            inverted,
+            near,
+            advice,
+            stalled,
+        },
+        e => e,
+    }
 }
 
 /// Each observed marker's `dx/dp` (in the order `record` keeps them): an object marker's is

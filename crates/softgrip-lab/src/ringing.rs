@@ -15,6 +15,9 @@
 //! of the replay, so the two compare like for like. Short, flat or non-finite data give a
 //! [`NoRinging`], never a panic.
 
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
 use crate::compare::Residual;
 use crate::recording::{MarkerRef, Mode, Recording};
 
@@ -42,7 +45,9 @@ pub struct Ringing {
     pub explained: f64,
     /// The samples fitted and the window they span (s).
     pub samples: usize,
+    /// Start of the window fitted, s.
     pub start: f64,
+    /// End of the window fitted, s.
     pub end: f64,
 }
 
@@ -54,30 +59,111 @@ impl Ringing {
 
     /// The figures as JSON (SI units).
     pub fn to_json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "frequency_hz": self.frequency_hz,
-            "decay_rate_per_s": self.decay_rate,
-            "damping_ratio": self.damping_ratio,
-            "amplitude": self.amplitude,
-            "offset": self.offset,
-            "phase_rad": self.phase,
-            "residual_rms": self.residual_rms,
-            "explained": self.explained,
-            "samples": self.samples,
-            "window_s": [self.start, self.end],
-        })
+        // Numbers only: nothing here fails to serialize.
+        serde_json::to_value(self.figures()).unwrap_or(serde_json::Value::Null)
     }
+
+    /// The figures as the JSON outputs give them (SI units).
+    pub fn figures(&self) -> RingingFigures {
+        RingingFigures {
+            frequency_hz: self.frequency_hz,
+            decay_rate_per_s: self.decay_rate,
+            damping_ratio: self.damping_ratio,
+            amplitude: self.amplitude,
+            offset: self.offset,
+            phase_rad: self.phase,
+            residual_rms: self.residual_rms,
+            explained: self.explained,
+            samples: self.samples,
+            window_s: [self.start, self.end],
+        }
+    }
+}
+
+/// A damped oscillation `c + A exp(-s t) cos(w t + phi)` fitted to a marker coordinate, as the
+/// JSON outputs give it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RingingFigures {
+    /// f = w / (2 pi), Hz.
+    pub frequency_hz: f64,
+    /// s, 1/s: the amplitude falls as exp(-s t).
+    pub decay_rate_per_s: f64,
+    /// zeta = s / sqrt(s^2 + w^2), dimensionless.
+    pub damping_ratio: f64,
+    /// A at the window's first sample, m.
+    pub amplitude: f64,
+    /// c, the level the oscillation settles to, m.
+    pub offset: f64,
+    /// phi at the window's first sample, rad.
+    pub phase_rad: f64,
+    /// Root-mean-square of the fit's residual, m.
+    pub residual_rms: f64,
+    /// Share of the signal's variance the fit explains, 1 - SSR / SST (fraction).
+    pub explained: f64,
+    /// Samples fitted.
+    pub samples: usize,
+    /// Start and end of the window fitted, s.
+    pub window_s: [f64; 2],
+}
+
+/// Why a coordinate shows no ringing, as the JSON outputs give it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NoRingingFigures {
+    /// Why no damped oscillation was measured, in words.
+    pub error: String,
+}
+
+/// One side's ringing in the JSON outputs: the figures, or why there are none.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum RingingSide {
+    /// The oscillation measured.
+    Measured(RingingFigures),
+    /// Why none was.
+    None(NoRingingFigures),
+}
+
+impl From<&Result<Ringing, NoRinging>> for RingingSide {
+    fn from(r: &Result<Ringing, NoRinging>) -> Self {
+        match r {
+            Ok(r) => RingingSide::Measured(r.figures()),
+            Err(e) => RingingSide::None(NoRingingFigures {
+                error: e.to_string(),
+            }),
+        }
+    }
+}
+
+/// The recording's ringing and the simulation's on the same marker axis, as `compare --json`
+/// gives it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RingingComparisonFigures {
+    /// The marker whose coordinate moves most (its name in the recording).
+    pub marker: String,
+    /// Its axis: `x`, `y` or `z`.
+    pub axis: String,
+    /// The recorded coordinate's ringing.
+    pub recorded: RingingSide,
+    /// The simulated coordinate's ringing.
+    pub simulated: RingingSide,
 }
 
 /// Why no oscillation could be measured.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum NoRinging {
+    /// Fewer samples than [`MIN_SAMPLES`].
     #[error("{0} samples; a ringing needs at least {MIN_SAMPLES}")]
     TooShort(usize),
+    /// A time or value is not finite, or the times do not increase.
     #[error("a time or value is not finite, or the times do not increase")]
     BadData,
+    /// The coordinate does not move.
     #[error("the coordinate does not move")]
     Flat,
+    /// No damped oscillation fits.
     #[error("no damped oscillation fits the data")]
     NoFit,
 }
@@ -345,11 +431,13 @@ pub fn measure(times: &[f64], values: &[f64]) -> Result<Ringing, NoRinging> {
 /// One marker axis's ringing.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxisRinging {
+    /// The marker.
     pub marker: MarkerRef,
     /// 0, 1, 2 for x, y, z.
     pub axis: usize,
     /// The standard deviation of the recorded coordinate (m): how much it moves.
     pub motion: f64,
+    /// The damped oscillation fitted to the recorded coordinate, or why none.
     pub ringing: Result<Ringing, NoRinging>,
 }
 
@@ -447,25 +535,31 @@ pub fn dominant(recording: &Recording) -> Option<AxisRinging> {
 /// The recording's ringing and the simulation's on the same marker axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RingingComparison {
+    /// The marker.
     pub marker: MarkerRef,
+    /// The axis: 0, 1, 2 for x, y, z.
     pub axis: usize,
+    /// The recorded coordinate's ringing, or why none.
     pub recorded: Result<Ringing, NoRinging>,
+    /// The simulated coordinate's ringing, or why none.
     pub simulated: Result<Ringing, NoRinging>,
 }
 
 impl RingingComparison {
     /// The figures as JSON: the marker axis, and each side's ringing (or why there is none).
     pub fn to_json(&self, recording: &Recording) -> serde_json::Value {
-        let side = |r: &Result<Ringing, NoRinging>| match r {
-            Ok(r) => r.to_json(),
-            Err(e) => serde_json::json!({ "error": e.to_string() }),
-        };
-        serde_json::json!({
-            "marker": recording.marker_name(self.marker),
-            "axis": axis_name(self.axis),
-            "recorded": side(&self.recorded),
-            "simulated": side(&self.simulated),
-        })
+        // Numbers and strings only: nothing here fails to serialize.
+        serde_json::to_value(self.figures(recording)).unwrap_or(serde_json::Value::Null)
+    }
+
+    /// The figures as the JSON outputs give them.
+    pub fn figures(&self, recording: &Recording) -> RingingComparisonFigures {
+        RingingComparisonFigures {
+            marker: recording.marker_name(self.marker),
+            axis: axis_name(self.axis).to_string(),
+            recorded: (&self.recorded).into(),
+            simulated: (&self.simulated).into(),
+        }
     }
 }
 

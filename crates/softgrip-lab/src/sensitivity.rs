@@ -26,6 +26,7 @@ pub const ABSOLUTE_STEP: f64 = 1e-6;
 /// The sensitivity of an equilibrium to one named parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParameterSensitivity {
+    /// The parameter's name ([`crate::params::PARAMS`]).
     pub name: &'static str,
     /// The parameter's value in the scene.
     pub value: f64,

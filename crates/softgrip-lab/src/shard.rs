@@ -6,7 +6,9 @@
 
 use std::path::Path;
 
-use serde_json::{Value, json};
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
 
 use crate::compare::Errors;
 use crate::error::LabError;
@@ -21,7 +23,9 @@ pub const PART_VERSION: u64 = 1;
 /// so a costly corner of the grid is spread over the shards).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
+    /// This shard's number, from 0 to `count - 1`.
     pub index: usize,
+    /// The number of shards.
     pub count: usize,
 }
 
@@ -69,27 +73,96 @@ pub fn run_part(
         |&i| evaluate(recording, &names, &points[i]),
         progress,
     );
-    let rows: Vec<Value> = indices
+    let rows: Vec<PartPoint> = indices
         .iter()
         .zip(results)
-        .map(|(&i, r)| {
-            let mut row = match r {
-                Ok(e) => crate::json::errors(&e),
-                Err(e) => json!({ "error": e.to_string() }),
-            };
-            row["index"] = i.into();
-            row["values"] = points[i].clone().into();
-            row
+        .map(|(&i, r)| match r {
+            Ok(e) => PartPoint::Ran(RanPoint {
+                nrmse: e.nrmse,
+                rmse_m: e.rmse_m,
+                nrmse_all: e.nrmse_all,
+                rmse_all_m: e.rmse_all_m,
+                observations: e.count,
+                index: i,
+                values: points[i].clone(),
+            }),
+            Err(e) => PartPoint::Failed(FailedPoint {
+                error: e.to_string(),
+                index: i,
+                values: points[i].clone(),
+            }),
         })
         .collect();
-    Ok(json!({
-        "softgrip_sweep_part": PART_VERSION,
-        "recording": path.display().to_string(),
-        "params": specs,
-        "grid": points.len(),
-        "shard": [shard.index, shard.count],
-        "points": rows,
+    Ok(crate::json::to_value(&SweepPartFigures {
+        softgrip_sweep_part: PART_VERSION,
+        recording: path.display().to_string(),
+        params: specs.to_vec(),
+        grid: points.len(),
+        shard: [shard.index, shard.count],
+        points: rows,
     }))
+}
+
+/// A shard's file, what `softgrip sweep --shard I/N --part FILE` writes and `softgrip merge`
+/// reads (`sweep_part` of Python): the shard's grid points, each simulated alone.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SweepPartFigures {
+    /// The file's format, [`PART_VERSION`].
+    pub softgrip_sweep_part: u64,
+    /// The recording's header (.toml), as given.
+    pub recording: String,
+    /// The axes' specifications (`name=start:end:count`, ...), as given with `--param`.
+    pub params: Vec<String>,
+    /// Points in the whole grid, every shard's.
+    pub grid: usize,
+    /// This shard's number (from 0) and the number of shards.
+    pub shard: [usize; 2],
+    /// This shard's points, in grid order.
+    pub points: Vec<PartPoint>,
+}
+
+/// One grid point of a shard: its figures, or why its simulation failed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum PartPoint {
+    /// The point's simulation ran.
+    Ran(RanPoint),
+    /// It failed.
+    Failed(FailedPoint),
+}
+
+/// A grid point simulated, with its errors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RanPoint {
+    /// NRMSE: `rmse_m` over the object's largest extent, dimensionless.
+    pub nrmse: f64,
+    /// RMS distance, simulated to recorded, over the object markers (the finger markers where
+    /// the recording has none), m.
+    pub rmse_m: f64,
+    /// NRMSE over every marker, fingers included, dimensionless.
+    pub nrmse_all: f64,
+    /// RMS distance over every marker, fingers included, m.
+    pub rmse_all_m: f64,
+    /// Marker positions counted in `rmse_m` (markers times samples).
+    pub observations: usize,
+    /// The point's index in the whole grid (grid order, from 0).
+    pub index: usize,
+    /// The point's values, one per axis in `params`' order, in each parameter's unit.
+    pub values: Vec<f64>,
+}
+
+/// A grid point whose simulation failed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FailedPoint {
+    /// Why it failed, in words.
+    pub error: String,
+    /// The point's index in the whole grid (grid order, from 0).
+    pub index: usize,
+    /// The point's values, one per axis in `params`' order, in each parameter's unit.
+    pub values: Vec<f64>,
 }
 
 /// The axes of `--param` texts.
@@ -107,9 +180,13 @@ pub fn parse_axes(specs: &[String]) -> Result<Vec<Axis>, LabError> {
 /// grid order.
 #[derive(Debug, Clone)]
 pub struct Merged {
+    /// The recording's path, as the shards give it.
     pub recording: String,
+    /// The axes' specifications (`name=start:end:count`), as the shards give them.
     pub specs: Vec<String>,
+    /// The axes, parsed.
     pub axes: Vec<Axis>,
+    /// Every grid point, in grid order.
     pub points: Vec<SweepPoint>,
 }
 
@@ -121,13 +198,7 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
             "no shard to merge: give the files `sweep --shard` wrote",
         ));
     };
-    for (name, part) in parts {
-        if part["softgrip_sweep_part"].as_u64() != Some(PART_VERSION) {
-            return Err(LabError::input(format!(
-                "{name}: not a shard of `softgrip sweep --shard` (format {PART_VERSION}): give the files it wrote with --part"
-            )));
-        }
-    }
+    check_versions(parts)?;
     let recording = first["recording"].as_str().unwrap_or_default().to_string();
     let specs: Vec<String> = first["params"]
         .as_array()
@@ -162,28 +233,7 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
                 )));
             }
             let p = point(row).ok_or_else(|| bad(format!("point {index} is malformed")))?;
-            // What `sweep --shard` writes, and nothing else: its grid point's values, errors
-            // that are errors (a changed file is refused, not merged into a best point).
-            if p.values != grid_values[index] {
-                return Err(bad(format!(
-                    "point {index} has values {:?}, not the grid's {:?}: the file was changed since `sweep --shard` wrote it",
-                    p.values, grid_values[index]
-                )));
-            }
-            if let Ok(e) = &p.result {
-                for (name, v) in [
-                    ("nrmse", e.nrmse),
-                    ("rmse_m", e.rmse_m),
-                    ("nrmse_all", e.nrmse_all),
-                    ("rmse_all_m", e.rmse_all_m),
-                ] {
-                    if !(v.is_finite() && v >= 0.0) {
-                        return Err(bad(format!(
-                            "point {index}: {name} = {v} is not an error (finite, 0 or more): the file was changed since `sweep --shard` wrote it"
-                        )));
-                    }
-                }
-            }
+            check_point(&p, index, &grid_values[index]).map_err(bad)?;
             slots[index] = Some(p);
         }
     }
@@ -200,6 +250,45 @@ pub fn merge(parts: &[(String, Value)]) -> Result<Merged, LabError> {
         axes,
         points: slots.into_iter().flatten().collect(),
     })
+}
+
+/// Every part is a shard's file of this format.
+fn check_versions(parts: &[(String, Value)]) -> Result<(), LabError> {
+    for (name, part) in parts {
+        if part["softgrip_sweep_part"].as_u64() != Some(PART_VERSION) {
+            return Err(LabError::input(format!(
+                "{name}: not a shard of `softgrip sweep --shard` (format {PART_VERSION}): give the files it wrote with --part"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Point `index` of a shard is what `sweep --shard` writes, and nothing else: its grid point's
+/// values (`grid_values`), errors that are errors (a changed file is refused, not merged into a
+/// best point).
+fn check_point(p: &SweepPoint, index: usize, grid_values: &[f64]) -> Result<(), String> {
+    if p.values != grid_values {
+        return Err(format!(
+            "point {index} has values {:?}, not the grid's {:?}: the file was changed since `sweep --shard` wrote it",
+            p.values, grid_values
+        ));
+    }
+    if let Ok(e) = &p.result {
+        for (name, v) in [
+            ("nrmse", e.nrmse),
+            ("rmse_m", e.rmse_m),
+            ("nrmse_all", e.nrmse_all),
+            ("rmse_all_m", e.rmse_all_m),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!(
+                    "point {index}: {name} = {v} is not an error (finite, 0 or more): the file was changed since `sweep --shard` wrote it"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A point of a shard's file.
@@ -225,6 +314,7 @@ fn point(row: &Value) -> Option<SweepPoint> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use serde_json::json;
 
     #[test]
     fn the_shards_cover_the_grid_once_round_robin() {

@@ -18,6 +18,7 @@ use crate::replay::{ReplayOptions, replay};
 pub struct SweepPoint {
     /// One value per axis, in the axes' order.
     pub values: Vec<f64>,
+    /// The point's errors, or why it could not run.
     pub result: Result<Errors, LabError>,
 }
 

@@ -20,6 +20,7 @@ use softgrip_core::scene::Scene;
 /// What to record and how.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Synthesis {
+    /// How the samples are taken.
     pub mode: Mode,
     /// Time-series only.
     pub start: Start,
@@ -36,7 +37,9 @@ pub struct Synthesis {
     /// Standard deviation of the Gaussian noise on each observed
     /// coordinate (m).
     pub noise: f64,
+    /// Seed of the noise.
     pub seed: u64,
+    /// The recording's `description`.
     pub description: String,
     /// Physics softgrip has no model of, laid on the simulated positions before the noise (the
     /// proof's out-of-catalogue cases); `None`: the simulation as it is.
@@ -49,12 +52,25 @@ pub struct Synthesis {
 pub enum Distortion {
     /// A permanent set: on unloading, every marker (the finger too) keeps `share` of the way
     /// it moved from where it is to where it was at the largest load.
-    PermanentSet { share: f64 },
+    PermanentSet {
+        /// Share of the way kept, 0 to 1.
+        share: f64,
+    },
     /// Adhesion: on unloading, the finger and the markers within `reach` (m, horizontally) of
     /// it keep `share` of that way: the surface sticks to the finger.
-    Adhesion { share: f64, reach: f64 },
+    Adhesion {
+        /// Share of the way kept, 0 to 1.
+        share: f64,
+        /// Horizontal distance from the finger within which markers stick, m.
+        reach: f64,
+    },
     /// A marker slipping on the skin: marker `marker` moves by `rate` m per N of load along x.
-    MarkerSlip { marker: String, rate: f64 },
+    MarkerSlip {
+        /// The marker's name.
+        marker: String,
+        /// Its slide along x per newton of load, m/N.
+        rate: f64,
+    },
 }
 
 impl Distortion {
@@ -105,15 +121,21 @@ impl Distortion {
     }
 }
 
+/// Why a synthetic recording could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum SynthError {
+    /// A file could not be written.
     #[error("cannot write {path}: {source}")]
     Write {
+        /// The file.
         path: PathBuf,
+        /// Why not.
         source: std::io::Error,
     },
+    /// The recording written cannot be read back.
     #[error("the synthetic recording: {0}")]
     Recording(#[from] RecordingError),
+    /// The simulation failed.
     #[error("simulating the synthetic recording: {0}")]
     Sim(#[from] SimError),
 }
@@ -126,6 +148,7 @@ pub struct Gaussian {
 }
 
 impl Gaussian {
+    /// A source seeded with `seed`: the same seed, the same numbers.
     pub fn new(seed: u64) -> Gaussian {
         Gaussian {
             state: seed,

@@ -19,9 +19,13 @@ use crate::widgets::ERROR_RED;
 
 /// The state held at one squeeze, for the 3-D view.
 pub struct Gripped {
+    /// The squeeze solved for, N: the largest finger's force.
     pub squeeze: f64,
+    /// The state holding the lift's load, or the squeezed state where it has no equilibrium.
     pub sim: Simulation,
+    /// Whether the grip holds the load (an equilibrium was found under it).
     pub held: bool,
+    /// The damage measure's largest value in `sim` and where.
     pub peak: window::Peak,
 }
 
@@ -31,6 +35,7 @@ pub struct GraspPanel {
     job: Option<Job<Computed>>,
     /// The window last computed.
     pub computed: Option<Arc<Computed>>,
+    /// The last error of a window or squeeze computation, shown in red.
     pub error: Option<String>,
     /// The squeeze the slider is at (N).
     pub squeeze: f64,

@@ -9,6 +9,7 @@
 //! This file holds the two and the order of a frame: the left panel, the right panel, the 3-D
 //! view in the centre. Each section of a panel has its file.
 
+#![warn(missing_docs)]
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod recording;
@@ -58,6 +59,7 @@ use widgets::ERROR_RED;
 /// The whole app: the panels and the 3-D view. Public for the UI tests,
 /// which run it in egui_kittest on a software adapter.
 pub struct Viewer {
+    /// The left and right panels and the solver they drive.
     pub panels: Panels,
     view: View3d,
     measure: Option<Measure>,
@@ -66,6 +68,7 @@ pub struct Viewer {
 /// The panels and the solver they drive, without the 3-D view: what the
 /// UI tests exercise (`tests/it/viewer_ui.rs`).
 pub struct Panels {
+    /// The simulation running on its solver thread; edits go to it as commands.
     pub live: LiveSimulation,
     /// The scene as the panels show it; sent when a widget changes it.
     pub edited: Scene,
@@ -75,6 +78,7 @@ pub struct Panels {
     /// The latest frame, read at the start of each UI frame.
     pub frame: Option<Arc<Frame>>,
     controls: RunControls,
+    /// The 3-D view's colours and what it shows, as the Display section sets them.
     pub style: Style,
     /// A preset view button pressed this frame.
     view_request: Option<View>,
@@ -87,6 +91,7 @@ pub struct Panels {
     pub file_status: Option<String>,
     /// UI frame time (s), smoothed, and when the last frame started.
     frame_time: f64,
+    /// When the last UI frame started; `None` before the first.
     pub last_frame: Option<std::time::Instant>,
     /// The lab recording over the run, its replay and its fit.
     pub recording: RecordingPanel,

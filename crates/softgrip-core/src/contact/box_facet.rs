@@ -16,6 +16,7 @@ use glam::DVec3;
 
 use super::geometry::Geometry;
 
+/// The contact of a box centred at `centre` with half sizes `h` (m) with facet `p`, if any.
 pub fn detect(centre: DVec3, h: [f64; 3], p: [DVec3; 3]) -> Option<Geometry> {
     let outward = (p[1] - p[0]).cross(p[2] - p[0]);
     let centroid = (p[0] + p[1] + p[2]) / 3.0;

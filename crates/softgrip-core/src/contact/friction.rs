@@ -5,19 +5,26 @@ use glam::DVec3;
 /// Tangential force on the object and the coefficients of its Jacobian.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TangentialForce {
+    /// The tangential force on the object, N.
     pub force: DVec3,
     /// Stick weight S (eq. 31).
     pub stick: f64,
     /// `-df/dx ~ stiffness P`, `-df/dv ~ damping P` (P the tangent projector).
     pub stiffness: f64,
+    /// Its damping coefficient along the plane, N s/m.
     pub damping: f64,
 }
 
+/// A finger's stick-slip friction law (eq. 30-36).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StickSlipParams {
+    /// Coulomb friction coefficient mu.
     pub friction: f64,
+    /// The slip speed of eq. 31's stick-slip transition, m/s.
     pub stick_velocity: f64,
+    /// The stick spring's stiffness, N/m.
     pub stick_stiffness: f64,
+    /// The stick spring's damping, N s/m.
     pub stick_damping: f64,
 }
 

@@ -3,6 +3,7 @@
 /// Normal force magnitude and its derivatives.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NormalForce {
+    /// The normal force's magnitude, N (never pulling).
     pub force: f64,
     /// dF / d(penetration).
     pub stiffness: f64,

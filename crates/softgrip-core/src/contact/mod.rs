@@ -32,6 +32,7 @@ use hunt_crossley::hunt_crossley_normal_force;
 /// Reused buffers of the contact stage.
 #[derive(Debug, Default, Clone)]
 pub struct ContactScratch {
+    /// The broad phase: the facets binned in a grid of cells two edges wide.
     pub grid: FacetGrid,
     candidates: Vec<u32>,
     touched: Vec<(u32, u32)>,
@@ -126,7 +127,10 @@ pub fn commit(state: &mut State) {
     }
 }
 
-/// Adds the contact forces of every finger and records the contacts.
+/// Adds the contact forces of every finger and records the contacts: for each finger the
+/// broad phase (the facet grid), then per facet touched the narrow phase and the forces
+/// (`pair_forces`), their stamp into the force vector and the system (`stamp`) and their
+/// record (`record`); then the stick anchors of contacts that ended are forgotten.
 pub fn accumulate(
     model: &Model,
     state: &mut State,
@@ -134,7 +138,6 @@ pub fn accumulate(
     system: &mut System,
     scratch: &mut ContactScratch,
 ) {
-    let n = model.particle_count();
     state.contacts.clear();
     scratch.touched.clear();
     for fs in &mut state.fingers {
@@ -153,8 +156,7 @@ pub fn accumulate(
 
     for k in 0..model.fingers.len() {
         let finger = &model.fingers[k];
-        let centre = state.fingers[k].position;
-        let (lo, hi) = finger_bounds(model, k, centre);
+        let (lo, hi) = finger_bounds(model, k, state.fingers[k].position);
         scratch.grid.query(lo, hi, &mut scratch.candidates);
         let params = StickSlipParams {
             friction: finger.friction,
@@ -164,138 +166,12 @@ pub fn accumulate(
         };
         for ci in 0..scratch.candidates.len() {
             let j = scratch.candidates[ci] as usize;
-            let tri = model.facets[j];
-            let p = tri.map(|i| state.positions[i as usize]);
-            let Some(g) = detect(model, k, centre, p) else {
+            let Some(pair) = pair_forces(model, state, k, j, &params) else {
                 continue;
             };
-            let w = g.weights;
-            let v_point: DVec3 = (0..3)
-                .map(|a| w[a] * state.velocities[tri[a] as usize])
-                .sum();
-            let v_rel = v_point - state.fingers[k].velocity;
-            let penetration_rate = -g.normal.dot(v_rel);
-
-            let key = (k as u32, j as u32);
-            let memory = state.contact_memory.entry(key).or_insert(ContactMemory {
-                approach_speed: penetration_rate.max(HUNT_CROSSLEY_MIN_APPROACH_SPEED),
-                anchor_weights: w,
-                anchor_offset: g.point - centre,
-                sliding: false,
-                pending: DVec3::ZERO,
-                dragged: DVec3::ZERO,
-            });
-            scratch.touched.push(key);
-
-            let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
-            let (stiffness, exponent) = stiffness_and_exponent(model, k, g.part, area);
-            let normal = hunt_crossley_normal_force(
-                stiffness,
-                exponent,
-                finger.restitution,
-                g.penetration,
-                penetration_rate,
-                memory.approach_speed,
-            );
-
-            // Stick anchor: the facet's material point where contact began.
-            let projector = DMat3::IDENTITY - outer(g.normal, g.normal);
-            let anchor_point: DVec3 = (0..3).map(|a| memory.anchor_weights[a] * p[a]).sum();
-            let raw_drift = projector * (anchor_point - centre - memory.anchor_offset);
-            let (drift, anchor_moved) = if memory.sliding {
-                slide_drift(&params, normal.force, raw_drift)
-            } else {
-                limit_drift(&params, normal.force, raw_drift)
-            };
-            let v_t = projector * v_rel; // eq. 33
-            let tangential = if model.quasi_static {
-                // A static solve's iterations are no time: the anchor is held over the load
-                // increment and the force is the stick spring on the drift projected onto the
-                // friction cone (a return mapping, as for the table); the anchor is dragged when
-                // the solve ends (`commit`). On the cone's edge the tangent is the projection's
-                // (the 2 mm plate's 8 loads in 23 s; with the stick spring's, one load took 2000
-                // iterations). Without friction the stick spring's stays: the force is zero
-                // either way, and the bare lattice under a frictionless sphere had no definite
-                // matrix at any pseudo step without it.
-                memory.pending = anchor_moved;
-                let mut t = stick_slip_force(&params, normal.force, drift, v_t, 0.0);
-                let raw = raw_drift.length();
-                if params.friction > 0.0 && anchor_moved != DVec3::ZERO && raw > 0.0 {
-                    t.stiffness *= drift.length() / raw;
-                }
-                t
-            } else {
-                memory.anchor_offset += anchor_moved;
-                memory.pending = DVec3::ZERO;
-                let slip_speed = anchor_moved.length() / model.dt;
-                stick_slip_force(&params, normal.force, drift, v_t, slip_speed)
-            };
-
-            // Nodal forces (eq. 37-39) and the reaction on the finger.
-            let total = normal.force * g.normal + tangential.force;
-            for a in 0..3 {
-                force[tri[a] as usize] += w[a] * total;
-            }
-            force[n + k] -= total;
-
-            let exact = (model.full_tangent && model.quasi_static)
-                .then(|| pair_stiffness(model, k, centre, p, &*memory, &params));
-            if let Some((_, skew)) = &exact
-                && let Some(skew) = skew
-            {
-                let dofs = [tri[0], tri[1], tri[2], (n + k) as u32];
-                system.add_asym(dofs, *skew);
-            }
-            let exact = exact.map(|(sym, _)| sym);
-            let vel = |dof: usize| crate::forces::velocity_of(state, dof);
-            if let Some(blocks) = exact {
-                // Newton's tangent: the static force's whole derivative, by central differences
-                // of the pair's force in its twelve coordinates (see `pair_stiffness`).
-                let dq = outer(g.normal, g.normal) * normal.damping;
-                let ends = [tri[0] as usize, tri[1] as usize, tri[2] as usize, n + k];
-                let weights = [w[0], w[1], w[2], -1.0];
-                for a in 0..4 {
-                    let damping = dq * (weights[a] * weights[a]);
-                    system.add_diag(ends[a], blocks[a][a], damping, &vel);
-                }
-                for a in 0..3 {
-                    let b = (a + 1) % 3;
-                    let (lo, hi) = if tri[a] < tri[b] { (a, b) } else { (b, a) };
-                    let damping = dq * (weights[lo] * weights[hi]);
-                    system.add_off(
-                        &model.springs,
-                        model.facet_springs[j][a],
-                        ends[lo],
-                        ends[hi],
-                        blocks[lo][hi],
-                        damping,
-                        &vel,
-                    );
-                    let damping = dq * -weights[a];
-                    system.add_coupling(ends[a], n + k, blocks[a][3], damping, &vel);
-                }
-            } else {
-                add_pair_jacobian(model, system, k, j, tri, p, g, normal, tangential, &vel);
-            }
-
-            let fs = &mut state.fingers[k];
-            fs.contact_force -= total;
-            fs.normal_force += normal.force;
-            fs.tangential_force += tangential.force;
-            fs.max_penetration = fs.max_penetration.max(g.penetration);
-            state.contacts.push(Contact {
-                finger: k as u32,
-                facet: j as u32,
-                point: g.point,
-                normal: g.normal,
-                penetration: g.penetration,
-                normal_force: normal.force,
-                tangential_force: tangential.force,
-                stick: tangential.stick,
-                weights: w,
-                part: g.part as u32,
-                stick_energy: 0.5 * params.stick_stiffness * drift.length_squared(),
-            });
+            scratch.touched.push((k as u32, j as u32));
+            stamp(model, state, force, system, &pair, &params);
+            record(state, &pair, &params);
         }
     }
     // Forget contacts that ended (touched is sorted: fingers, then facets in order).
@@ -303,6 +179,250 @@ pub fn accumulate(
     state
         .contact_memory
         .retain(|key, _| touched.binary_search(key).is_ok());
+}
+
+/// One finger-facet contact of a step and its forces.
+struct Pair {
+    /// The finger.
+    k: usize,
+    /// The facet (index into `model.facets`) and its particles.
+    j: usize,
+    tri: [u32; 3],
+    /// The facet's corners at the step's positions, m.
+    p: [DVec3; 3],
+    g: Geometry,
+    normal: hunt_crossley::NormalForce,
+    tangential: friction::TangentialForce,
+    /// The stick spring's stretch in the tangent plane after the friction limit, m.
+    drift: DVec3,
+}
+
+/// The narrow phase of finger `k` with facet `j` and, where they touch, the Hunt-Crossley
+/// normal force and the stick-slip friction (eq. 18-36), the stick anchor remembered from
+/// where the contact began (and moved by what slid).
+fn pair_forces(
+    model: &Model,
+    state: &mut State,
+    k: usize,
+    j: usize,
+    params: &StickSlipParams,
+) -> Option<Pair> {
+    let finger = &model.fingers[k];
+    let centre = state.fingers[k].position;
+    let tri = model.facets[j];
+    let p = tri.map(|i| state.positions[i as usize]);
+    let g = detect(model, k, centre, p)?;
+    let w = g.weights;
+    let v_point: DVec3 = (0..3)
+        .map(|a| w[a] * state.velocities[tri[a] as usize])
+        .sum();
+    let v_rel = v_point - state.fingers[k].velocity;
+    let penetration_rate = -g.normal.dot(v_rel);
+
+    let key = (k as u32, j as u32);
+    let memory = state.contact_memory.entry(key).or_insert(ContactMemory {
+        approach_speed: penetration_rate.max(HUNT_CROSSLEY_MIN_APPROACH_SPEED),
+        anchor_weights: w,
+        anchor_offset: g.point - centre,
+        sliding: false,
+        pending: DVec3::ZERO,
+        dragged: DVec3::ZERO,
+    });
+
+    let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+    let (stiffness, exponent) = stiffness_and_exponent(model, k, g.part, area);
+    let normal = hunt_crossley_normal_force(
+        stiffness,
+        exponent,
+        finger.restitution,
+        g.penetration,
+        penetration_rate,
+        memory.approach_speed,
+    );
+
+    let Drift {
+        projector,
+        raw: raw_drift,
+        limited: drift,
+        moved: anchor_moved,
+    } = stick_drift(params, normal.force, memory, p, centre, g.normal);
+    let v_t = projector * v_rel; // eq. 33
+    let tangential = if model.quasi_static {
+        // A static solve's iterations are no time: the anchor is held over the load
+        // increment and the force is the stick spring on the drift projected onto the
+        // friction cone (a return mapping, as for the table); the anchor is dragged when
+        // the solve ends (`commit`). On the cone's edge the tangent is the projection's
+        // (the 2 mm plate's 8 loads in 23 s; with the stick spring's, one load took 2000
+        // iterations). Without friction the stick spring's stays: the force is zero
+        // either way, and the bare lattice under a frictionless sphere had no definite
+        // matrix at any pseudo step without it.
+        memory.pending = anchor_moved;
+        let mut t = stick_slip_force(params, normal.force, drift, v_t, 0.0);
+        let raw = raw_drift.length();
+        if params.friction > 0.0 && anchor_moved != DVec3::ZERO && raw > 0.0 {
+            t.stiffness *= drift.length() / raw;
+        }
+        t
+    } else {
+        memory.anchor_offset += anchor_moved;
+        memory.pending = DVec3::ZERO;
+        let slip_speed = anchor_moved.length() / model.dt;
+        stick_slip_force(params, normal.force, drift, v_t, slip_speed)
+    };
+    Some(Pair {
+        k,
+        j,
+        tri,
+        p,
+        g,
+        normal,
+        tangential,
+        drift,
+    })
+}
+
+/// The stick spring's stretch in a contact's tangent plane.
+struct Drift {
+    /// The projector onto the tangent plane.
+    projector: DMat3,
+    /// The anchor's offset from where it was on the finger, in the plane, m.
+    raw: DVec3,
+    /// `raw` limited by the friction cone, m.
+    limited: DVec3,
+    /// How far the anchor is dragged by what slid, m.
+    moved: DVec3,
+}
+
+/// The stick spring of a contact with unit normal `normal` and normal force `normal_force` (N):
+/// from the anchor (the facet's material point where contact began, on the corners `p`) to where
+/// it was on the finger at `centre`, in the tangent plane, limited by the friction cone.
+fn stick_drift(
+    params: &StickSlipParams,
+    normal_force: f64,
+    memory: &ContactMemory,
+    p: [DVec3; 3],
+    centre: DVec3,
+    normal: DVec3,
+) -> Drift {
+    let projector = DMat3::IDENTITY - outer(normal, normal);
+    let anchor_point: DVec3 = (0..3).map(|a| memory.anchor_weights[a] * p[a]).sum();
+    let raw = projector * (anchor_point - centre - memory.anchor_offset);
+    let (limited, moved) = if memory.sliding {
+        slide_drift(params, normal_force, raw)
+    } else {
+        limit_drift(params, normal_force, raw)
+    };
+    Drift {
+        projector,
+        raw,
+        limited,
+        moved,
+    }
+}
+
+/// A contact's nodal forces (eq. 37-39) and the reaction on the finger into `force`, and its
+/// Jacobian into `system`: Newton's exact tangent in a static solve that asks for it, the
+/// time step's blocks otherwise.
+fn stamp(
+    model: &Model,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    pair: &Pair,
+    params: &StickSlipParams,
+) {
+    let n = model.particle_count();
+    let Pair {
+        k,
+        j,
+        tri,
+        p,
+        g,
+        normal,
+        tangential,
+        ..
+    } = *pair;
+    let w = g.weights;
+    let total = normal.force * g.normal + tangential.force;
+    for a in 0..3 {
+        force[tri[a] as usize] += w[a] * total;
+    }
+    force[n + k] -= total;
+
+    let centre = state.fingers[k].position;
+    let exact = (model.full_tangent && model.quasi_static).then(|| {
+        let memory = &state.contact_memory[&(k as u32, j as u32)];
+        pair_stiffness(model, k, centre, p, memory, params)
+    });
+    if let Some((_, skew)) = &exact
+        && let Some(skew) = skew
+    {
+        let dofs = [tri[0], tri[1], tri[2], (n + k) as u32];
+        system.add_asym(dofs, *skew);
+    }
+    let exact = exact.map(|(sym, _)| sym);
+    let vel = |dof: usize| crate::forces::velocity_of(state, dof);
+    if let Some(blocks) = exact {
+        // Newton's tangent: the static force's whole derivative, by central differences
+        // of the pair's force in its twelve coordinates (see `pair_stiffness`).
+        let dq = outer(g.normal, g.normal) * normal.damping;
+        let ends = [tri[0] as usize, tri[1] as usize, tri[2] as usize, n + k];
+        let weights = [w[0], w[1], w[2], -1.0];
+        for a in 0..4 {
+            let damping = dq * (weights[a] * weights[a]);
+            system.add_diag(ends[a], blocks[a][a], damping, &vel);
+        }
+        for a in 0..3 {
+            let b = (a + 1) % 3;
+            let (lo, hi) = if tri[a] < tri[b] { (a, b) } else { (b, a) };
+            let damping = dq * (weights[lo] * weights[hi]);
+            system.add_off(
+                &model.springs,
+                model.facet_springs[j][a],
+                ends[lo],
+                ends[hi],
+                blocks[lo][hi],
+                damping,
+                &vel,
+            );
+            let damping = dq * -weights[a];
+            system.add_coupling(ends[a], n + k, blocks[a][3], damping, &vel);
+        }
+    } else {
+        add_pair_jacobian(model, system, k, j, tri, p, g, normal, tangential, &vel);
+    }
+}
+
+/// A contact's share of its finger's sums and its [`Contact`] record.
+fn record(state: &mut State, pair: &Pair, params: &StickSlipParams) {
+    let Pair {
+        k,
+        j,
+        g,
+        normal,
+        tangential,
+        drift,
+        ..
+    } = *pair;
+    let total = normal.force * g.normal + tangential.force;
+    let fs = &mut state.fingers[k];
+    fs.contact_force -= total;
+    fs.normal_force += normal.force;
+    fs.tangential_force += tangential.force;
+    fs.max_penetration = fs.max_penetration.max(g.penetration);
+    state.contacts.push(Contact {
+        finger: k as u32,
+        facet: j as u32,
+        point: g.point,
+        normal: g.normal,
+        penetration: g.penetration,
+        normal_force: normal.force,
+        tangential_force: tangential.force,
+        stick: tangential.stick,
+        weights: g.weights,
+        part: g.part as u32,
+        stick_energy: 0.5 * params.stick_stiffness * drift.length_squared(),
+    });
 }
 
 /// The Jacobian blocks of one finger-facet contact in time steps: `[w_0, w_1, w_2, -1] (x) Q`
@@ -407,14 +527,7 @@ fn static_pair_force(
         0.0,
         memory.approach_speed,
     );
-    let projector = DMat3::IDENTITY - outer(g.normal, g.normal);
-    let anchor_point: DVec3 = (0..3).map(|a| memory.anchor_weights[a] * p[a]).sum();
-    let raw_drift = projector * (anchor_point - centre - memory.anchor_offset);
-    let (drift, _) = if memory.sliding {
-        slide_drift(params, normal.force, raw_drift)
-    } else {
-        limit_drift(params, normal.force, raw_drift)
-    };
+    let drift = stick_drift(params, normal.force, memory, p, centre, g.normal).limited;
     let t = stick_slip_force(params, normal.force, drift, DVec3::ZERO, 0.0);
     let total = normal.force * g.normal + t.force;
     let w = g.weights;

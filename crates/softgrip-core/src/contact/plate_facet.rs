@@ -8,6 +8,8 @@ use glam::DVec3;
 
 use super::geometry::Geometry;
 
+/// The contact of a plate centred at `centre` (half sizes `half_size` in x and y, m; facets
+/// deeper than `max_depth` behind it are not touched) with facet `p`, if any.
 pub fn detect(
     centre: DVec3,
     half_size: [f64; 2],

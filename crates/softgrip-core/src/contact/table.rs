@@ -46,31 +46,7 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
         let p = p as usize;
         let x = state.positions[p];
         let v = velocities[p];
-        // In contact when below the table, or about to be by the end of
-        // the step: a particle that would land lands on the plane instead
-        // of bouncing off the penalty a step later. One below it stays in
-        // contact while it rises back (the dashpot stops it on the plane;
-        // released, it left at the penetration over dt and fell back, a
-        // two-step bounce for ever).
-        // A static solve counts a particle on the plane (z = 0, the object's rest on the
-        // table) as touching: its tangent then holds the object up from the first iteration.
-        let off = if model.quasi_static {
-            x.z > 0.0
-        } else {
-            x.z >= 0.0
-        };
-        if off && x.z + dt * v.z >= 0.0 {
-            // A static solve keeps where a particle off the table would stick if it landed
-            // ([`begin_increment`]).
-            let anchor = if model.quasi_static {
-                c.anchor
-            } else {
-                DVec3::ZERO
-            };
-            *c = TableContact {
-                anchor,
-                ..TableContact::default()
-            };
+        if leaves_contact(model, c, x, v) {
             continue;
         }
         let penetration = -x.z;
@@ -103,39 +79,7 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
             continue;
         }
         let speed = vt.length();
-        match c.mode {
-            TableMode::Free => {
-                // Landing while sliding slides on (a stick spring would stop
-                // the particle in one step, whatever mu F_n allows).
-                if speed > SLIP_REST_SPEED {
-                    c.mode = TableMode::Slip;
-                    c.direction = vt / speed;
-                } else {
-                    c.mode = TableMode::Stick;
-                    c.anchor = xt;
-                }
-            }
-            TableMode::Stick => {
-                // Slips when the spring would pull harder than mu F_n by
-                // the end of the step at the present velocity.
-                let drift = xt + dt * vt - c.anchor;
-                let d = drift.length();
-                if k * d > limit {
-                    c.mode = TableMode::Slip;
-                    c.direction = drift / d;
-                }
-            }
-            TableMode::Slip => {
-                let stopping = speed < SLIP_REST_SPEED && speed < c.last_speed;
-                if stopping || vt.dot(c.direction) <= 0.0 {
-                    // Stick again, carrying on with the same force.
-                    c.mode = TableMode::Stick;
-                    c.anchor = xt - c.direction * (limit / k);
-                } else {
-                    c.direction = vt / speed;
-                }
-            }
-        }
+        choose_mode(c, xt, vt, speed, k, limit, dt);
         let last_speed = c.last_speed;
         c.last_speed = if c.mode == TableMode::Slip {
             speed
@@ -150,42 +94,137 @@ pub fn accumulate(model: &Model, state: &mut State, force: &mut [DVec3], system:
                 system.add_diag(p, tangent * k, tangent * c_n, &vel);
             }
             TableMode::Slip => {
-                // mu F_n against the velocity. Its Jacobian is a damper
-                // `d = mu F_n / |v_t|` across the velocity (the direction
-                // turns with it) and, along it, `d` times the share of the
-                // speed friction alone would take in a step (at most 1): a
-                // particle friction could stop in a step is slowed by a
-                // damper, never reversed. The damper takes `d dv` off the
-                // force in the step, so the force adds `d dv` for the speed
-                // gained in the last step: mu F_n exactly while the speed
-                // grows steadily (a block accelerating slowly down a slope
-                // had 1 % too much friction without it, and 30 % too little
-                // acceleration; with no damper along the velocity, landing
-                // particles with a large F_n were thrown back and the block
-                // diverged).
-                let s = speed.max(SLIP_REST_SPEED);
-                let d = limit / s;
-                let share = (limit * dt / (model.mass[p] * s)).min(1.0);
-                let gained = if last_speed > 0.0 {
-                    (speed - last_speed).clamp(0.0, speed)
-                } else {
-                    0.0
-                };
-                let t = c.direction;
-                let along = crate::solver::system::outer(t, t);
-                let f = -limit * t;
-                c.tangential_force = f;
-                force[p] += f + t * (d * share * gained);
-                system.add_diag(
-                    p,
-                    DMat3::ZERO,
-                    (tangent - along) * d + along * (d * share),
-                    &vel,
-                );
+                let (f, damping) = slip(c, limit, speed, last_speed, dt, model.mass[p]);
+                force[p] += f;
+                system.add_diag(p, DMat3::ZERO, damping, &vel);
             }
             TableMode::Free => unreachable!("set above"),
         }
     }
+}
+
+/// Whether particle contact `c` (at `x`, moving at `v`) is off the table for this step: then it
+/// is reset, keeping in a static solve the anchor where it would stick if it landed.
+fn leaves_contact(model: &Model, c: &mut TableContact, x: DVec3, v: DVec3) -> bool {
+    // In contact when below the table, or about to be by the end of
+    // the step: a particle that would land lands on the plane instead
+    // of bouncing off the penalty a step later. One below it stays in
+    // contact while it rises back (the dashpot stops it on the plane;
+    // released, it left at the penetration over dt and fell back, a
+    // two-step bounce for ever).
+    // A static solve counts a particle on the plane (z = 0, the object's rest on the
+    // table) as touching: its tangent then holds the object up from the first iteration.
+    let off = if model.quasi_static {
+        x.z > 0.0
+    } else {
+        x.z >= 0.0
+    };
+    if off && x.z + model.dt * v.z >= 0.0 {
+        // A static solve keeps where a particle off the table would stick if it landed
+        // ([`begin_increment`]).
+        let anchor = if model.quasi_static {
+            c.anchor
+        } else {
+            DVec3::ZERO
+        };
+        *c = TableContact {
+            anchor,
+            ..TableContact::default()
+        };
+        return true;
+    }
+    false
+}
+
+/// A time step's friction mode for a contact at tangential position `xt` moving at `vt`
+/// (`speed` its length): free contacts land sticking or sliding, a stuck one slips when its
+/// stick spring (stiffness `k`) would pull harder than `limit` by the step's end, a slipping
+/// one sticks again when it reverses or comes to rest.
+fn choose_mode(
+    c: &mut TableContact,
+    xt: DVec3,
+    vt: DVec3,
+    speed: f64,
+    k: f64,
+    limit: f64,
+    dt: f64,
+) {
+    match c.mode {
+        TableMode::Free => {
+            // Landing while sliding slides on (a stick spring would stop
+            // the particle in one step, whatever mu F_n allows).
+            if speed > SLIP_REST_SPEED {
+                c.mode = TableMode::Slip;
+                c.direction = vt / speed;
+            } else {
+                c.mode = TableMode::Stick;
+                c.anchor = xt;
+            }
+        }
+        TableMode::Stick => {
+            // Slips when the spring would pull harder than mu F_n by
+            // the end of the step at the present velocity.
+            let drift = xt + dt * vt - c.anchor;
+            let d = drift.length();
+            if k * d > limit {
+                c.mode = TableMode::Slip;
+                c.direction = drift / d;
+            }
+        }
+        TableMode::Slip => {
+            let stopping = speed < SLIP_REST_SPEED && speed < c.last_speed;
+            if stopping || vt.dot(c.direction) <= 0.0 {
+                // Stick again, carrying on with the same force.
+                c.mode = TableMode::Stick;
+                c.anchor = xt - c.direction * (limit / k);
+            } else {
+                c.direction = vt / speed;
+            }
+        }
+    }
+}
+
+/// A slipping contact's force (to add to the particle's) and damping block (for the system):
+/// the kinetic friction `limit` against the velocity, `speed` now and `last_speed` a step ago,
+/// on a particle of `mass` (kg).
+fn slip(
+    c: &mut TableContact,
+    limit: f64,
+    speed: f64,
+    last_speed: f64,
+    dt: f64,
+    mass: f64,
+) -> (DVec3, DMat3) {
+    // mu F_n against the velocity. Its Jacobian is a damper
+    // `d = mu F_n / |v_t|` across the velocity (the direction
+    // turns with it) and, along it, `d` times the share of the
+    // speed friction alone would take in a step (at most 1): a
+    // particle friction could stop in a step is slowed by a
+    // damper, never reversed. The damper takes `d dv` off the
+    // force in the step, so the force adds `d dv` for the speed
+    // gained in the last step: mu F_n exactly while the speed
+    // grows steadily (a block accelerating slowly down a slope
+    // had 1 % too much friction without it, and 30 % too little
+    // acceleration; with no damper along the velocity, landing
+    // particles with a large F_n were thrown back and the block
+    // diverged).
+    let s = speed.max(SLIP_REST_SPEED);
+    let d = limit / s;
+    let share = (limit * dt / (mass * s)).min(1.0);
+    let gained = if last_speed > 0.0 {
+        (speed - last_speed).clamp(0.0, speed)
+    } else {
+        0.0
+    };
+    let t = c.direction;
+    let along = crate::solver::system::outer(t, t);
+    let f = -limit * t;
+    c.tangential_force = f;
+    let tangent = DMat3::from_diagonal(TANGENT);
+    (
+        f + t * (d * share * gained),
+        (tangent - along) * d + along * (d * share),
+    )
 }
 
 /// A contact in a static solve: the stick spring to an anchor held over the whole load increment,

@@ -185,7 +185,9 @@ pub enum Settled {
     Static(StaticReport),
     /// It did not (stalled, or out of iterations), and time steps came to rest.
     Dynamic {
+        /// How the time steps came to rest.
         rest: crate::quasi_static::RestReport,
+        /// Whether the static solver stalled (rather than ran out of iterations).
         stalled: bool,
     },
 }
@@ -465,16 +467,15 @@ impl Simulation {
     }
 
     fn iterate(&mut self, base: &Arc<Model>, o: StaticOptions) -> Result<StaticReport, SimError> {
-        let scale = load_scale(base, &self.state);
-        let tolerance = o.tolerance * scale.max(f64::MIN_POSITIVE);
-        let max_move = o.max_move * base.edge_length;
-        let smallest = SMALLEST_STEP * base.dt;
-        // The guide holds a finger to the distance it creeps in one step of the scene's dt.
-        let guide_hold = base.guide_rest_speed * base.dt;
-        let mut report = StaticReport {
-            load_scale: scale,
-            ..StaticReport::default()
-        };
+        let (
+            Bounds {
+                tolerance,
+                max_move,
+                smallest,
+                guide_hold,
+            },
+            mut report,
+        ) = bounds(base, &self.state, o);
         let mut models: Vec<(f64, bool, Arc<Model>)> = Vec::new();
         let mut h = if o.warm { o.max_pseudo_step } else { base.dt };
         let mut last_failure = Failure::Still(0.0);
@@ -573,15 +574,15 @@ impl Simulation {
     /// semi-definite one at the same `h`. The force at a trial step is the next iteration's own
     /// assembly, so a step the search keeps costs nothing extra.
     fn newton(&mut self, base: &Arc<Model>, o: StaticOptions) -> Result<StaticReport, SimError> {
-        let scale = load_scale(base, &self.state);
-        let tolerance = o.tolerance * scale.max(f64::MIN_POSITIVE);
-        let max_move = o.max_move * base.edge_length;
-        let smallest = SMALLEST_STEP * base.dt;
-        let guide_hold = base.guide_rest_speed * base.dt;
-        let mut report = StaticReport {
-            load_scale: scale,
-            ..StaticReport::default()
-        };
+        let (
+            Bounds {
+                tolerance,
+                max_move,
+                smallest,
+                guide_hold,
+            },
+            mut report,
+        ) = bounds(base, &self.state, o);
         let mut models: Vec<(f64, bool, Arc<Model>)> = Vec::new();
         // From an equilibrium with its contacts made, Newton's full step; a finger or table not
         // touching yet ramps the pseudo step from dt, so that a free body's first moves stay
@@ -868,4 +869,32 @@ fn contacts_made(model: &Model, state: &crate::state::State) -> bool {
             .iter()
             .any(|c| c.mode != crate::state::TableMode::Free);
     fingers && table
+}
+
+/// What both static iterations measure against.
+struct Bounds {
+    /// The force residual that counts as equilibrium, N (the options' share of the load's scale).
+    tolerance: f64,
+    /// The largest move of a particle in one iteration, m.
+    max_move: f64,
+    /// The smallest pseudo step, s.
+    smallest: f64,
+    /// The guide holds a finger to the distance it creeps in one step of the scene's dt, m.
+    guide_hold: f64,
+}
+
+/// [`Bounds`] for `base` at `state` under `o`, and an empty report with the load's scale.
+fn bounds(base: &Model, state: &State, o: StaticOptions) -> (Bounds, StaticReport) {
+    let scale = load_scale(base, state);
+    let bounds = Bounds {
+        tolerance: o.tolerance * scale.max(f64::MIN_POSITIVE),
+        max_move: o.max_move * base.edge_length,
+        smallest: SMALLEST_STEP * base.dt,
+        guide_hold: base.guide_rest_speed * base.dt,
+    };
+    let report = StaticReport {
+        load_scale: scale,
+        ..StaticReport::default()
+    };
+    (bounds, report)
 }

@@ -9,6 +9,8 @@ use crate::state::State;
 
 pub use crate::model::GUIDE_REST_SPEED;
 
+/// Adds gravity and the constant loads, and each finger's drive: its applied force, its guide's
+/// damping and Coulomb friction, with their Jacobians.
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let n = model.particle_count();
     for (f, c) in force.iter_mut().zip(&model.constant_force) {

@@ -38,6 +38,7 @@ pub fn force(model: &Model, state: &State) -> Option<DVec3> {
     Some(pull.stiffness * (pull.target - x) - damping(model, pull, tri) * v)
 }
 
+/// Adds the viewer's pull: a damped spring from the picked surface point to its target.
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let Some(pull) = state.pull.as_ref() else {
         return;

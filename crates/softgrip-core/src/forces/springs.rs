@@ -34,10 +34,10 @@ pub(crate) fn axis(x: &[DVec3], s: &crate::model::Spring) -> Option<(usize, usiz
 /// Starting the limit spring just before the limit keeps its equilibrium
 /// inside the limit, so the projection and the limit spring do not pull
 /// against each other (ARCHITECTURE.md, choice 5).
+///
+/// Spring models only: with neo-Hookean elements the springs' stage runs
+/// [`accumulate_dampers`] instead (`step::assemble`).
 pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
-    if model.fem.is_some() {
-        return accumulate_dampers(model, state, force, system);
-    }
     if !model.spring_law.is_linear() {
         return accumulate_general(model, state, force, system);
     }
@@ -105,8 +105,11 @@ pub fn spring_law(model: &Model, s: &crate::model::Spring, l: f64, q: f64) -> Sp
 /// the transverse stiffness before clamping).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpringForce {
+    /// Elastic force along the spring, N (positive in tension).
     pub force: f64,
+    /// Its derivative by the length, N/m.
     pub tangent: f64,
+    /// Force over length, N/m: the transverse stiffness before clamping.
     pub transverse: f64,
 }
 
@@ -146,7 +149,7 @@ fn clamp_transverse(model: &Model, t: f64) -> f64 {
 
 /// The springs' dampers alone (eq. 4): the damping of the neo-Hookean
 /// model, whose elastic forces are the elements' (`forces::fem`).
-fn accumulate_dampers(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
+pub fn accumulate_dampers(model: &Model, state: &State, force: &mut [DVec3], system: &mut System) {
     let x = &state.positions;
     let v = &state.velocities;
     let dt = system.dt();

@@ -122,6 +122,18 @@ pub fn accumulate_elements(
     elements: std::ops::Range<usize>,
 ) {
     accumulate_arms(model, state, force, system, elements.clone());
+    accumulate_element_damping(model, state, force, system, elements);
+}
+
+/// The neo-Hookean elements' Kelvin-Voigt viscosity for the elements in `elements` (nothing
+/// when b is 0 or the elasticity is the springs').
+pub fn accumulate_element_damping(
+    model: &Model,
+    state: &State,
+    force: &mut [DVec3],
+    system: &mut System,
+    elements: std::ops::Range<usize>,
+) {
     let b = model.rayleigh_stiffness;
     let Some(fem) = &model.fem else { return };
     if b == 0.0 {

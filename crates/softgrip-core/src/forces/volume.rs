@@ -17,9 +17,9 @@ use crate::solver::System;
 use crate::solver::system::outer;
 use crate::state::State;
 
-/// Adds eq. 11's correction forces and the volume terms (the `bulk_modulus`
-/// forces, or a neo-Hookean model's elements), with their Jacobians: the
-/// nodal term once ([`nodal`]), then every element.
+/// Adds eq. 11's correction forces and the `bulk_modulus` forces of a spring model, with their
+/// Jacobians: the nodal term once ([`nodal`]), then every element. A neo-Hookean model's
+/// elements are `forces::fem`'s (the step's stage list, `step::assemble`, picks which).
 ///
 /// Both element Jacobians are `c G_a G_b^T` (`c = alpha / g` for eq. 11, `K / V0`
 /// for the bulk term), so they share one set of blocks, and their product
@@ -30,7 +30,7 @@ pub fn accumulate(model: &Model, state: &State, force: &mut [DVec3], system: &mu
 }
 
 /// [`accumulate`]'s element pass for the elements in `elements` only (the
-/// two threads each take a share; [`nodal`] runs once, before).
+/// two threads each take a share; [`nodal`] runs once, before). Spring models only.
 pub fn accumulate_elements(
     model: &Model,
     state: &State,
@@ -38,9 +38,6 @@ pub fn accumulate_elements(
     system: &mut System,
     elements: std::ops::Range<usize>,
 ) {
-    if let Some(fem) = &model.fem {
-        return crate::forces::fem::accumulate_elements(model, fem, state, force, system, elements);
-    }
     let (alpha, bulk) = (model.alpha, model.bulk_modulus);
     let element_bulk = if model.nodal_bulk.is_some() {
         0.0

@@ -4,6 +4,7 @@
 
 use glam::{DVec3, IVec3};
 
+/// A uniform grid of cubes binning the boundary facets by their bounding boxes.
 #[derive(Debug, Default, Clone)]
 pub struct FacetGrid {
     cell: f64,

@@ -22,6 +22,7 @@ pub fn set_max_tetrahedra(n: u64) {
     MAX_TETRAHEDRA.store(n, Ordering::Relaxed);
 }
 
+/// The limit on a mesh's tetrahedra for this process ([`set_max_tetrahedra`]).
 pub fn max_tetrahedra() -> u64 {
     MAX_TETRAHEDRA.load(Ordering::Relaxed)
 }

@@ -12,11 +12,15 @@ use super::{MeshError, TetMesh, bounds_of, signed_volume};
 /// What [`repair`] changed or noticed.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Report {
+    /// Inside-out tetrahedra whose nodes were reordered.
     pub reordered: usize,
+    /// Duplicate nodes merged into another on the same point.
     pub merged: usize,
+    /// Nodes of no tetrahedron, dropped (the merged ones not counted).
     pub unused: usize,
     /// Connected parts (sharing nodes); 1 for a sound object.
     pub parts: usize,
+    /// One sentence per change made or problem noticed, for the user.
     pub warnings: Vec<String>,
 }
 
@@ -40,6 +44,71 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         return Err(MeshError::Empty);
     }
     super::check_nodes(&mesh.nodes)?;
+    check_indices(mesh)?;
+    let mut report = Report {
+        merged: merge_duplicates(mesh),
+        ..Report::default()
+    };
+
+    // Unused nodes go (and the merged ones with them).
+    let unused = drop_unused(mesh);
+    report.unused = unused.saturating_sub(report.merged);
+
+    // Orientation: a negative volume is a node order; a flat one is an error.
+    report.reordered = orient(mesh)?;
+
+    if let Some(w) = slivers(mesh)? {
+        report.warnings.push(w);
+    }
+    if let Some((count, node)) = non_manifold_nodes(mesh) {
+        let p = mesh.nodes[node];
+        return Err(MeshError::NonManifold {
+            count,
+            node,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
+    }
+
+    report.parts = parts(mesh);
+    report.warn_changes();
+    Ok(report)
+}
+
+impl Report {
+    /// A warning for each kind of change made (reordered, merged, dropped)
+    /// and for a mesh in several parts.
+    fn warn_changes(&mut self) {
+        if self.reordered > 0 {
+            self.warnings.push(format!(
+                "{} tetrahedra were inside out (negative volume): their nodes were reordered",
+                self.reordered
+            ));
+        }
+        if self.merged > 0 {
+            self.warnings.push(format!(
+                "{} duplicate nodes (on the same point as another) were merged",
+                self.merged
+            ));
+        }
+        if self.unused > 0 {
+            self.warnings.push(format!(
+                "{} nodes belong to no tetrahedron and were dropped",
+                self.unused
+            ));
+        }
+        if self.parts > 1 {
+            self.warnings.push(format!(
+                "the mesh has {} disconnected parts: each moves on its own (is that intended?)",
+                self.parts
+            ));
+        }
+    }
+}
+
+/// Every tetrahedron's node index within the mesh's nodes.
+fn check_indices(mesh: &TetMesh) -> Result<(), MeshError> {
     for (t, tet) in mesh.tets.iter().enumerate() {
         for &n in tet {
             if n as usize >= mesh.nodes.len() {
@@ -51,12 +120,12 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
             }
         }
     }
-    let mut report = Report {
-        merged: merge_duplicates(mesh),
-        ..Report::default()
-    };
+    Ok(())
+}
 
-    // Unused nodes go (and the merged ones with them).
+/// Drops the nodes no tetrahedron uses (renumbering the rest in order):
+/// how many there were.
+fn drop_unused(mesh: &mut TetMesh) -> usize {
     let mut used = vec![false; mesh.nodes.len()];
     for tet in &mesh.tets {
         for &n in tet {
@@ -64,7 +133,6 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         }
     }
     let unused = used.iter().filter(|u| !**u).count();
-    report.unused = unused.saturating_sub(report.merged);
     if unused > 0 {
         let mut new_index = vec![u32::MAX; mesh.nodes.len()];
         let mut nodes = Vec::with_capacity(mesh.nodes.len() - unused);
@@ -81,8 +149,14 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
             }
         }
     }
+    unused
+}
 
-    // Orientation: a negative volume is a node order; a flat one is an error.
+/// Reorders inside-out tetrahedra (negative volume: two nodes swapped):
+/// how many; a flat one (repeated node, or volume within
+/// [`DEGENERATE_FRACTION`] of the mean) is an error.
+fn orient(mesh: &mut TetMesh) -> Result<usize, MeshError> {
+    let mut reordered = 0;
     let mean = mesh
         .tets
         .iter()
@@ -112,50 +186,10 @@ pub fn repair(mesh: &mut TetMesh) -> Result<Report, MeshError> {
         }
         if v < 0.0 {
             tet.swap(2, 3);
-            report.reordered += 1;
+            reordered += 1;
         }
     }
-
-    if let Some(w) = slivers(mesh)? {
-        report.warnings.push(w);
-    }
-    if let Some((count, node)) = non_manifold_nodes(mesh) {
-        let p = mesh.nodes[node];
-        return Err(MeshError::NonManifold {
-            count,
-            node,
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        });
-    }
-
-    report.parts = parts(mesh);
-    if report.reordered > 0 {
-        report.warnings.push(format!(
-            "{} tetrahedra were inside out (negative volume): their nodes were reordered",
-            report.reordered
-        ));
-    }
-    if report.merged > 0 {
-        report.warnings.push(format!(
-            "{} duplicate nodes (on the same point as another) were merged",
-            report.merged
-        ));
-    }
-    if report.unused > 0 {
-        report.warnings.push(format!(
-            "{} nodes belong to no tetrahedron and were dropped",
-            report.unused
-        ));
-    }
-    if report.parts > 1 {
-        report.warnings.push(format!(
-            "the mesh has {} disconnected parts: each moves on its own (is that intended?)",
-            report.parts
-        ));
-    }
-    Ok(report)
+    Ok(reordered)
 }
 
 /// Nodes on the same point (to [`DUPLICATE_TOLERANCE`] of the extent) made one: how many were

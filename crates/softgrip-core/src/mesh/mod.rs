@@ -18,63 +18,112 @@ use glam::DVec3;
 /// A tetrahedral mesh: node positions (m) and tetrahedra as node indices.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TetMesh {
+    /// Node positions, m (a file's own units until [`TetMesh::place`] scales them) (length: nodes).
     pub nodes: Vec<DVec3>,
+    /// Tetrahedra as four indices into `nodes`, positively oriented once checked (length: tets).
     pub tets: Vec<[u32; 4]>,
 }
 
 /// Summary figures of a mesh, as printed by the CLI.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshStats {
+    /// Number of nodes.
     pub nodes: usize,
+    /// Number of tetrahedra.
     pub tets: usize,
+    /// Number of faces on the boundary (those of one tetrahedron only).
     pub boundary_facets: usize,
+    /// Total signed volume, m^3.
     pub volume: f64,
     /// Worst shape quality `6 sqrt(2) V / l_rms^3` (1 for a regular tetrahedron).
     pub worst_quality: f64,
+    /// Shortest tetrahedron edge, m.
     pub min_edge: f64,
+    /// Longest tetrahedron edge, m.
     pub max_edge: f64,
 }
 
+/// Why a mesh cannot carry a model (each names where, with tetrahedra and nodes counted from 0).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
+    /// No tetrahedra at all.
     #[error("the mesh has no tetrahedra")]
     Empty,
+    /// A tetrahedron names a node past the last.
     #[error("tetrahedron {tet} refers to node {node}, but the mesh has only {nodes} nodes")]
-    IndexOutOfRange { tet: usize, node: u32, nodes: usize },
+    IndexOutOfRange {
+        /// The tetrahedron's index.
+        tet: usize,
+        /// The node index it names.
+        node: u32,
+        /// Number of nodes in the mesh.
+        nodes: usize,
+    },
+    /// A node coordinate is NaN or infinite.
     #[error("node {node} has a non-finite coordinate {position:?}")]
-    NonFinite { node: usize, position: [f64; 3] },
+    NonFinite {
+        /// The node's index.
+        node: usize,
+        /// Its coordinates, in the mesh's units.
+        position: [f64; 3],
+    },
+    /// A node coordinate is past [`MAX_COORDINATE`]: a damaged number.
     #[error(
         "node {node} (counting from 0 in the file's order) is at ({:e}, {:e}, {:e}): beyond {MAX_COORDINATE:e} in the file's units, a typo or a damaged number; fix that node's coordinates", position[0], position[1], position[2]
     )]
-    FarAway { node: usize, position: [f64; 3] },
+    FarAway {
+        /// The node's index.
+        node: usize,
+        /// Its coordinates, in the file's units.
+        position: [f64; 3],
+    },
+    /// A tetrahedron flat (a repeated node, next to no volume) or, in [`TetMesh::validate`],
+    /// inside out.
     #[error(
         "tetrahedron {tet} is inverted or degenerate (signed volume {volume:.3e} m^3 near ({x:.4}, {y:.4}, {z:.4})): reorder its nodes or fix the mesh"
     )]
     Inverted {
+        /// The tetrahedron's index.
         tet: usize,
+        /// Its signed volume, in the mesh's units cubed (m^3 once placed).
         volume: f64,
+        /// Its centroid's x, in the mesh's units.
         x: f64,
+        /// Its centroid's y, in the mesh's units.
         y: f64,
+        /// Its centroid's z, in the mesh's units.
         z: f64,
     },
+    /// The worst tetrahedron's shape quality is under [`checks::FLAT_QUALITY`].
     #[error(
         "tetrahedron {tet} is flat (shape quality {quality:.1e}, 1 for a regular one; near ({x:.4}, {y:.4}, {z:.4})): no step can integrate a sliver so thin; remesh (Gmsh: Mesh > Optimize 3D) or remove it"
     )]
     Flat {
+        /// The tetrahedron's index.
         tet: usize,
+        /// Its shape quality ([`TetMesh::tet_quality`], 1 for a regular one).
         quality: f64,
+        /// Its centroid's x, in the mesh's units.
         x: f64,
+        /// Its centroid's y, in the mesh's units.
         y: f64,
+        /// Its centroid's z, in the mesh's units.
         z: f64,
     },
+    /// Tetrahedra meet only at a node or an edge there (the mesh hinges).
     #[error(
         "the mesh is not a manifold: {count} node(s) where tetrahedra meet only at a point or an edge, e.g. node {node} at ({x:.4}, {y:.4}, {z:.4}); parts joined so hinge there: join them by shared faces or separate them"
     )]
     NonManifold {
+        /// Number of such nodes.
         count: usize,
+        /// The first such node's index.
         node: usize,
+        /// That node's x, in the mesh's units.
         x: f64,
+        /// That node's y, in the mesh's units.
         y: f64,
+        /// That node's z, in the mesh's units.
         z: f64,
     },
 }
@@ -112,15 +161,18 @@ pub fn bounds_of(points: &[DVec3]) -> (DVec3, DVec3) {
 }
 
 impl TetMesh {
+    /// The four node positions of tetrahedron `t`, m.
     pub fn tet_positions(&self, t: usize) -> [DVec3; 4] {
         self.tets[t].map(|i| self.nodes[i as usize])
     }
 
+    /// Signed volume of tetrahedron `t`, m^3 (positive when positively oriented).
     pub fn tet_volume(&self, t: usize) -> f64 {
         let [a, b, c, d] = self.tet_positions(t);
         signed_volume(a, b, c, d)
     }
 
+    /// Total signed volume of the tetrahedra, m^3.
     pub fn volume(&self) -> f64 {
         (0..self.tets.len()).map(|t| self.tet_volume(t)).sum()
     }
@@ -233,6 +285,7 @@ impl TetMesh {
         6.0 * std::f64::consts::SQRT_2 * self.tet_volume(t).abs() / l_rms.powi(3)
     }
 
+    /// The counts, volume, edge range and worst quality ([`MeshStats`]).
     pub fn stats(&self) -> MeshStats {
         let mut worst_quality = f64::INFINITY;
         let (mut min_edge, mut max_edge) = (f64::INFINITY, 0.0f64);

@@ -15,7 +15,9 @@ use super::io::error::ImportError;
 /// counter-clockwise seen from outside.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Surface {
+    /// Vertex positions: the file's units as read, m once scaled (length: vertices).
     pub vertices: Vec<DVec3>,
+    /// Triangles as three indices into `vertices` (length: triangles).
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -256,11 +258,32 @@ fn weld(soup: &[[DVec3; 3]]) -> Surface {
 /// The problems that keep a surface from being tetrahedralized.
 pub fn check(s: &Surface, name: &str) -> Result<(), ImportError> {
     let err = |m: String| ImportError::at(name, None, m);
-    if s.triangles.len() < 4 {
+    check_triangles(s).map_err(err)?;
+    check_edges(s).map_err(err)?;
+    let v = s.volume();
+    if v <= 0.0 {
         return Err(err(format!(
+            "the surface is inside out: its triangles face inward (enclosed volume {v:.4e} m^3); reverse their winding"
+        )));
+    }
+    if let Some((i, j, at)) = first_crossing(s) {
+        return Err(err(format!(
+            "the surface intersects itself: triangles {} and {} cross near {}",
+            i + 1,
+            j + 1,
+            fmt_point(at)
+        )));
+    }
+    Ok(())
+}
+
+/// At least four triangles, none degenerate (a repeated vertex or zero area).
+fn check_triangles(s: &Surface) -> Result<(), String> {
+    if s.triangles.len() < 4 {
+        return Err(format!(
             "{} triangles cannot close a volume",
             s.triangles.len()
-        )));
+        ));
     }
     for (k, t) in s.triangles.iter().enumerate() {
         let p = t.map(|i| s.vertices[i as usize]);
@@ -269,13 +292,18 @@ pub fn check(s: &Surface, name: &str) -> Result<(), ImportError> {
             || t[0] == t[2]
             || (p[1] - p[0]).cross(p[2] - p[0]) == DVec3::ZERO
         {
-            return Err(err(format!(
+            return Err(format!(
                 "triangle {} is degenerate (zero area) at {}",
                 k + 1,
                 fmt_point(p[0])
-            )));
+            ));
         }
     }
+    Ok(())
+}
+
+/// Closed, manifold and consistently oriented: every edge walked once each way.
+fn check_edges(s: &Surface) -> Result<(), String> {
     // Each undirected edge: how often it is walked each way. A closed,
     // consistently oriented surface walks every edge once each way.
     let mut uses: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
@@ -307,39 +335,25 @@ pub fn check(s: &Surface, name: &str) -> Result<(), ImportError> {
         fmt_point(0.5 * (s.vertices[a as usize] + s.vertices[b as usize]))
     };
     if !open.is_empty() {
-        return Err(err(format!(
+        return Err(format!(
             "the surface is not closed: {} open edges near {} (fill the hole)",
             open.len(),
             near(&mut open)
-        )));
+        ));
     }
     if !shared.is_empty() {
-        return Err(err(format!(
+        return Err(format!(
             "{} edges are shared by more than two triangles (not a manifold surface), e.g. near {}",
             shared.len(),
             near(&mut shared)
-        )));
+        ));
     }
     if !flipped.is_empty() {
-        return Err(err(format!(
+        return Err(format!(
             "the triangles are not consistently oriented: {} edges are walked the same way by both their triangles, e.g. near {} (flip the odd triangles)",
             flipped.len(),
             near(&mut flipped)
-        )));
-    }
-    let v = s.volume();
-    if v <= 0.0 {
-        return Err(err(format!(
-            "the surface is inside out: its triangles face inward (enclosed volume {v:.4e} m^3); reverse their winding"
-        )));
-    }
-    if let Some((i, j, at)) = first_crossing(s) {
-        return Err(err(format!(
-            "the surface intersects itself: triangles {} and {} cross near {}",
-            i + 1,
-            j + 1,
-            fmt_point(at)
-        )));
+        ));
     }
     Ok(())
 }

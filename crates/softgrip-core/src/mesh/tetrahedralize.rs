@@ -50,6 +50,7 @@ pub fn tetrahedralize(s: &Surface, edge_length: f64) -> Result<TetMesh, String> 
     Ok(TetMesh { nodes, tets })
 }
 
+/// Without the `tetgen` feature: the error that says how to get it.
 #[cfg(not(feature = "tetgen"))]
 pub fn tetrahedralize(_s: &Surface, _edge_length: f64) -> Result<TetMesh, String> {
     Err("this softgrip was built without TetGen, which tetrahedralizes .stl and .obj surfaces: rebuild with `--features tetgen` (TetGen is AGPL-3.0; see README, \"Licences\"), or mesh the surface with Gmsh and open the .msh".into())

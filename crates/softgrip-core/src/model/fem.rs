@@ -11,10 +11,12 @@ pub const STABILISATION: f64 = 1.0;
 /// The constant data of the neo-Hookean elements.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FemModel {
-    /// Shape-function gradients `b_a` of each element's four nodes (1/m).
+    /// Shape-function gradients `b_a` of each element's four nodes, 1/m (length: tets).
     pub gradients: Vec<[DVec3; 4]>,
-    /// Each element's `mu` and `lambda` (Pa), see the module docs.
+    /// Each element's shear modulus `mu` (less a Prony term's share), Pa (length: tets).
     pub mu: Vec<f64>,
+    /// Each element's `lambda` (the Lamé constant plus `mu`, the stable neo-Hookean's), Pa
+    /// (length: tets).
     pub lambda: Vec<f64>,
     /// The strain-stiffening terms, one for all elements.
     pub yeoh: Yeoh,

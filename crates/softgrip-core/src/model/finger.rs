@@ -25,20 +25,27 @@ pub enum AxisDrive {
 /// One rigid shape of a finger, at `offset` from its position.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartModel {
+    /// The part's shape (sphere, plate or box; sizes in m).
     pub shape: FingerShape,
+    /// The part's centre relative to the finger's position, m.
     pub offset: DVec3,
     /// Sphere: Hertz sphere-plane stiffness K (eq. 27), N/m^1.5.
     pub hertz_stiffness: f64,
 }
 
+/// A finger's constant data (`[[finger]]`): its shapes, its drive per axis and its contact
+/// constants.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FingerModel {
     /// The shape at the finger's position (`parts[0]`).
     pub shape: FingerShape,
     /// Every shape of the finger: its own first, then `[[finger.part]]`s.
     pub parts: Vec<PartModel>,
+    /// The finger's position at the start, m.
     pub initial_position: DVec3,
+    /// The finger's mass, kg (0: a mass-less finger, see `guide_speed`).
     pub mass: f64,
+    /// How the finger moves along x, y and z.
     pub drive: [AxisDrive; 3],
     /// Velocity control: distance after which the finger holds still (m).
     pub travel: Option<f64>,
@@ -64,14 +71,21 @@ pub struct FingerModel {
     /// `contact_stiffness_scale`: multiplies every contact stiffness law
     /// (applied in `contact::stiffness_and_exponent`).
     pub contact_stiffness_scale: f64,
+    /// Hunt-Crossley coefficient of restitution e (thesis eq. 26), 0 to 1.
     pub restitution: f64,
+    /// Coulomb coefficient between object and finger (thesis eq. 34).
     pub friction: f64,
+    /// Speed of the stick-slip transition (thesis eq. 31), m/s.
     pub stick_velocity: f64,
+    /// Stiffness of the stick spring (thesis eq. 35), N/m.
     pub stick_stiffness: f64,
+    /// Damping of the stick spring (thesis eq. 36), N s/m.
     pub stick_damping: f64,
 }
 
 impl FingerModel {
+    /// From the scene's finger, with the object's Young's modulus (Pa) and Poisson ratio for
+    /// the contact's effective modulus, and gravity (m/s^2) for its weight.
     pub fn new(
         f: &Finger,
         object_modulus: f64,
@@ -165,6 +179,7 @@ impl FingerModel {
         }
     }
 
+    /// Whether any axis is force-driven.
     pub fn is_force_controlled(&self) -> bool {
         self.drive.contains(&AxisDrive::Force)
     }

@@ -3,6 +3,7 @@
 //! flat arrays. Nothing here changes while the simulation steps; a GUI slider
 //! rebuilds the affected arrays instead.
 
+mod build;
 pub mod fem;
 mod finger;
 pub mod self_collision;
@@ -13,23 +14,27 @@ pub use finger::{AxisDrive, FingerModel, HUNT_CROSSLEY_MIN_APPROACH_SPEED, PartM
 use glam::DVec3;
 
 use crate::error::SimError;
-use crate::mesh::{TET_EDGES, TetMesh};
-use crate::scene::{Elasticity, Scene, Shape, SupportKind};
-use table::{TABLE_STIFFNESS_FACTOR, TableModel};
+use crate::mesh::TetMesh;
+use crate::scene::{Scene, Shape};
+use table::TableModel;
 
-/// A spring and its parallel damper between particles `i < j` (thesis Fig. 4).
 /// Below this speed (m/s) a finger's guide friction holds it (static
 /// friction, as a stiff damper): [`Model::guide_rest_speed`] in a run.
 pub const GUIDE_REST_SPEED: f64 = 1e-6;
 
+/// A spring and its parallel damper between particles `i < j` (thesis Fig. 4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spring {
+    /// First particle, the lower index.
     pub i: u32,
+    /// Second particle, the higher index.
     pub j: u32,
+    /// Rest length l0, m: the particles' distance at rest.
     pub rest_length: f64,
-    /// N/m, Lloyd's formula summed over the elements sharing the edge (eq. 7-8).
+    /// Stiffness k, N/m: Lloyd's formula summed over the elements sharing the edge (eq. 7-8).
     pub stiffness: f64,
-    /// N s/m, `damping_ratio * 2 sqrt(k mu)` with the reduced mass mu (see [`spring_damping`]).
+    /// Damping d, N s/m: `damping_ratio * 2 sqrt(k mu)` with the reduced mass mu
+    /// (see [`spring_damping`]).
     pub damping: f64,
 }
 
@@ -63,24 +68,36 @@ pub enum LinearSolver {
 /// The model: constant for a run.
 #[derive(Debug, Clone)]
 pub struct Model {
+    /// Rest position of each particle, m (length: particles).
     pub rest_positions: Vec<DVec3>,
-    /// Lumped masses (eq. 6), plus the share of any `[[load]]` mass.
+    /// Lumped mass of each particle (eq. 6) plus its share of any `[[load]]` mass, kg
+    /// (length: particles).
     pub mass: Vec<f64>,
+    /// Whether each particle is held in place (fixed bottom, `[[fixed]]`) (length: particles).
     pub fixed: Vec<bool>,
-    /// Constant external force per particle: gravity (eq. 5) and loads.
+    /// Constant external force on each particle: gravity (eq. 5) and loads, N
+    /// (length: particles).
     pub constant_force: Vec<DVec3>,
+    /// The springs, one per mesh edge in the edges' sorted order (length: springs).
     pub springs: Vec<Spring>,
+    /// The four particles of each tetrahedron (length: tets).
     pub tets: Vec<[u32; 4]>,
-    /// The spring of each tetrahedron edge, in [`TET_EDGES`] order.
+    /// The spring of each tetrahedron edge, in [`crate::mesh::TET_EDGES`] order (length: tets).
     pub tet_springs: Vec<[u32; 6]>,
+    /// Rest volume of each tetrahedron, m^3 (length: tets).
     pub rest_volume: Vec<f64>,
+    /// Sum of the tetrahedra's rest volumes, m^3.
     pub rest_total_volume: f64,
-    /// Boundary facets, wound outward.
+    /// Boundary facets' three particles, wound outward (length: facets).
     pub facets: Vec<[u32; 3]>,
-    /// The springs along each facet's edges `(0,1), (1,2), (2,0)`.
+    /// The springs along each facet's edges `(0,1), (1,2), (2,0)` (length: facets).
     pub facet_springs: Vec<[u32; 3]>,
+    /// The fingers, one per `[[finger]]` (length: fingers).
     pub fingers: Vec<FingerModel>,
+    /// Gravitational acceleration, m/s^2.
     pub gravity: DVec3,
+    /// Time step, s: the scene's in time; a static solve's pseudo time step in its Newton
+    /// steps (`crate::equilibrium`).
     pub dt: f64,
     /// Below this speed (m/s) a finger's guide friction holds it:
     /// [`GUIDE_REST_SPEED`] in time, scaled to the
@@ -100,33 +117,52 @@ pub struct Model {
     /// How the step's linear system is solved: CG in time steps, a sparse factorisation in the
     /// static solver's Newton steps where it pays (`crate::equilibrium`).
     pub linear_solver: LinearSolver,
+    /// CG's relative tolerance on the step's linear system (`[simulation] cg_tolerance`).
     pub cg_tolerance: f64,
     /// CG's tolerance is relative to the right-hand side or to this share of `dt` times the
     /// loads, whichever is larger ([`REST_REFERENCE`] in time steps;
     /// the static solver's own tolerance in its Newton steps).
     pub cg_reference: f64,
+    /// CG iterations at most per linear solve.
     pub cg_max_iterations: usize,
+    /// Volume-preservation scale alpha (thesis eq. 10-11), N/m^3: each element's force
+    /// `alpha (V0 - V) (u_i - mean(u))`; 0 = off, and 0 with neo-Hookean elements.
     pub alpha: f64,
+    /// Element volumetric stiffness K, Pa: the energy `K V0 / 2 (V / V0 - 1)^2`
+    /// (`crate::forces::volume`); 0 = off, and 0 with neo-Hookean elements.
     pub bulk_modulus: f64,
     /// Rayleigh damping `a M + b K` (`crate::forces::viscosity`): a (1/s) ...
     pub rayleigh_mass: f64,
     /// ... and b (s); 0 = off.
     pub rayleigh_stiffness: f64,
-    /// See [`crate::scene::ModelParams::limit_stiffness`].
+    /// Limit springs' stiffness over each spring's own (`crate::forces::springs`); 0 = the
+    /// projection alone (thesis Alg. 3), and 0 with neo-Hookean elements.
     pub limit_stiffness: f64,
+    /// Over-stretch limit, a fraction of the rest length: a spring may reach `(1 + tau_s) l0`
+    /// (thesis eq. 13-17); `None` = no limit, and `None` with neo-Hookean elements.
     pub tau_s: Option<f64>,
+    /// Over-compression limit, a fraction of the rest length: a spring may shrink to
+    /// `(1 - tau_c) l0` (thesis eq. 13-17); `None` = no limit, and `None` with neo-Hookean
+    /// elements.
     pub tau_c: Option<f64>,
+    /// Jacobi sweeps of the spring-limit projection (thesis Alg. 3) at most; with
+    /// `constraint_tolerance`, `step::constraints::MAX_SWEEPS_FACTOR` times as many.
     pub constraint_iterations: usize,
-    /// See [`crate::scene::ModelParams::constraint_tolerance`].
+    /// Project until no spring is outside its limits by more than this fraction of its rest
+    /// length; `None` = `constraint_iterations` sweeps (see
+    /// [`crate::scene::ModelParams::constraint_tolerance`]).
     pub constraint_tolerance: Option<f64>,
     /// Largest extent of the undeformed object (m): the NRMSE normaliser.
     pub extent: f64,
-    /// Target edge length (m), for broad-phase cells and messages.
+    /// Edge length, m: the meshing target, or a mesh file's mean spring rest length; for
+    /// broad-phase cells and messages.
     pub edge_length: f64,
+    /// The object's Young's modulus, Pa (a `[[region]]`'s own: `element_stiffness_scale`).
     pub young_modulus: f64,
     /// The object's Poisson ratio: the elements' (a continuum) or the continuum the springs
     /// stand for (its stresses, `crate::fields::element_von_mises`).
     pub poisson_ratio: f64,
+    /// The object's density, kg/m^3 (a `[[region]]`'s own is in `mass`).
     pub density: f64,
     /// The table under the object (`[support] kind = "table"`).
     pub table: Option<TableModel>,
@@ -139,7 +175,7 @@ pub struct Model {
     pub fem: Option<fem::FemModel>,
     /// Each element's Young's modulus over the object's (`[[region]]`s):
     /// scales its bulk term as it scales its springs. Empty without
-    /// regions (every element 1).
+    /// regions (every element 1) (length: tets, or 0).
     pub element_stiffness_scale: Vec<f64>,
     /// The volume term per node (`[model] bulk_pressure = "nodal"`): the bulk
     /// term's, or the neo-Hookean elements' `lambda`; `None` for each
@@ -152,7 +188,9 @@ pub struct Model {
 /// volume, and the elements' moduli averaged by those volumes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodalBulk {
+    /// Each node's share of its elements' rest volumes, m^3 (length: particles).
     pub rest_volume: Vec<f64>,
+    /// Each node's modulus, its elements' averaged by volume, Pa (length: particles).
     pub modulus: Vec<f64>,
 }
 
@@ -190,12 +228,13 @@ impl NodalBulk {
 /// extensions; the default is the thesis's, and takes its code path).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpringLaw {
-    /// beta: `F = k dl (1 + beta (dl / l0)^2)`.
+    /// Strain stiffening beta (dimensionless): `F = k dl (1 + beta (dl / l0)^2)`.
     pub stiffening: f64,
-    /// Stiffness in compression over stiffness in tension.
+    /// Stiffness in compression over stiffness in tension (1 = the thesis's).
     pub compression_ratio: f64,
-    /// Prony relative modulus g and time constant tau (s).
+    /// Prony term's relative modulus g, the share that relaxes (0 = elastic).
     pub prony_g: f64,
+    /// Prony term's relaxation time tau, s.
     pub prony_tau: f64,
 }
 
@@ -216,6 +255,7 @@ impl SpringLaw {
         self.stiffening == 0.0 && self.compression_ratio == 1.0 && self.prony_g == 0.0
     }
 
+    /// Whether the springs relax (a Prony term, `prony_g > 0`).
     pub fn is_viscoelastic(&self) -> bool {
         self.prony_g > 0.0
     }
@@ -346,8 +386,6 @@ impl Model {
         Model::load_mesh(scene).map(|(mesh, _)| mesh)
     }
 
-    /// The mesh of `scene` and what loading it changed or noticed (a mesh
-    /// file's skipped cells, reordered tetrahedra, merged nodes...).
     /// Refuses a mesh whose size at its `scale` is thousands of times its fingers' (or, without
     /// fingers, outside 0.1 mm .. 100 m): a file in millimetres read as metres, or the reverse.
     /// Suggests the scale (a power of ten, or inches) that brings it to its fingers' size.
@@ -407,6 +445,8 @@ impl Model {
         })
     }
 
+    /// The mesh of `scene` and what loading it changed or noticed (a mesh
+    /// file's skipped cells, reordered tetrahedra, merged nodes...).
     pub fn load_mesh(scene: &Scene) -> Result<(TetMesh, Vec<String>), SimError> {
         if let Shape::Mesh { path, scale, .. } = &scene.object.shape
             && crate::mesh::io::is_surface(path)
@@ -470,295 +510,6 @@ impl Model {
                         .collect(),
                 )
             }
-        })
-    }
-
-    /// Builds the model of a scene on a given mesh.
-    pub fn from_mesh(scene: &Scene, mesh: TetMesh) -> Result<Model, SimError> {
-        let file = scene
-            .source
-            .as_ref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_else(|| "scene".to_string());
-        mesh.validate().map_err(|source| SimError::Mesh {
-            file: file.clone(),
-            source,
-        })?;
-        let n = mesh.nodes.len();
-        let obj = &scene.object;
-
-        // Each element's material: the object's, or its `[[region]]`'s.
-        let mut element_modulus = vec![obj.young_modulus; mesh.tets.len()];
-        let mut element_density = vec![obj.density; mesh.tets.len()];
-        for (b, region) in scene.regions.iter().enumerate() {
-            let mut any = false;
-            for (t, tet) in mesh.tets.iter().enumerate() {
-                let centroid = tet.iter().map(|&p| mesh.nodes[p as usize]).sum::<DVec3>() * 0.25;
-                if region.region.contains(centroid) {
-                    element_modulus[t] = region.young_modulus;
-                    element_density[t] = region.density;
-                    any = true;
-                }
-            }
-            if !any {
-                let (lo, hi) = mesh.bounds();
-                return Err(SimError::EmptyRegion {
-                    file: file.clone(),
-                    table: "region".into(),
-                    index: b + 1,
-                    min: region.region.min.to_array(),
-                    max: region.region.max.to_array(),
-                    bounds_min: lo.to_array(),
-                    bounds_max: hi.to_array(),
-                });
-            }
-        }
-
-        // Masses (eq. 6) and rest volumes.
-        let rest_volume: Vec<f64> = (0..mesh.tets.len()).map(|t| mesh.tet_volume(t)).collect();
-        let mut mass = vec![0.0; n];
-        for ((tet, &v), &density) in mesh.tets.iter().zip(&rest_volume).zip(&element_density) {
-            for &p in tet {
-                mass[p as usize] += 0.25 * density * v;
-            }
-        }
-
-        // Fixed particles.
-        let (lo, hi) = mesh.bounds();
-        let extent = (hi - lo).max_element();
-        let mut fixed = vec![false; n];
-        if scene.support.kind == SupportKind::FixedBottom {
-            let tol = 1e-9 * extent;
-            for (f, p) in fixed.iter_mut().zip(&mesh.nodes) {
-                *f |= p.z <= lo.z + tol;
-            }
-        }
-        for (b, region) in scene.fixed.iter().enumerate() {
-            let mut any = false;
-            for (f, p) in fixed.iter_mut().zip(&mesh.nodes) {
-                if region.contains(*p) {
-                    *f = true;
-                    any = true;
-                }
-            }
-            if !any {
-                return Err(SimError::EmptyRegion {
-                    file: file.clone(),
-                    table: "fixed".into(),
-                    index: b + 1,
-                    min: region.min.to_array(),
-                    max: region.max.to_array(),
-                    bounds_min: lo.to_array(),
-                    bounds_max: hi.to_array(),
-                });
-            }
-        }
-
-        // Constant forces: gravity and loads.
-        let gravity = scene.simulation.gravity;
-        let mut constant_force: Vec<DVec3> = mass.iter().map(|&m| m * gravity).collect();
-        for (b, load) in scene.loads.iter().enumerate() {
-            let inside: Vec<usize> = (0..n)
-                .filter(|&i| load.region.contains(mesh.nodes[i]))
-                .collect();
-            if inside.is_empty() {
-                return Err(SimError::EmptyRegion {
-                    file: file.clone(),
-                    table: "load".into(),
-                    index: b + 1,
-                    min: load.region.min.to_array(),
-                    max: load.region.max.to_array(),
-                    bounds_min: lo.to_array(),
-                    bounds_max: hi.to_array(),
-                });
-            }
-            let share = 1.0 / inside.len() as f64;
-            for i in inside {
-                mass[i] += load.mass * share;
-                constant_force[i] += load.mass * share * gravity + load.force * share;
-            }
-        }
-
-        // Springs on every edge, Lloyd stiffness summed over the elements (eq. 7).
-        let edges = mesh.edges();
-        let mut springs: Vec<Spring> = edges
-            .iter()
-            .map(|&[i, j]| Spring {
-                i,
-                j,
-                rest_length: mesh.nodes[i as usize].distance(mesh.nodes[j as usize]),
-                stiffness: 0.0,
-                damping: 0.0,
-            })
-            .collect();
-        let spring_of = |a: u32, b: u32| -> u32 {
-            let key = if a < b { [a, b] } else { [b, a] };
-            // Edges are sorted and every queried pair is an edge of the mesh.
-            edges
-                .binary_search(&key)
-                .map(|s| s as u32)
-                .unwrap_or(u32::MAX)
-        };
-        let mut tet_springs = Vec::with_capacity(mesh.tets.len());
-        for ((tet, &v), &modulus) in mesh.tets.iter().zip(&rest_volume).zip(&element_modulus) {
-            let k_e = lloyd_stiffness(v, modulus);
-            let slots = TET_EDGES.map(|[a, b]| spring_of(tet[a], tet[b]));
-            for &s in &slots {
-                springs[s as usize].stiffness += k_e;
-            }
-            tet_springs.push(slots);
-        }
-        for s in &mut springs {
-            s.damping = spring_damping(
-                scene.model.damping_ratio,
-                s.stiffness,
-                mass[s.i as usize],
-                mass[s.j as usize],
-            );
-        }
-
-        let facets = mesh.boundary_facets();
-        // A mesh file's own edges, not the meshing target it ignores.
-        let edge_length = if matches!(obj.shape, Shape::Mesh { .. }) && !springs.is_empty() {
-            springs.iter().map(|s| s.rest_length).sum::<f64>() / springs.len() as f64
-        } else {
-            obj.edge_length
-        };
-        let facet_springs = facets
-            .iter()
-            .map(|f| {
-                [
-                    spring_of(f[0], f[1]),
-                    spring_of(f[1], f[2]),
-                    spring_of(f[2], f[0]),
-                ]
-            })
-            .collect();
-
-        let fingers = scene
-            .fingers
-            .iter()
-            .map(|f| FingerModel::new(f, obj.young_modulus, obj.poisson_ratio, gravity))
-            .collect();
-
-        let table = (scene.support.kind == SupportKind::Table).then(|| {
-            TableModel::new(
-                &facets,
-                scene.support.friction,
-                TABLE_STIFFNESS_FACTOR * obj.young_modulus * edge_length,
-            )
-        });
-
-        let fem_mode = scene.model.elasticity == Elasticity::NeoHookean;
-        let (mesh_nodes, mesh_tets) = (&mesh.nodes, &mesh.tets);
-        let fem = fem_mode.then(|| {
-            let mut fem =
-                fem::FemModel::new(mesh_nodes, mesh_tets, &element_modulus, obj.poisson_ratio);
-            fem.yeoh = fem::Yeoh::new(
-                scene.model.stiffening,
-                scene.model.stiffening_cubic,
-                scene.model.softening,
-            )
-            .with_gent_limit(scene.model.gent_limit);
-            // A Prony term: the share g of the shear modulus is the Maxwell arms'
-            // (`forces::viscosity::accumulate_arms`); lambda does not relax.
-            for mu in &mut fem.mu {
-                *mu *= 1.0 - scene.model.prony_g;
-            }
-            fem
-        });
-
-        let self_collision = scene.model.self_collision.then(|| {
-            self_collision::SelfCollisionModel::new(
-                mesh_nodes,
-                &facets,
-                edge_length,
-                obj.young_modulus,
-            )
-        });
-
-        let element_stiffness_scale: Vec<f64> = if scene.regions.is_empty() {
-            Vec::new()
-        } else {
-            element_modulus
-                .iter()
-                .map(|e| e / obj.young_modulus)
-                .collect()
-        };
-        let nodal = scene.model.bulk_pressure == crate::scene::BulkPressure::Nodal;
-        let bulk = scene.model.bulk_modulus;
-        let nodal_bulk = match &fem {
-            Some(fem) if nodal => Some(NodalBulk::new(
-                mesh.nodes.len(),
-                &mesh.tets,
-                &rest_volume,
-                |e| fem.lambda[e] - fem::STABILISATION * fem.mu[e],
-            )),
-            None if nodal && bulk > 0.0 => Some(NodalBulk::new(
-                mesh.nodes.len(),
-                &mesh.tets,
-                &rest_volume,
-                |e| bulk * element_stiffness_scale.get(e).copied().unwrap_or(1.0),
-            )),
-            _ => None,
-        };
-        Ok(Model {
-            rest_total_volume: rest_volume.iter().sum(),
-            rest_positions: mesh.nodes,
-            mass,
-            fixed,
-            constant_force,
-            springs,
-            tets: mesh.tets,
-            tet_springs,
-            rest_volume,
-            facets,
-            facet_springs,
-            fingers,
-            gravity,
-            dt: scene.simulation.dt,
-            guide_rest_speed: GUIDE_REST_SPEED,
-            exact_tangent: false,
-            full_tangent: false,
-            quasi_static: false,
-            linear_solver: LinearSolver::Cg,
-            cg_tolerance: scene.simulation.cg_tolerance,
-            cg_reference: REST_REFERENCE,
-            cg_max_iterations: scene.simulation.cg_max_iterations,
-            alpha: if fem_mode { 0.0 } else { scene.model.alpha },
-            rayleigh_mass: scene.model.rayleigh_mass,
-            rayleigh_stiffness: scene.model.rayleigh_stiffness,
-            bulk_modulus: if fem_mode {
-                0.0
-            } else {
-                scene.model.bulk_modulus
-            },
-            limit_stiffness: if fem_mode {
-                0.0
-            } else {
-                scene.model.limit_stiffness
-            },
-            tau_s: scene.model.tau_s.filter(|_| !fem_mode),
-            tau_c: scene.model.tau_c.filter(|_| !fem_mode),
-            constraint_iterations: scene.model.constraint_iterations,
-            constraint_tolerance: scene.model.constraint_tolerance,
-            extent,
-            // A mesh file's own edges, not the meshing target it ignores.
-            edge_length,
-            young_modulus: obj.young_modulus,
-            poisson_ratio: obj.poisson_ratio,
-            density: obj.density,
-            table,
-            fem,
-            self_collision,
-            nodal_bulk,
-            element_stiffness_scale,
-            spring_law: SpringLaw {
-                stiffening: scene.model.stiffening,
-                compression_ratio: scene.model.compression_ratio,
-                prony_g: scene.model.prony_g,
-                prony_tau: scene.model.prony_tau,
-            },
         })
     }
 
@@ -834,6 +585,7 @@ impl Model {
         }
     }
 
+    /// Number of particles.
     pub fn particle_count(&self) -> usize {
         self.rest_positions.len()
     }

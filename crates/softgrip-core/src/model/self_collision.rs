@@ -11,10 +11,13 @@ pub const SELF_STIFFNESS_FACTOR: f64 = 100.0;
 /// The contact thickness as a fraction of the mean edge length.
 pub const SELF_THICKNESS: f64 = 0.25;
 
+/// Self-collision's constant data: the contact's thickness and stiffness, the boundary
+/// particles, and the particle-facet pairs that never collide.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SelfCollisionModel {
-    /// Contact thickness d (m) and penalty stiffness k (N/m).
+    /// Contact thickness d, m: [`SELF_THICKNESS`] times the edge length.
     pub thickness: f64,
+    /// Penalty stiffness k per contact, N/m: [`SELF_STIFFNESS_FACTOR`] `E h`.
     pub stiffness: f64,
     /// Boundary particles, ascending.
     pub particles: Vec<u32>,
@@ -23,6 +26,8 @@ pub struct SelfCollisionModel {
 }
 
 impl SelfCollisionModel {
+    /// From the rest positions (m), the boundary facets, the edge length h (m) and Young's
+    /// modulus E (Pa): the pairs closer than the thickness at rest are excluded.
     pub fn new(
         nodes: &[DVec3],
         facets: &[[u32; 3]],

@@ -10,15 +10,17 @@ pub const TABLE_STIFFNESS_FACTOR: f64 = 100.0;
 /// The table of a model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TableModel {
-    /// Coulomb coefficient object-table.
+    /// Coulomb coefficient object-table (dimensionless).
     pub friction: f64,
-    /// Normal and stick stiffness per particle (N/m).
+    /// Normal and stick stiffness per particle, N/m.
     pub stiffness: f64,
     /// The particles that can touch it: the boundary's, ascending.
     pub particles: Vec<u32>,
 }
 
 impl TableModel {
+    /// On the boundary facets' particles, with the Coulomb coefficient and the stiffness
+    /// per particle (N/m).
     pub fn new(model_facets: &[[u32; 3]], friction: f64, stiffness: f64) -> TableModel {
         let mut particles: Vec<u32> = model_facets.iter().flatten().copied().collect();
         particles.sort_unstable();

@@ -13,10 +13,13 @@ use std::path::{Path, PathBuf};
 use crate::model::Model;
 use crate::state::State;
 
+/// A result file that could not be written.
 #[derive(Debug, thiserror::Error)]
 #[error("cannot write {path}: {source}. Check that the folder exists and is writable.")]
 pub struct OutputError {
+    /// The file (or folder) being written.
     pub path: PathBuf,
+    /// The operating system's error.
     pub source: std::io::Error,
 }
 
@@ -45,6 +48,7 @@ pub struct TrajectoryWriter {
 pub const STEPS_HEADER: &str = "time,step,cg_iterations,cg_residual,energy,kinetic_energy,volume_error,limit_violation,projection_sweeps,contacts,max_speed";
 
 impl TrajectoryWriter {
+    /// A writer into `dir`, created if missing; no file is written yet.
     pub fn new(dir: &Path) -> Result<TrajectoryWriter, OutputError> {
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
         Ok(TrajectoryWriter {

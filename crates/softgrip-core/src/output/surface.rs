@@ -7,13 +7,16 @@ use crate::model::Model;
 use crate::state::State;
 
 /// Which surface format `softgrip run --surface` writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SurfaceFormat {
+    /// Binary STL ([`to_stl`]).
     Stl,
+    /// Wavefront OBJ ([`to_obj`]).
     Obj,
 }
 
 impl SurfaceFormat {
+    /// The file extension, without the dot.
     pub fn extension(self) -> &'static str {
         match self {
             SurfaceFormat::Stl => "stl",
@@ -21,6 +24,7 @@ impl SurfaceFormat {
         }
     }
 
+    /// The deformed boundary surface of `state` in this format.
     pub fn write(self, model: &Model, state: &State) -> Vec<u8> {
         match self {
             SurfaceFormat::Stl => to_stl(model, state),

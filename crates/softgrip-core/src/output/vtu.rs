@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 use glam::DVec3;
 
 use super::finger::finger_surface;
+use crate::mesh::io::base64;
 use crate::mesh::signed_volume;
 use crate::model::Model;
 use crate::state::State;
@@ -310,51 +311,14 @@ fn compressed_base64(raw: &[u8], out: &mut String) {
     for v in sizes {
         header.extend_from_slice(&(v as u64).to_le_bytes());
     }
-    base64(&header, out);
-    base64(&blocks.concat(), out);
-}
-
-/// Standard base64 (RFC 4648) with `=` padding.
-fn base64(bytes: &[u8], out: &mut String) {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    out.reserve(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let byte = |i: usize| u32::from(chunk.get(i).copied().unwrap_or(0));
-        let n = (byte(0) << 16) | (byte(1) << 8) | byte(2);
-        for i in 0..4 {
-            if i <= chunk.len() {
-                out.push(char::from(ALPHABET[(n >> (18 - 6 * i)) as usize & 63]));
-            } else {
-                out.push('=');
-            }
-        }
-    }
+    base64::encode(&header, out);
+    base64::encode(&blocks.concat(), out);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::io::{Format, read_bytes_as, read_vtu_array};
-
-    #[test]
-    fn base64_matches_rfc_4648() {
-        for (plain, encoded) in [
-            ("", ""),
-            ("f", "Zg=="),
-            ("fo", "Zm8="),
-            ("foo", "Zm9v"),
-            ("foob", "Zm9vYg=="),
-            ("fooba", "Zm9vYmE="),
-            ("foobar", "Zm9vYmFy"),
-        ] {
-            let mut s = String::new();
-            base64(plain.as_bytes(), &mut s);
-            assert_eq!(s, encoded);
-        }
-        let mut s = String::new();
-        base64(&[0xfb, 0xff, 0xbf], &mut s);
-        assert_eq!(s, "+/+/");
-    }
 
     /// Arrays of several blocks, of a whole number of blocks and empty ones
     /// read back through the mesh reader's decoder, bit for bit.

@@ -5,24 +5,47 @@ use std::path::PathBuf;
 /// A scene error: what is wrong, where, and what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The scene file could not be read.
     #[error("cannot read scene file {path}: {source}. Check the path and its permissions.")]
     Read {
+        /// The scene file.
         path: PathBuf,
+        /// Why it could not be read.
         source: std::io::Error,
     },
+    /// The text is not UTF-8 or not valid TOML, or a key or a type is not the format's.
     #[error("{file}: {message}")]
-    Syntax { file: String, message: String },
+    Syntax {
+        /// The scene file.
+        file: String,
+        /// Where and what, with a hint ([`describe_toml_error`]).
+        message: String,
+    },
+    /// A key's value is outside its allowed range or set.
     #[error("{file}{line}: {table}{key} = {value} is not allowed: {rule}")]
     Value {
+        /// The scene file.
         file: String,
+        /// `:N`, the key's line, or empty where it is not written (a default).
         line: String,
+        /// The table with a trailing space: `[model] `, or `[[finger]] #2 ` (1-based).
         table: String,
+        /// The key.
         key: String,
+        /// The value, as resolved.
         value: String,
+        /// What is allowed.
         rule: String,
     },
+    /// Anything else wrong: a missing table or key, a key out of place, a file that is no
+    /// scene.
     #[error("{file}: {message}")]
-    Invalid { file: String, message: String },
+    Invalid {
+        /// The scene file.
+        file: String,
+        /// What is wrong and what to do.
+        message: String,
+    },
 }
 
 /// Turns a TOML/serde error into one line with the line number and a hint.

@@ -36,12 +36,19 @@ use glam::DVec3;
 /// A fully resolved scene: defaults applied, every value in range.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// `[simulation]`: the time step, the duration, gravity, the solver's settings.
     pub simulation: Simulation,
+    /// `[object]`: the soft body's shape, meshing and material.
     pub object: Object,
+    /// `[model]`: the elastic law, damping, volume preservation, spring limits.
     pub model: ModelParams,
+    /// `[support]`: what holds the object.
     pub support: Support,
+    /// `[[fixed]]`: boxes whose particles are pinned, in file order.
     pub fixed: Vec<AaBox>,
+    /// `[[load]]`: masses and forces on the particles in boxes, in file order.
     pub loads: Vec<Load>,
+    /// `[[finger]]`: the rigid fingers, in file order.
     pub fingers: Vec<Finger>,
     /// `[[region]]`: boxes of other material (softgrip).
     pub regions: Vec<Region>,
@@ -53,12 +60,18 @@ pub struct Scene {
     pub defaults_applied: Vec<String>,
 }
 
+/// `[simulation]`: time stepping, gravity and the linear solver's limits.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Simulation {
+    /// Implicit Euler time step, s.
     pub dt: f64,
+    /// Length of a plain run, s.
     pub duration: f64,
+    /// Gravitational acceleration, m/s^2.
     pub gravity: DVec3,
+    /// Relative residual at which the conjugate gradient stops.
     pub cg_tolerance: f64,
+    /// Iteration cap of the conjugate gradient; reaching it is an error.
     pub cg_max_iterations: usize,
     /// How a quasi-static load comes to rest in replays and ramps.
     pub settle: Settle,
@@ -75,6 +88,7 @@ pub enum Settle {
 }
 
 impl Settle {
+    /// Its name in a scene file: "static" or "dynamic".
     pub fn as_str(self) -> &'static str {
         match self {
             Settle::Static => "static",
@@ -83,13 +97,20 @@ impl Settle {
     }
 }
 
+/// `[object] shape`: the object's geometry. The built-in shapes are centred on x = y = 0 with
+/// their bottom at z = 0.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
+    /// A box.
     Cuboid {
+        /// Extents along x, y, z, m.
         size: DVec3,
     },
+    /// A cylinder, its axis along z.
     Cylinder {
+        /// Radius, m.
         radius: f64,
+        /// Height, m.
         height: f64,
     },
     /// A mesh file, its coordinates times `scale` (0.001 for a file in
@@ -97,23 +118,34 @@ pub enum Shape {
     /// face at `position` (default the origin: centred at x = y = 0,
     /// bottom at z = 0, as the built-in shapes).
     Mesh {
+        /// The mesh file; relative paths are joined to the scene file's folder on load.
         path: PathBuf,
+        /// Multiplies the file's coordinates.
         scale: f64,
+        /// Where the centre of the bounding box's bottom face goes, m.
         position: DVec3,
     },
 }
 
+/// `[object]`: the soft object.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Object {
+    /// Its geometry.
     pub shape: Shape,
+    /// Target tetrahedron edge for the built-in shapes and surface meshes, m.
     pub edge_length: f64,
+    /// Mass density, kg/m^3.
     pub density: f64,
+    /// Young's modulus, Pa.
     pub young_modulus: f64,
+    /// Poisson's ratio.
     pub poisson_ratio: f64,
 }
 
+/// `[model]`: the model's terms and options.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelParams {
+    /// Each spring's damping as a fraction of its critical damping (1 = critical).
     pub damping_ratio: f64,
     /// Rayleigh damping `D = a M + b K`, its mass-proportional a (1/s): each
     /// particle's `-a m v`, which damps rigid motion too; 0 = off (softgrip;
@@ -123,6 +155,7 @@ pub struct ModelParams {
     /// spring, or a Kelvin-Voigt viscosity `2 mu b` on each element's Green
     /// strain rate; neither damps rigid motion. 0 = off.
     pub rayleigh_stiffness: f64,
+    /// Scale of the volume-preservation force (thesis eq. 10-11), N/m^3; 0 = none.
     pub alpha: f64,
     /// Element volumetric stiffness (Pa); 0 = off (the thesis model). See
     /// `forces::volume`.
@@ -138,6 +171,7 @@ pub struct ModelParams {
     pub tau_s: Option<f64>,
     /// Over-compression limit; `None` = no limit (the key omitted).
     pub tau_c: Option<f64>,
+    /// Sweeps of the spring-limit projection per step (thesis Alg. 3).
     pub constraint_iterations: usize,
     /// Keep projecting past `constraint_iterations` until no spring is
     /// outside its limits by more than this fraction of its rest length
@@ -202,27 +236,37 @@ pub enum Elasticity {
     NeoHookean,
 }
 
+/// `[support] kind`: what holds the object.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SupportKind {
+    /// The particles at z = 0 are pinned.
     FixedBottom,
+    /// The object rests on the plane z = 0, free to slide, tip and lift off.
     Table,
+    /// Nothing holds it.
     None,
 }
 
+/// `[support]`: what holds the object.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Support {
+    /// What holds it.
     pub kind: SupportKind,
+    /// Coulomb coefficient between object and table (a table only).
     pub friction: f64,
 }
 
 /// An axis-aligned box, closed (a point on the boundary is inside).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AaBox {
+    /// Lower corner, m.
     pub min: DVec3,
+    /// Upper corner, m.
     pub max: DVec3,
 }
 
 impl AaBox {
+    /// Whether `p` lies inside or on the boundary.
     pub fn contains(&self, p: DVec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
@@ -233,30 +277,42 @@ impl AaBox {
 /// region containing them wins).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Region {
+    /// The box.
     pub region: AaBox,
+    /// Young's modulus of its elements, Pa.
     pub young_modulus: f64,
+    /// Density of its elements, kg/m^3.
     pub density: f64,
 }
 
+/// `[[load]]`: a mass and a force shared evenly by the particles in a box.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Load {
+    /// The box.
     pub region: AaBox,
+    /// A mass hanging from them (its weight and its inertia), kg.
     pub mass: f64,
+    /// An extra constant force, N.
     pub force: DVec3,
 }
 
+/// A finger's (or a part's) rigid shape.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FingerShape {
+    /// A sphere centred on the finger's position.
     Sphere {
+        /// Radius, m.
         radius: f64,
     },
     /// A rigid square plate, face normal -z; `half_size` are half its x, y extents.
     Plate {
+        /// Half its x, y extents, m.
         half_size: [f64; 2],
     },
     /// A rigid axis-aligned box (cuboid) centred on the finger; `half_size`
     /// are half its x, y, z extents (softgrip).
     Box {
+        /// Half its x, y, z extents, m.
         half_size: [f64; 3],
     },
 }
@@ -265,7 +321,9 @@ pub enum FingerShape {
 /// at `offset` from the finger's position (softgrip).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FingerPart {
+    /// Its shape.
     pub shape: FingerShape,
+    /// Its centre relative to the finger's position, m.
     pub offset: DVec3,
 }
 
@@ -307,29 +365,47 @@ impl FingerShape {
     }
 }
 
+/// `[[finger]] control`: how a finger's free axes are driven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Control {
+    /// Pushed by `force`, plus its weight when it has a mass.
     Force,
+    /// Moved at `velocity`, except free axes with a non-zero `force` component.
     Velocity,
 }
 
+/// `[[finger]]`: a rigid finger pressing on the object.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Finger {
+    /// Its main shape, centred on its position.
     pub shape: FingerShape,
     /// More shapes moving with it (a compound finger); empty for one shape.
     pub parts: Vec<FingerPart>,
+    /// Its starting position, m: the sphere's or box's centre, the plate's (on its face).
     pub position: DVec3,
+    /// The axes x, y, z along which it may move; the others are held.
     pub free_axes: [bool; 3],
+    /// How its free axes are driven.
     pub control: Control,
+    /// The driving force, N.
     pub force: DVec3,
+    /// The driving velocity, m/s.
     pub velocity: DVec3,
+    /// Its mass, kg (its weight acts on its force-driven axes); 0 = a light guide.
     pub mass: f64,
+    /// Its Young's modulus, for the contact stiffness (thesis eq. 27-28), Pa.
     pub young_modulus: f64,
+    /// Its Poisson's ratio, for the contact stiffness.
     pub poisson_ratio: f64,
+    /// Hunt-Crossley coefficient of restitution of its contacts.
     pub restitution: f64,
+    /// Coulomb coefficient between object and finger.
     pub friction: f64,
+    /// Slip speed of the stick-slip transition (thesis eq. 31), m/s.
     pub stick_velocity: f64,
+    /// Stiffness of the stick spring (thesis eq. 35), N/m.
     pub stick_stiffness: f64,
+    /// Damping of the stick spring (thesis eq. 36), N s/m.
     pub stick_damping: f64,
     /// Velocity control: stop after this distance (m); `None` = never stop.
     pub travel: Option<f64>,
@@ -368,6 +444,7 @@ pub enum DamageMeasure {
 }
 
 impl DamageMeasure {
+    /// Every measure, in declaration order.
     pub const ALL: [DamageMeasure; 3] = [
         DamageMeasure::Strain,
         DamageMeasure::Stress,
@@ -383,6 +460,7 @@ impl DamageMeasure {
         }
     }
 
+    /// The measure of that name ([`DamageMeasure::name`]), if any.
     pub fn from_name(name: &str) -> Option<DamageMeasure> {
         DamageMeasure::ALL.into_iter().find(|m| m.name() == name)
     }
@@ -408,16 +486,20 @@ impl DamageMeasure {
 /// A material of the damage-limit table: `[grasp] material`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DamageMaterial {
+    /// Its name in a scene file (`"apple"`).
     pub name: &'static str,
-    /// Each measure's limit, where the source gives one.
+    /// Each measure's limit, where the source gives one: the Green strain ...
     pub strain: Option<f64>,
+    /// ... the von Mises stress, Pa ...
     pub stress: Option<f64>,
+    /// ... and the contact pressure, Pa.
     pub pressure: Option<f64>,
     /// Where the figures come from.
     pub source: &'static str,
 }
 
 impl DamageMaterial {
+    /// Its limit of `measure`, in the measure's unit, where the source gives one.
     pub fn limit(&self, measure: DamageMeasure) -> Option<f64> {
         match measure {
             DamageMeasure::Strain => self.strain,
@@ -483,6 +565,7 @@ pub struct Grasp {
     pub slip_tolerance: Option<f64>,
     /// Seconds held in the dynamic confirmation.
     pub hold: Option<f64>,
+    /// The damage measure the grip may not bring to its limit anywhere in the object.
     pub damage: Option<DamageMeasure>,
     /// The damage measure's limit, in its unit.
     pub limit: Option<f64>,

@@ -7,7 +7,9 @@ use glam::DVec3;
 
 /// `y = A x` and `z = P^-1 r` for a symmetric positive definite `A`.
 pub trait LinearOperator {
+    /// `y = A x` (`y` overwritten; both of the system's length).
     fn apply(&self, x: &[DVec3], y: &mut [DVec3]);
+    /// `z = P^-1 r` (`z` overwritten; both of the system's length).
     fn precondition(&self, r: &[DVec3], z: &mut [DVec3]);
 
     /// `z = P^-1 r` and `r . z` (summed in index order), in one pass where
@@ -18,6 +20,7 @@ pub trait LinearOperator {
     }
 }
 
+/// When CG stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CgParams {
     /// Stop when |r| <= tolerance * max(|b|, reference).
@@ -25,27 +28,47 @@ pub struct CgParams {
     /// The size of right-hand side the tolerance is relative to when `b`
     /// itself is smaller (0: relative to |b| alone).
     pub reference: f64,
+    /// Iterations at most before [`CgError::NoConvergence`].
     pub max_iterations: usize,
 }
 
+/// How a CG solve went.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CgReport {
+    /// Iterations made (0 when the start already met the tolerance).
     pub iterations: usize,
     /// |b - A x| / max(|b|, reference) at exit (0 when b = 0): the
     /// quantity the tolerance bounds.
     pub relative_residual: f64,
 }
 
+/// Why CG stopped without an answer.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum CgError {
+    /// A search direction `d` with `d . A d <= 0`.
     #[error(
         "the system matrix is not positive definite (d.Ad = {curvature:e} at CG iteration {iteration})"
     )]
-    NotPositiveDefinite { iteration: usize, curvature: f64 },
+    NotPositiveDefinite {
+        /// The iteration it happened at.
+        iteration: usize,
+        /// `d . A d`, in the system's units.
+        curvature: f64,
+    },
+    /// [`CgParams::max_iterations`] reached above the tolerance.
     #[error("CG did not converge in {iterations} iterations (relative residual {residual:e})")]
-    NoConvergence { iterations: usize, residual: f64 },
+    NoConvergence {
+        /// Iterations made.
+        iterations: usize,
+        /// The recursive residual over max(|b|, reference) at the end.
+        residual: f64,
+    },
+    /// A NaN or infinity appeared.
     #[error("CG produced a non-finite value at iteration {iteration}")]
-    NonFinite { iteration: usize },
+    NonFinite {
+        /// The iteration it happened at.
+        iteration: usize,
+    },
 }
 
 /// Scratch vectors for CG, allocated once.

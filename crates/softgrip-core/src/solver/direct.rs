@@ -129,8 +129,9 @@ pub struct DirectSolver {
     stack: Stack,
     /// Whether `factor` holds the factorisation of the last assembled values.
     factored: bool,
-    /// Symbolic analyses made, and numeric factorisations.
+    /// Symbolic analyses made (one per new pattern).
     pub analyses: usize,
+    /// Numeric factorisations made.
     pub factorisations: usize,
     /// Patch-sized scratch for the nodal term.
     gradient: Vec<DVec3>,
@@ -345,6 +346,9 @@ impl DirectSolver {
         self.build_pattern(model, system, key, &pairs)
     }
 
+    /// Analyses the pattern of `key` with `pairs` (contact couplings, `(hi, lo)`) from scratch:
+    /// numbers the unknowns, lays out the lower triangle, finds each block's entries and runs
+    /// the symbolic factorisation.
     fn build_pattern(
         &mut self,
         model: &Model,
@@ -353,10 +357,21 @@ impl DirectSolver {
         pairs: &[(u32, u32)],
     ) -> Result<(), DirectError> {
         let dofs = key.dofs;
-        // The unknowns: free components, in order.
+        self.number_unknowns(&key.mask);
+        let (blocks, nodal) = block_pattern(model, &key, pairs);
+        self.lay_out(&blocks);
+        self.locate_blocks(model, dofs, pairs, nodal);
+        self.analyse()?;
+        let _ = system;
+        self.key = Some(key);
+        Ok(())
+    }
+
+    /// The unknowns: free components (`mask` nonzero), in order; [`NONE`] for fixed ones.
+    fn number_unknowns(&mut self, mask: &[DVec3]) {
         self.index.clear();
         let mut next = 0u32;
-        for m in &key.mask {
+        for m in mask {
             for axis in 0..3 {
                 if m[axis] != 0.0 {
                     self.index.push(next);
@@ -367,37 +382,11 @@ impl DirectSolver {
             }
         }
         self.unknowns = next as usize;
-        // Block pattern: for each block column, the block rows at or below it.
-        let mut blocks: Vec<Vec<u32>> = vec![Vec::new(); dofs];
-        for (d, rows) in blocks.iter_mut().enumerate() {
-            rows.push(d as u32);
-        }
-        for s in &model.springs {
-            blocks[s.i.min(s.j) as usize].push(s.i.max(s.j));
-        }
-        for &(hi, lo) in pairs {
-            blocks[lo as usize].push(hi);
-        }
-        let nodal = if key.nodal {
-            let pattern = nodal_pattern(model);
-            for i in 0..pattern.patch_start.len() - 1 {
-                let patch = &pattern.patch
-                    [pattern.patch_start[i] as usize..pattern.patch_start[i + 1] as usize];
-                for (k, &a) in patch.iter().enumerate() {
-                    for &b in &patch[..k] {
-                        blocks[b as usize].push(a);
-                    }
-                }
-            }
-            Some(pattern)
-        } else {
-            None
-        };
-        for rows in &mut blocks {
-            rows.sort_unstable();
-            rows.dedup();
-        }
-        // Scalar pattern, lower triangle, rows ascending in each column.
+    }
+
+    /// The scalar pattern of `blocks`: lower triangle, rows ascending in each column; the
+    /// values zeroed.
+    fn lay_out(&mut self, blocks: &[Vec<u32>]) {
         self.col_ptr.clear();
         self.row_idx.clear();
         self.col_ptr.push(0);
@@ -420,7 +409,17 @@ impl DirectSolver {
         }
         self.values.clear();
         self.values.resize(self.row_idx.len(), 0.0);
-        // Where each block's entries go.
+    }
+
+    /// Where each block's entries go: the diagonal (`dofs` blocks), the springs, the
+    /// couplings `pairs` and, with the nodal pattern, each patch's pairs.
+    fn locate_blocks(
+        &mut self,
+        model: &Model,
+        dofs: usize,
+        pairs: &[(u32, u32)],
+        nodal: Option<NodalPattern>,
+    ) {
         self.diag_pos = (0..dofs).map(|d| self.block_positions(d, d)).collect();
         self.off_pos = model
             .springs
@@ -447,6 +446,10 @@ impl DirectSolver {
             p.pair_start.push(p.pair_positions.len() as u32);
             p
         });
+    }
+
+    /// The symbolic Cholesky analysis (AMD ordering) of the laid-out pattern.
+    fn analyse(&mut self) -> Result<(), DirectError> {
         let n = self.unknowns;
         let symbolic =
             SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
@@ -459,8 +462,6 @@ impl DirectSolver {
         .map_err(|_| DirectError::Factorisation("the symbolic analysis failed"))?;
         self.symbolic = Some(analysed);
         self.analyses += 1;
-        let _ = system;
-        self.key = Some(key);
         Ok(())
     }
 
@@ -621,6 +622,46 @@ fn add_block(values: &mut [f64], pos: &[u32; 9], block: DMat3) {
             }
         }
     }
+}
+
+/// The block pattern: for each block column, the block rows at or below it (sorted, once
+/// each): the diagonal, the springs, the couplings `pairs` and, if `key.nodal`, every pair in
+/// a nodal patch (the nodal pattern returned with it).
+fn block_pattern(
+    model: &Model,
+    key: &Key,
+    pairs: &[(u32, u32)],
+) -> (Vec<Vec<u32>>, Option<NodalPattern>) {
+    let mut blocks: Vec<Vec<u32>> = vec![Vec::new(); key.dofs];
+    for (d, rows) in blocks.iter_mut().enumerate() {
+        rows.push(d as u32);
+    }
+    for s in &model.springs {
+        blocks[s.i.min(s.j) as usize].push(s.i.max(s.j));
+    }
+    for &(hi, lo) in pairs {
+        blocks[lo as usize].push(hi);
+    }
+    let nodal = if key.nodal {
+        let pattern = nodal_pattern(model);
+        for i in 0..pattern.patch_start.len() - 1 {
+            let patch = &pattern.patch
+                [pattern.patch_start[i] as usize..pattern.patch_start[i + 1] as usize];
+            for (k, &a) in patch.iter().enumerate() {
+                for &b in &patch[..k] {
+                    blocks[b as usize].push(a);
+                }
+            }
+        }
+        Some(pattern)
+    } else {
+        None
+    };
+    for rows in &mut blocks {
+        rows.sort_unstable();
+        rows.dedup();
+    }
+    (blocks, nodal)
 }
 
 /// Each node's patch and elements (the nodal volume term's coupling).

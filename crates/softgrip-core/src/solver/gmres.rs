@@ -9,6 +9,7 @@
 
 use glam::DVec3;
 
+/// When GMRES stops and how often it restarts.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GmresParams {
     /// Stop when |b - A x| <= tolerance |b|.
@@ -19,8 +20,10 @@ pub struct GmresParams {
     pub restart: usize,
 }
 
+/// How a GMRES solve went.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct GmresReport {
+    /// Iterations made (operator products, over all restarts).
     pub iterations: usize,
     /// |b - A x| / |b| at exit, from a product with the answer.
     pub relative_residual: f64,
@@ -29,7 +32,14 @@ pub struct GmresReport {
 /// Why GMRES stopped without an answer, or the operator's or preconditioner's own error.
 #[derive(Debug, Clone, PartialEq)]
 pub enum GmresError<E> {
-    NoConvergence { iterations: usize, residual: f64 },
+    /// The iterations ran out or a restart cycle did not halve the residual.
+    NoConvergence {
+        /// Iterations made.
+        iterations: usize,
+        /// `|b - A x| / |b|` at the last restart.
+        residual: f64,
+    },
+    /// The operator's or the preconditioner's error.
     Operator(E),
 }
 
@@ -76,54 +86,93 @@ pub fn flexible_gmres<E>(
             });
         }
         last = relative;
-        // Arnoldi with modified Gram-Schmidt; Givens rotations keep the least-squares
-        // residual `|g[j + 1]|` at hand.
-        let mut v: Vec<Vec<DVec3>> = vec![r.iter().map(|r| *r / beta).collect()];
-        let mut z: Vec<Vec<DVec3>> = Vec::new();
-        let mut h: Vec<Vec<f64>> = Vec::new();
-        let (mut cs, mut sn): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
-        let mut g = vec![beta];
+        let mut cycle = Cycle::new(&r, beta);
         let mut w = Vec::new();
         for j in 0..m {
             let mut zj = Vec::new();
-            precondition(&v[j], &mut zj).map_err(GmresError::Operator)?;
+            precondition(&cycle.v[j], &mut zj).map_err(GmresError::Operator)?;
             apply(&zj, &mut w).map_err(GmresError::Operator)?;
-            z.push(zj);
+            cycle.z.push(zj);
             iterations += 1;
-            let mut column = vec![0.0; j + 2];
-            for (i, vi) in v.iter().enumerate() {
-                column[i] = dot(&w, vi);
-                for (w, vi) in w.iter_mut().zip(vi) {
-                    *w -= column[i] * *vi;
-                }
-            }
-            column[j + 1] = dot(&w, &w).sqrt();
-            let next: Vec<DVec3> = if column[j + 1] > 0.0 {
-                w.iter().map(|w| *w / column[j + 1]).collect()
-            } else {
-                vec![DVec3::ZERO; n]
-            };
-            for i in 0..j {
-                let (a, b) = (column[i], column[i + 1]);
-                column[i] = cs[i] * a + sn[i] * b;
-                column[i + 1] = -sn[i] * a + cs[i] * b;
-            }
-            let (a, b) = (column[j], column[j + 1]);
-            let r = a.hypot(b);
-            let (c, s) = if r > 0.0 { (a / r, b / r) } else { (1.0, 0.0) };
-            cs.push(c);
-            sn.push(s);
-            column[j] = r;
-            column[j + 1] = 0.0;
-            g.push(-s * g[j]);
-            g[j] *= c;
-            h.push(column);
-            v.push(next);
-            if g[j + 1].abs() <= params.tolerance * b_norm || iterations >= params.max_iterations {
+            cycle.extend(&mut w, j, n);
+            if cycle.g[j + 1].abs() <= params.tolerance * b_norm
+                || iterations >= params.max_iterations
+            {
                 break;
             }
         }
-        // x += Z y with H y = g (upper triangular).
+        cycle.correct(x);
+    }
+}
+
+/// One restart cycle: Arnoldi with modified Gram-Schmidt; Givens rotations keep the
+/// least-squares residual `|g[j + 1]|` at hand.
+struct Cycle {
+    /// The orthonormal Krylov basis (length: iterations + 1; each of the system's length).
+    v: Vec<Vec<DVec3>>,
+    /// The preconditioned directions, `z[j]` about `A^-1 v[j]` (length: iterations).
+    z: Vec<Vec<DVec3>>,
+    /// The Hessenberg columns, rotated to upper triangular (column `j`: length `j + 2`).
+    h: Vec<Vec<f64>>,
+    /// The Givens rotations' cosines (length: iterations).
+    cs: Vec<f64>,
+    /// The Givens rotations' sines (length: iterations).
+    sn: Vec<f64>,
+    /// The rotated right-hand side `beta e1` (length: iterations + 1).
+    g: Vec<f64>,
+}
+
+impl Cycle {
+    /// A cycle from the residual `r` of norm `beta` (> 0).
+    fn new(r: &[DVec3], beta: f64) -> Cycle {
+        Cycle {
+            v: vec![r.iter().map(|r| *r / beta).collect()],
+            z: Vec::new(),
+            h: Vec::new(),
+            cs: Vec::new(),
+            sn: Vec::new(),
+            g: vec![beta],
+        }
+    }
+
+    /// Step `j` with `w = A z[j]`: `w` orthogonalised against the basis (it is overwritten),
+    /// the next basis vector (of length `n`) kept and the Hessenberg column rotated in.
+    fn extend(&mut self, w: &mut [DVec3], j: usize, n: usize) {
+        let (v, cs, sn, g) = (&mut self.v, &mut self.cs, &mut self.sn, &mut self.g);
+        let mut column = vec![0.0; j + 2];
+        for (i, vi) in v.iter().enumerate() {
+            column[i] = dot(w, vi);
+            for (w, vi) in w.iter_mut().zip(vi) {
+                *w -= column[i] * *vi;
+            }
+        }
+        column[j + 1] = dot(w, w).sqrt();
+        let next: Vec<DVec3> = if column[j + 1] > 0.0 {
+            w.iter().map(|w| *w / column[j + 1]).collect()
+        } else {
+            vec![DVec3::ZERO; n]
+        };
+        for i in 0..j {
+            let (a, b) = (column[i], column[i + 1]);
+            column[i] = cs[i] * a + sn[i] * b;
+            column[i + 1] = -sn[i] * a + cs[i] * b;
+        }
+        let (a, b) = (column[j], column[j + 1]);
+        let r = a.hypot(b);
+        let (c, s) = if r > 0.0 { (a / r, b / r) } else { (1.0, 0.0) };
+        cs.push(c);
+        sn.push(s);
+        column[j] = r;
+        column[j + 1] = 0.0;
+        g.push(-s * g[j]);
+        g[j] *= c;
+        self.h.push(column);
+        v.push(next);
+    }
+
+    /// `x += Z y` with `H y = g` (upper triangular).
+    fn correct(&self, x: &mut [DVec3]) {
+        let (h, g) = (&self.h, &self.g);
         let k = h.len();
         let mut y = vec![0.0; k];
         for i in (0..k).rev() {
@@ -134,7 +183,7 @@ pub fn flexible_gmres<E>(
                 0.0
             };
         }
-        for (zi, yi) in z.iter().zip(&y) {
+        for (zi, yi) in self.z.iter().zip(&y) {
             for (x, z) in x.iter_mut().zip(zi) {
                 *x += *yi * *z;
             }

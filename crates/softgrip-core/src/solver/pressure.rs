@@ -46,7 +46,7 @@ pub struct Pressure {
 /// Why there is no factorization: the system is preconditioned by block Jacobi.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NoFactor {
-    /// The factor would hold more than [`ENVELOPE_PER_ELEMENT`] values an element.
+    /// The factor would hold more than `ENVELOPE_PER_ELEMENT` values an element.
     TooLarge,
     /// A node without volume weight, or a pivot not positive (`S` not positive definite).
     NotDefinite,
@@ -164,52 +164,8 @@ impl Pressure {
         elements_of: &[Vec<u32>],
     ) -> Result<(), NoFactor> {
         let n = elements_of.len();
-        let ring = |k: usize| {
-            let mut r: Vec<u32> = elements_of[k]
-                .iter()
-                .flat_map(|&e| tets[e as usize])
-                .collect();
-            r.sort_unstable();
-            r.dedup();
-            r
-        };
-        let rings: Vec<Vec<u32>> = (0..n).map(ring).collect();
-        let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for r in &rings {
-            for &i in r {
-                neighbours[i as usize].extend(r.iter().copied().filter(|&j| j != i));
-            }
-        }
-        for list in &mut neighbours {
-            list.sort_unstable();
-            list.dedup();
-        }
-        let mut seen = vec![false; n];
-        let mut order = Vec::with_capacity(n);
-        let mut by_degree: Vec<u32> = (0..n as u32).collect();
-        by_degree.sort_by_key(|&i| (neighbours[i as usize].len(), i));
-        for &root in &by_degree {
-            if seen[root as usize] {
-                continue;
-            }
-            seen[root as usize] = true;
-            let mut head = order.len();
-            order.push(root);
-            while head < order.len() {
-                let mut next: Vec<u32> = neighbours[order[head] as usize]
-                    .iter()
-                    .copied()
-                    .filter(|&j| !seen[j as usize])
-                    .collect();
-                next.sort_by_key(|&j| (neighbours[j as usize].len(), j));
-                for j in next {
-                    seen[j as usize] = true;
-                    order.push(j);
-                }
-                head += 1;
-            }
-        }
-        order.reverse();
+        let neighbours = node_graph(tets, elements_of);
+        let order = reverse_cuthill_mckee(&neighbours);
         let mut position = vec![0u32; n];
         for (p, &i) in order.iter().enumerate() {
             position[i as usize] = p as u32;
@@ -389,6 +345,66 @@ thread_local! {
     #[allow(clippy::type_complexity)]
     static SCRATCH: std::cell::RefCell<(Vec<f64>, Vec<f64>, Vec<DVec3>)> =
         const { std::cell::RefCell::new((Vec::new(), Vec::new(), Vec::new())) };
+}
+
+/// The graph of `S`: for each node, the nodes sharing an element's node with it (ascending,
+/// once each; `elements_of[k]`: the elements holding node `k`).
+fn node_graph(tets: &[[u32; 4]], elements_of: &[Vec<u32>]) -> Vec<Vec<u32>> {
+    let n = elements_of.len();
+    let ring = |k: usize| {
+        let mut r: Vec<u32> = elements_of[k]
+            .iter()
+            .flat_map(|&e| tets[e as usize])
+            .collect();
+        r.sort_unstable();
+        r.dedup();
+        r
+    };
+    let rings: Vec<Vec<u32>> = (0..n).map(ring).collect();
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for r in &rings {
+        for &i in r {
+            neighbours[i as usize].extend(r.iter().copied().filter(|&j| j != i));
+        }
+    }
+    for list in &mut neighbours {
+        list.sort_unstable();
+        list.dedup();
+    }
+    neighbours
+}
+
+/// Reverse Cuthill-McKee order of the graph `neighbours`: breadth first from the least
+/// connected unseen node, neighbours by ascending degree, then reversed.
+fn reverse_cuthill_mckee(neighbours: &[Vec<u32>]) -> Vec<u32> {
+    let n = neighbours.len();
+    let mut seen = vec![false; n];
+    let mut order = Vec::with_capacity(n);
+    let mut by_degree: Vec<u32> = (0..n as u32).collect();
+    by_degree.sort_by_key(|&i| (neighbours[i as usize].len(), i));
+    for &root in &by_degree {
+        if seen[root as usize] {
+            continue;
+        }
+        seen[root as usize] = true;
+        let mut head = order.len();
+        order.push(root);
+        while head < order.len() {
+            let mut next: Vec<u32> = neighbours[order[head] as usize]
+                .iter()
+                .copied()
+                .filter(|&j| !seen[j as usize])
+                .collect();
+            next.sort_by_key(|&j| (neighbours[j as usize].len(), j));
+            for j in next {
+                seen[j as usize] = true;
+                order.push(j);
+            }
+            head += 1;
+        }
+    }
+    order.reverse();
+    order
 }
 
 #[cfg(test)]

@@ -18,9 +18,11 @@ use crate::solver::pressure::{Choice, NoFactor, Pressure};
 /// Unknown index: particles first, then fingers.
 pub type Dof = usize;
 
+/// The implicit-Euler system `A` (blocks in kg) and the `Kp v` its right-hand side needs.
 #[derive(Debug, Default, Clone)]
 pub struct System {
     dt: f64,
+    /// Number of particles (the dofs after them are the fingers).
     pub particles: usize,
     /// Diagonal blocks, particles then fingers.
     pub diag: Vec<DMat3>,
@@ -80,11 +82,14 @@ pub struct NodalOperator {
 /// `A[dofs[a], dofs[b]] += blocks[a][b]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Asym {
+    /// The dofs the term couples ([`Asym::NONE`] where unused).
     pub dofs: [u32; 4],
+    /// Block `[a][b]` adds to `A[dofs[a], dofs[b]]`, weighted by dt^2 as A's blocks (kg).
     pub blocks: [[DMat3; 4]; 4],
 }
 
 impl Asym {
+    /// An unused slot of [`Asym::dofs`].
     pub const NONE: u32 = u32::MAX;
 }
 
@@ -94,6 +99,7 @@ thread_local! {
 }
 
 impl NodalOperator {
+    /// Whether there is a nodal term (its gradients were set this step).
     pub fn is_active(&self) -> bool {
         !self.quarter_gradients.is_empty()
     }

@@ -52,6 +52,7 @@ pub struct AdaptiveReport {
     pub steps: usize,
     /// Steps computed in all, rejected and estimating ones included.
     pub solves: usize,
+    /// Steps rejected by the error estimate and taken again shorter.
     pub rejected: usize,
 }
 
@@ -64,6 +65,7 @@ pub struct Adaptive {
     models: Vec<(u64, Arc<Model>)>,
     /// The next step's level: `dt 2^level`.
     level: u32,
+    /// What the run did so far.
     pub report: AdaptiveReport,
 }
 

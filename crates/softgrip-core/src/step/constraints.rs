@@ -14,6 +14,7 @@ use glam::DVec3;
 use crate::model::Model;
 use crate::state::State;
 
+/// The projection's reused buffers.
 #[derive(Debug, Default, Clone)]
 pub struct ProjectionScratch {
     delta: Vec<DVec3>,
@@ -94,7 +95,10 @@ pub fn max_violation(model: &Model, positions: &[DVec3]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Projects the spring limits.
+/// Projects the spring limits (Alg. 3): Jacobi sweeps that move the ends of each spring past
+/// its limit back to it (`correct_springs`), then the moves averaged per particle
+/// (`move_particles`), until nothing is past or the sweeps run out; the velocities take the
+/// total move over dt.
 pub fn project_spring_limits(
     model: &Model,
     state: &mut State,
@@ -111,24 +115,14 @@ pub fn project_spring_limits(
     } else {
         0.0
     };
-    let max_len = model.tau_s.map(|t| 1.0 + t).unwrap_or(f64::INFINITY);
-    let min_len = model.tau_c.map(|t| 1.0 - t).unwrap_or(0.0);
+    let limits = Limits {
+        max_len: model.tau_s.map(|t| 1.0 + t).unwrap_or(f64::INFINITY),
+        min_len: model.tau_c.map(|t| 1.0 - t).unwrap_or(0.0),
+        band,
+    };
     scratch.total.clear();
     scratch.total.resize(n, DVec3::ZERO);
-    // Pinned particles, and particles a finger presses on, do not move; their
-    // partners take the correction. Projecting a pressed particle would push
-    // it back into the finger, the contact would push it out again, and the
-    // two would fight every step (measured: the finger never comes to rest
-    // under 1 N, and at 4 N the contact force overshoots the load fivefold).
-    scratch.held.clear();
-    scratch.held.extend_from_slice(&model.fixed);
-    for c in &state.contacts {
-        for (a, &i) in model.facets[c.facet as usize].iter().enumerate() {
-            if c.weights[a] > 0.0 {
-                scratch.held[i as usize] = true;
-            }
-        }
-    }
+    hold_pressed(model, state, scratch);
 
     let max_sweeps = match model.constraint_tolerance {
         None => model.constraint_iterations,
@@ -148,87 +142,35 @@ pub fn project_spring_limits(
         scratch.delta.resize(n, DVec3::ZERO);
         scratch.count.clear();
         scratch.count.resize(n, 0);
-        let mut active = false;
-        let mut worst = held_worst;
         let all = 0..model.springs.len() as u32;
         let checked: &mut dyn Iterator<Item = u32> = if sweep == 0 {
             &mut all.into_iter()
         } else {
             &mut scratch.candidates.iter().copied()
         };
-        for k in checked {
-            let s = &model.springs[k as usize];
-            let (i, j) = (s.i as usize, s.j as usize);
-            let d = state.positions[i] - state.positions[j];
-            let l2 = d.length_squared();
-            let (hi, lo) = (max_len * s.rest_length, min_len * s.rest_length);
-            if l2 <= hi * hi && l2 >= lo * lo {
-                continue;
-            }
-            any_violated = true;
-            let (hi, lo) = (
-                hi + band * s.rest_length,
-                (lo - band * s.rest_length).max(0.0),
-            );
-            if l2 <= hi * hi && l2 >= lo * lo {
-                continue;
-            }
-            let l = l2.sqrt();
-            if l <= 0.0 {
-                continue;
-            }
-            // Signed correction of the length: negative = too long (eq. 14), positive = too short (eq. 16).
-            let c = if l > hi {
-                hi - l
-            } else if l < lo {
-                lo - l
-            } else {
-                continue;
-            };
-            let u = d / l;
-            worst = worst.max(c.abs() / s.rest_length);
-            let (fi, fj) = (scratch.held[i], scratch.held[j]);
-            let (share_i, share_j) = match (fi, fj) {
-                (false, false) => (0.5, 0.5), // eq. 15 / 17
-                (true, false) => (0.0, 1.0),
-                (false, true) => (1.0, 0.0),
-                (true, true) => {
-                    held_worst = held_worst.max(c.abs() / s.rest_length);
-                    continue;
-                }
-            };
-            active = true;
-            scratch.delta[i] += share_i * c * u;
-            scratch.delta[j] -= share_j * c * u;
-            scratch.count[i] += (share_i > 0.0) as u32;
-            scratch.count[j] += (share_j > 0.0) as u32;
-        }
+        let mut sums = Sweep {
+            active: false,
+            worst: held_worst,
+            held_worst: &mut held_worst,
+            any_violated: &mut any_violated,
+        };
+        correct_springs(
+            model,
+            &state.positions,
+            &limits,
+            checked,
+            &scratch.held,
+            &mut scratch.delta,
+            &mut scratch.count,
+            &mut sums,
+        );
+        let (active, worst) = (sums.active, sums.worst);
         let done = sweep >= model.constraint_iterations && worst <= tolerance;
         if !active || done {
             break;
         }
         sweeps += 1;
-        scratch.candidates.clear();
-        for i in 0..n {
-            if scratch.count[i] > 0 {
-                let step = scratch.delta[i] / scratch.count[i] as f64; // eq. 13
-                state.positions[i] += step;
-                scratch.total[i] += step;
-                let springs =
-                    scratch.incident_start[i] as usize..scratch.incident_start[i + 1] as usize;
-                for &k in &scratch.incident[springs] {
-                    if !scratch.queued[k as usize] {
-                        scratch.queued[k as usize] = true;
-                        scratch.candidates.push(k);
-                    }
-                }
-            }
-        }
-        // Index order, as a full sweep visits them: the same sums, bit for bit.
-        scratch.candidates.sort_unstable();
-        for &k in &scratch.candidates {
-            scratch.queued[k as usize] = false;
-        }
+        move_particles(state, scratch, n);
     }
     let dt = model.dt;
     for (v, t) in state.velocities.iter_mut().zip(&scratch.total) {
@@ -242,5 +184,127 @@ pub fn project_spring_limits(
         } else {
             0.0
         },
+    }
+}
+
+/// The lengths a spring may have, as fractions of its rest length, and the band past them the
+/// projection leaves to the limit springs.
+struct Limits {
+    max_len: f64,
+    min_len: f64,
+    band: f64,
+}
+
+/// What a sweep found: whether it moved anything, its worst relative violation; and, over the
+/// sweeps, the worst of springs with both ends held and whether any spring was past a limit.
+struct Sweep<'a> {
+    active: bool,
+    worst: f64,
+    held_worst: &'a mut f64,
+    any_violated: &'a mut bool,
+}
+
+/// Marks the particles that do not move: pinned ones, and those a finger presses on; their
+/// partners take the correction. Projecting a pressed particle would push it back into the
+/// finger, the contact would push it out again, and the two would fight every step (measured:
+/// the finger never comes to rest under 1 N, and at 4 N the contact force overshoots the load
+/// fivefold).
+fn hold_pressed(model: &Model, state: &State, scratch: &mut ProjectionScratch) {
+    scratch.held.clear();
+    scratch.held.extend_from_slice(&model.fixed);
+    for c in &state.contacts {
+        for (a, &i) in model.facets[c.facet as usize].iter().enumerate() {
+            if c.weights[a] > 0.0 {
+                scratch.held[i as usize] = true;
+            }
+        }
+    }
+}
+
+/// One sweep's corrections (eq. 14-17) of the `checked` springs past their limits (by more
+/// than the band) into `delta` and `count`, shared between the free ends.
+#[allow(clippy::too_many_arguments)]
+fn correct_springs(
+    model: &Model,
+    positions: &[DVec3],
+    limits: &Limits,
+    checked: &mut dyn Iterator<Item = u32>,
+    held: &[bool],
+    delta: &mut [DVec3],
+    count: &mut [u32],
+    sums: &mut Sweep,
+) {
+    let (max_len, min_len, band) = (limits.max_len, limits.min_len, limits.band);
+    for k in checked {
+        let s = &model.springs[k as usize];
+        let (i, j) = (s.i as usize, s.j as usize);
+        let d = positions[i] - positions[j];
+        let l2 = d.length_squared();
+        let (hi, lo) = (max_len * s.rest_length, min_len * s.rest_length);
+        if l2 <= hi * hi && l2 >= lo * lo {
+            continue;
+        }
+        *sums.any_violated = true;
+        let (hi, lo) = (
+            hi + band * s.rest_length,
+            (lo - band * s.rest_length).max(0.0),
+        );
+        if l2 <= hi * hi && l2 >= lo * lo {
+            continue;
+        }
+        let l = l2.sqrt();
+        if l <= 0.0 {
+            continue;
+        }
+        // Signed correction of the length: negative = too long (eq. 14), positive = too short (eq. 16).
+        let c = if l > hi {
+            hi - l
+        } else if l < lo {
+            lo - l
+        } else {
+            continue;
+        };
+        let u = d / l;
+        sums.worst = sums.worst.max(c.abs() / s.rest_length);
+        let (fi, fj) = (held[i], held[j]);
+        let (share_i, share_j) = match (fi, fj) {
+            (false, false) => (0.5, 0.5), // eq. 15 / 17
+            (true, false) => (0.0, 1.0),
+            (false, true) => (1.0, 0.0),
+            (true, true) => {
+                *sums.held_worst = sums.held_worst.max(c.abs() / s.rest_length);
+                continue;
+            }
+        };
+        sums.active = true;
+        delta[i] += share_i * c * u;
+        delta[j] -= share_j * c * u;
+        count[i] += (share_i > 0.0) as u32;
+        count[j] += (share_j > 0.0) as u32;
+    }
+}
+
+/// Moves each corrected particle by its corrections' mean (eq. 13) and queues the springs at it
+/// for the next sweep, in index order as a full sweep visits them (the same sums, bit for bit).
+fn move_particles(state: &mut State, scratch: &mut ProjectionScratch, n: usize) {
+    scratch.candidates.clear();
+    for i in 0..n {
+        if scratch.count[i] > 0 {
+            let step = scratch.delta[i] / scratch.count[i] as f64; // eq. 13
+            state.positions[i] += step;
+            scratch.total[i] += step;
+            let springs =
+                scratch.incident_start[i] as usize..scratch.incident_start[i + 1] as usize;
+            for &k in &scratch.incident[springs] {
+                if !scratch.queued[k as usize] {
+                    scratch.queued[k as usize] = true;
+                    scratch.candidates.push(k);
+                }
+            }
+        }
+    }
+    scratch.candidates.sort_unstable();
+    for &k in &scratch.candidates {
+        scratch.queued[k as usize] = false;
     }
 }

@@ -55,11 +55,7 @@ pub fn implicit_euler_update(
     dv: &mut Vec<DVec3>,
     cg: &mut CgScratch,
 ) -> Result<CgReport, CgError> {
-    let n = model.particle_count();
-    let total = n + model.fingers.len();
-    let dt = model.dt;
-    rhs.clear();
-    rhs.extend((0..total).map(|i| (force[i] - dt * system.kv[i]) * dt * system.mask[i]));
+    let total = right_hand_side(model, force, system, rhs);
     if dv.len() != total {
         dv.clear();
         dv.resize(total, DVec3::ZERO);
@@ -70,7 +66,7 @@ pub fn implicit_euler_update(
     let op = SystemOperator { system, parallel };
     let params = CgParams {
         tolerance: model.cg_tolerance,
-        reference: model.cg_reference * dt * load_norm(model, state),
+        reference: model.cg_reference * model.dt * load_norm(model, state),
         max_iterations: model.cg_max_iterations,
     };
     let report = conjugate_gradient(&op, rhs, dv, params, cg)?;
@@ -90,11 +86,7 @@ pub fn implicit_euler_direct(
     rhs: &mut Vec<DVec3>,
     dv: &mut Vec<DVec3>,
 ) -> Result<CgReport, CgError> {
-    let n = model.particle_count();
-    let total = n + model.fingers.len();
-    let dt = model.dt;
-    rhs.clear();
-    rhs.extend((0..total).map(|i| (force[i] - dt * system.kv[i]) * dt * system.mask[i]));
+    let total = right_hand_side(model, force, system, rhs);
     dv.clear();
     dv.resize(total, DVec3::ZERO);
     direct.factorise(model, system).map_err(|e| match e {
@@ -192,4 +184,14 @@ pub fn drive_fingers(model: &Model, state: &mut State) {
             }
         }
     }
+}
+
+/// Eq. 43's right-hand side `dt (f - dt Kp v)` on the free components into `rhs`; returns the
+/// number of unknowns (particles, then fingers).
+fn right_hand_side(model: &Model, force: &[DVec3], system: &System, rhs: &mut Vec<DVec3>) -> usize {
+    let total = model.particle_count() + model.fingers.len();
+    let dt = model.dt;
+    rhs.clear();
+    rhs.extend((0..total).map(|i| (force[i] - dt * system.kv[i]) * dt * system.mask[i]));
+    total
 }

@@ -6,7 +6,6 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use crate::contact::ContactScratch;
 use crate::error::SimError;
 use crate::model::Model;
 use crate::scene::Scene;
@@ -18,6 +17,7 @@ use constraints::{ProjectionScratch, project_spring_limits};
 use parallel::Parallel;
 
 pub mod adaptive;
+pub mod assemble;
 pub mod constraints;
 pub mod integrate;
 pub mod linear;
@@ -37,8 +37,8 @@ pub struct Scratch {
     cg: CgScratch,
     /// The sparse factorisation of a direct solve ([`crate::model::LinearSolver::Direct`]).
     direct: DirectSolver,
-    contact: ContactScratch,
-    self_collision: contact::self_collision::SelfScratch,
+    /// The force stages' buffers and timings (main thread).
+    stages: assemble::StageScratch,
     projection: ProjectionScratch,
     energy_watch: EnergyWatch,
     stage_seconds: StageSeconds,
@@ -58,8 +58,7 @@ impl Clone for Scratch {
             dv: self.dv.clone(),
             cg: self.cg.clone(),
             direct: self.direct.clone(),
-            contact: self.contact.clone(),
-            self_collision: self.self_collision.clone(),
+            stages: self.stages.clone(),
             projection: self.projection.clone(),
             energy_watch: self.energy_watch.clone(),
             stage_seconds: self.stage_seconds,
@@ -131,8 +130,15 @@ pub struct StageSeconds {
     pub solve: f64,
     /// The spring-limit projection (Alg. 3).
     pub projection: f64,
+    /// The viscoelastic state's update after the step: the springs' and the elements' Prony
+    /// arms relax towards the new strain.
+    pub arms: f64,
     /// Energy, volume error, speeds and the divergence checks.
     pub diagnostics: f64,
+    /// The force stages one by one, summed over both threads (indexed as
+    /// [`assemble::Stage::ALL`]): parts of `forces`, which also holds the wait for the helper
+    /// and the preconditioner.
+    pub stages: [f64; assemble::Stage::ALL.len()],
 }
 
 /// Adds the time since `*mark` to `slot` and moves the mark.
@@ -168,6 +174,7 @@ pub struct Simulation {
     /// Shared with the helper thread ([`parallel`]); replace it
     /// whole to change it.
     pub model: Arc<Model>,
+    /// Positions, velocities, fingers, contacts: what a step changes.
     pub state: State,
     scratch: Scratch,
     /// Wall-clock seconds spent in `step` so far.
@@ -189,6 +196,7 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// A simulation of `model` from its initial state (at rest, at the mesh's positions).
     pub fn from_model(model: Model) -> Simulation {
         let state = State::initial(&model);
         Simulation {
@@ -285,6 +293,20 @@ impl Simulation {
         residual
     }
 
+    /// The force on every unknown (particles, then fingers; N) that the step's stages
+    /// ([`assemble`]) give at the present state, assembled on a copy of it: the state and what
+    /// the stages keep in it (contacts, stick anchors) do not change.
+    pub(crate) fn assembled_force(&self) -> Vec<DVec3> {
+        let mut state = self.state.clone();
+        let mut scratch = Scratch {
+            threads: 1,
+            stages: self.scratch.stages.clone(),
+            ..Scratch::default()
+        };
+        assemble(&self.model, &mut state, &mut scratch);
+        scratch.force
+    }
+
     /// Where the last assembly's unbalanced force is largest: the position of the free particle
     /// it acts on (a stalled static solve names this place), or the object's first particle's
     /// before any assembly.
@@ -330,7 +352,10 @@ impl Simulation {
 
     /// Wall-clock seconds per stage, summed over the steps so far.
     pub fn stage_seconds(&self) -> StageSeconds {
-        self.scratch.stage_seconds
+        StageSeconds {
+            stages: self.scratch.stages.seconds,
+            ..self.scratch.stage_seconds
+        }
     }
 
     /// Steps until `time` (s) is reached.
@@ -404,9 +429,10 @@ fn step_assembled(
     })?;
     lap(&mut mark, &mut times.solve);
     let projection = project_spring_limits(model, state, &mut s.projection);
+    lap(&mut mark, &mut times.projection);
     forces::springs::relax(model, state);
     forces::viscosity::relax_elements(model, state);
-    lap(&mut mark, &mut times.projection);
+    lap(&mut mark, &mut times.arms);
 
     state.time += model.dt;
     state.step += 1;
@@ -425,9 +451,10 @@ fn step_assembled(
 }
 
 /// The forces of every stage into `s.force` (particles then fingers) and the system `A` of
-/// eq. 43 with its mask into the work split's system, at `state`'s positions and velocities.
-/// Updates what the force stages keep in `state` (contacts and their stick anchors, table
-/// modes, the fingers' contact forces); returns [`static_residual`].
+/// eq. 43 with its mask into the work split's system, at `state`'s positions and velocities:
+/// the stages of [`assemble::MAIN`] here while the helper runs [`assemble::HELPER`], whose sums
+/// are added last. Updates what the force stages keep in `state` (contacts and their stick
+/// anchors, table modes, the fingers' contact forces); returns [`static_residual`].
 fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
     let n = model.particle_count();
     let total = n + model.fingers.len();
@@ -437,32 +464,21 @@ fn assemble(model: &Arc<Model>, state: &mut State, s: &mut Scratch) -> f64 {
     let Some(parallel) = s.parallel.as_ref() else {
         unreachable!("ensure_parallel sets it")
     };
-    // The helper thread runs the springs and half the elements meanwhile.
     parallel.start_assembly(state);
     let mut system = parallel.system_mut();
     system.begin(model, model.dt);
     integrate::set_mask(model, state, &mut system);
-    // The nodal volume term needs every element's volume: once, here.
-    forces::volume::nodal(model, state, &mut s.force, &mut system);
-
-    forces::external::accumulate(model, state, &mut s.force, &mut system);
-    forces::viscosity::accumulate_mass(model, state, &mut s.force, &mut system);
-    forces::pull::accumulate(model, state, &mut s.force, &mut system);
-    contact::accumulate(model, state, &mut s.force, &mut system, &mut s.contact);
-    contact::table::accumulate(model, state, &mut s.force, &mut system);
-    contact::self_collision::accumulate(
+    let share = parallel.main_share();
+    assemble::run(
+        &assemble::MAIN,
         model,
         state,
         &mut s.force,
         &mut system,
-        &mut s.self_collision,
+        &share,
+        &mut s.stages,
     );
-    let elements = parallel.main_elements();
-    forces::volume::accumulate_elements(model, state, &mut s.force, &mut system, elements.clone());
-    let springs = parallel.main_springs();
-    forces::viscosity::accumulate_dashpots(model, state, &mut s.force, &mut system, springs);
-    forces::viscosity::accumulate_elements(model, state, &mut s.force, &mut system, elements);
-    parallel.finish_assembly(&mut s.force, &mut system);
+    parallel.finish_assembly(&mut s.force, &mut system, &mut s.stages.seconds);
     system.finish(&model.tets, state.stats.cg_iterations);
     static_residual(model, state, &s.force, &system.mask)
 }

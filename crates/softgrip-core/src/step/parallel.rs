@@ -4,7 +4,7 @@
 //!
 //! Results never depend on whether the helper runs: without it (one core, or
 //! `Simulation::set_threads(1)`) the main thread does the helper's share itself, on the same
-//! buffers and in the same order, so the sums are the same bit for bit (`tests/it/threads.rs`).
+//! buffers and in the same order, so the sums are the same bit for bit (`crates/softgrip-core/tests/threads.rs`).
 //! Hand-offs are atomic counters and spin-waits, and a posted job is claimed by whichever
 //! thread gets to it first; why: `docs/design/second-core.md`.
 
@@ -15,11 +15,11 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
-use crate::forces;
 use crate::model::Model;
 use crate::solver::System;
 use crate::solver::cg::LinearOperator;
 use crate::state::State;
+use crate::step::assemble::{HELPER, Share, Stage, StageScratch};
 
 const ASSEMBLE: u64 = 1;
 const PRODUCT: u64 = 2;
@@ -99,6 +99,8 @@ struct AssemblyShare {
     state: State,
     force: Vec<DVec3>,
     system: System,
+    /// The helper's stage timings since the last [`Parallel::finish_assembly`].
+    stages: StageScratch,
 }
 
 /// The helper's half of a product `A x`.
@@ -226,16 +228,34 @@ impl Parallel {
         }
     }
 
-    /// Waits for the helper's share of the force passes and adds it.
-    pub fn finish_assembly(&self, force: &mut [DVec3], system: &mut System) {
+    /// The main thread's share of the split stages: the elements and the springs' dashpots
+    /// after the helper's.
+    pub fn main_share(&self) -> Share {
+        Share {
+            elements: self.main_elements(),
+            springs: self.main_springs(),
+        }
+    }
+
+    /// Waits for the helper's share of the force passes and adds it, and its stage timings to
+    /// `seconds`.
+    pub fn finish_assembly(
+        &self,
+        force: &mut [DVec3],
+        system: &mut System,
+        seconds: &mut [f64; Stage::ALL.len()],
+    ) {
         if !(self.is_threaded() && self.wait()) {
             assemble(&self.shared);
         }
-        let share = lock(&self.shared.assembly);
+        let mut share = lock(&self.shared.assembly);
         for (f, g) in force.iter_mut().zip(&share.force) {
             *f += *g;
         }
         system.add(&share.system);
+        for (total, helper) in seconds.iter_mut().zip(&mut share.stages.seconds) {
+            *total += std::mem::take(helper);
+        }
     }
 
     /// `y = A x` for the `system` read from [`Parallel::system`].
@@ -381,7 +401,7 @@ fn run(shared: &Shared, kind: u64) {
     }
 }
 
-/// The helper's share of the force passes: the springs, the elements before
+/// The helper's share of the force passes: [`HELPER`]'s stages, on the elements before
 /// [`Parallel::main_elements`] and the Rayleigh dashpots before [`Parallel::main_springs`].
 fn assemble(shared: &Shared) {
     let model = &*shared.model;
@@ -390,16 +410,16 @@ fn assemble(shared: &Shared) {
         state,
         force,
         system,
+        stages,
     } = &mut *share;
     system.begin_partial(model, model.dt);
     force.clear();
     force.resize(model.particle_count() + model.fingers.len(), DVec3::ZERO);
-    forces::springs::accumulate(model, state, force, system);
-    let springs = 0..helper_springs(model.springs.len());
-    forces::viscosity::accumulate_dashpots(model, state, force, system, springs);
-    let end = helper_elements(model.tets.len());
-    forces::volume::accumulate_elements(model, state, force, system, 0..end);
-    forces::viscosity::accumulate_elements(model, state, force, system, 0..end);
+    let share = Share {
+        elements: 0..helper_elements(model.tets.len()),
+        springs: 0..helper_springs(model.springs.len()),
+    };
+    crate::step::assemble::run(&HELPER, model, state, force, system, &share, stages);
 }
 
 /// The helper's share of the springs' Rayleigh dashpots: half.
@@ -416,7 +436,9 @@ fn helper_elements(tets: usize) -> usize {
 
 /// The assembled system seen as an operator for CG.
 pub struct SystemOperator<'a> {
+    /// The assembled system.
     pub system: &'a System,
+    /// The work split whose helper takes half of each product.
     pub parallel: &'a Parallel,
 }
 

@@ -11,19 +11,7 @@ use softgrip_core::error::SimError;
 use softgrip_core::scene::{Scene, THESIS_SCENE};
 
 use crate::guide_friction::{light_guide, load_at};
-use crate::support::{cuboid_scene, rest_within, shipped_scene, simulation};
-
-/// The largest distance between the two runs' particles and fingers (m).
-fn largest_distance(a: &Simulation, b: &Simulation) -> f64 {
-    let fingers = a.state.fingers.iter().zip(&b.state.fingers);
-    a.state
-        .positions
-        .iter()
-        .zip(&b.state.positions)
-        .map(|(p, q)| p.distance(*q))
-        .chain(fingers.map(|(f, g)| f.position.distance(g.position)))
-        .fold(0.0, f64::max)
-}
+use crate::support::{cuboid_scene, largest_distance, rest_within, shipped_scene, simulation};
 
 #[test]
 fn the_static_answer_is_where_settling_comes_to_rest() {

@@ -7,7 +7,7 @@ use softgrip_core::Simulation;
 use softgrip_core::equilibrium::{StaticOptions, StaticSolver};
 use softgrip_core::scene::{BulkPressure, Elasticity, Scene, SupportKind};
 
-use crate::support::shipped_scene;
+use crate::support::{largest_distance, shipped_scene};
 
 /// The light-guide cuboid as the continuum (neo-Hookean, nodal pressures) at `edge` m, its
 /// finger's friction `mu`.
@@ -36,17 +36,6 @@ fn solved(scene: &Scene, loads: &[f64], solver: StaticSolver) -> Simulation {
         sim.equilibrium_from(&from, options).expect("equilibrium");
     }
     sim
-}
-
-fn largest_distance(a: &Simulation, b: &Simulation) -> f64 {
-    let fingers = a.state.fingers.iter().zip(&b.state.fingers);
-    a.state
-        .positions
-        .iter()
-        .zip(&b.state.positions)
-        .map(|(p, q)| p.distance(*q))
-        .chain(fingers.map(|(f, g)| f.position.distance(g.position)))
-        .fold(0.0, f64::max)
 }
 
 #[test]

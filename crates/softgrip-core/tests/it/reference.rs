@@ -257,8 +257,13 @@ fn the_indentation_agrees_with_the_reference() {
         );
         assert!(
             error(nodal[k], r).abs() < 2.0,
-            "{f} N: {:+.2} %",
+            "{f} N, 4 mm: {:+.2} %",
             error(nodal[k], r)
+        );
+        assert!(
+            error(fine[k], r).abs() < 1.0,
+            "{f} N, 2.5 mm: {:+.2} %",
+            error(fine[k], r)
         );
     }
 }

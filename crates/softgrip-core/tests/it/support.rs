@@ -23,6 +23,18 @@ pub fn rms_distance(a: &Simulation, b: &Simulation) -> f64 {
 }
 
 /// Scene text resolved and ready to run; `name` names it in errors.
+/// The largest distance between the two runs' particles and fingers (m).
+pub fn largest_distance(a: &Simulation, b: &Simulation) -> f64 {
+    let fingers = a.state.fingers.iter().zip(&b.state.fingers);
+    a.state
+        .positions
+        .iter()
+        .zip(&b.state.positions)
+        .map(|(p, q)| p.distance(*q))
+        .chain(fingers.map(|(f, g)| f.position.distance(g.position)))
+        .fold(0.0, f64::max)
+}
+
 pub fn simulation(text: &str, name: &str) -> Simulation {
     let scene = Scene::from_toml_str(text, name).unwrap_or_else(|e| panic!("{e}"));
     Simulation::new(&scene).unwrap_or_else(|e| panic!("{name}: {e}"))

@@ -30,6 +30,7 @@ pub struct Candidate {
     pub variant: String,
     /// The scene with the effect added (at its parameters' start values).
     pub scene: Scene,
+    /// The parameters fitted: the object's modulus first (unless locked), then the effect's own.
     pub params: Vec<FitParam>,
     /// For an effect whose start has it switched on: the values of
     /// `params` at which it is off, i.e. the model it is added to. The fit
@@ -38,6 +39,8 @@ pub struct Candidate {
     pub off: Option<Vec<f64>>,
 }
 
+/// The fitted parameter `name` within `lower..upper` (on a log scale where `log`); `None` for an
+/// unknown name.
 fn param(name: &str, lower: f64, upper: f64, log: bool) -> Option<FitParam> {
     Some(FitParam {
         param: params::find(name).ok()?,
@@ -59,65 +62,10 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
         return out;
     };
     let with_modulus = |ps: Vec<Option<FitParam>>| with_modulus(modulus, ps);
-    let with = |f: &dyn Fn(&mut Scene)| {
-        let mut s = scene.clone();
-        f(&mut s);
-        s
-    };
-    // Friction above 1 holds a silicone's bottom nearly as a bonded one, and its static solves
-    // cycle between stick and slip (on the 4 mm cuboid a replay took 0.7, 2.6, 6.3 and 26 s at
-    // mu 0.1, 0.5, 1 and 2): the search stops at 1.
-    if scene.support.kind != SupportKind::None {
-        out.push(Candidate {
-            effect: "table-friction",
-            variant: String::new(),
-            scene: with(&|s| {
-                s.support.kind = SupportKind::Table;
-                s.support.friction = 0.0;
-            }),
-            params: with_modulus(vec![param("table_friction", 0.0, 1.0, false)]),
-            off: None,
-        });
-    }
+    out.extend(table_friction(scene, modulus));
     out.extend(stiffening(scene, modulus));
     if recording.mode == Mode::TimeSeries {
-        out.push(Candidate {
-            effect: "viscoelastic-creep",
-            variant: String::new(),
-            // Started inside the range, not at g = 0: with no relaxing
-            // share the relaxation time moves nothing (a zero gradient),
-            // and the fit cannot find its way out.
-            // The baseline fitted the material as if fully relaxed, so the
-            // start keeps that long-term modulus, E (1 - g), where it was.
-            scene: with(&|s| {
-                s.model.prony_g = CREEP_START_G;
-                s.model.prony_tau = 1.0;
-                s.object.young_modulus = e / (1.0 - CREEP_START_G);
-            }),
-            params: with_modulus(vec![
-                param("prony_g", 0.0, 0.9, false),
-                param("prony_tau", 0.05, 20.0, true),
-            ]),
-            // And no creep at all, the model it is added to (E, g 0, its
-            // relaxation time), a floor for the fit (see `fit_model`): it
-            // ends no worse than that model. After damping on the beam's
-            // load52_a, the start above alone left it 9 % worse.
-            off: Some(vec![e, 0.0, scene.model.prony_tau.clamp(0.05, 20.0)]),
-        });
-    }
-    if recording.mode == Mode::TimeSeries {
-        // Dissipation: the springs are damped at a ratio of their critical
-        // damping (1 as the thesis sets it); a real material can lose more
-        // or less energy per swing. Quasi-static samples are at rest, where
-        // damping changes nothing, so it is offered for time series only.
-        let d = scene.model.damping_ratio.max(0.01);
-        out.push(Candidate {
-            effect: "damping",
-            variant: String::new(),
-            scene: scene.clone(),
-            params: with_modulus(vec![param("damping_ratio", d / 10.0, d * 30.0, true)]),
-            off: None,
-        });
+        out.extend(time_series(scene, modulus));
     }
     if !scene.fingers.is_empty() {
         out.push(Candidate {
@@ -141,6 +89,72 @@ pub fn catalogue(recording: &Recording, scene: &Scene) -> Vec<Candidate> {
         });
     }
     out
+}
+
+/// `scene` changed by `f`.
+fn with(scene: &Scene, f: &dyn Fn(&mut Scene)) -> Scene {
+    let mut s = scene.clone();
+    f(&mut s);
+    s
+}
+
+/// A table under the object in place of its support, its friction fitted: where it has one.
+fn table_friction(scene: &Scene, modulus: FitParam) -> Option<Candidate> {
+    // Friction above 1 holds a silicone's bottom nearly as a bonded one, and its static solves
+    // cycle between stick and slip (on the 4 mm cuboid a replay took 0.7, 2.6, 6.3 and 26 s at
+    // mu 0.1, 0.5, 1 and 2): the search stops at 1.
+    (scene.support.kind != SupportKind::None).then(|| Candidate {
+        effect: "table-friction",
+        variant: String::new(),
+        scene: with(scene, &|s| {
+            s.support.kind = SupportKind::Table;
+            s.support.friction = 0.0;
+        }),
+        params: with_modulus(modulus, vec![param("table_friction", 0.0, 1.0, false)]),
+        off: None,
+    })
+}
+
+/// A time series's candidates: viscoelastic creep, then damping.
+fn time_series(scene: &Scene, modulus: FitParam) -> Vec<Candidate> {
+    let e = scene.object.young_modulus;
+    let with_modulus = |ps: Vec<Option<FitParam>>| with_modulus(modulus, ps);
+    let creep = Candidate {
+        effect: "viscoelastic-creep",
+        variant: String::new(),
+        // Started inside the range, not at g = 0: with no relaxing
+        // share the relaxation time moves nothing (a zero gradient),
+        // and the fit cannot find its way out.
+        // The baseline fitted the material as if fully relaxed, so the
+        // start keeps that long-term modulus, E (1 - g), where it was.
+        scene: with(scene, &|s| {
+            s.model.prony_g = CREEP_START_G;
+            s.model.prony_tau = 1.0;
+            s.object.young_modulus = e / (1.0 - CREEP_START_G);
+        }),
+        params: with_modulus(vec![
+            param("prony_g", 0.0, 0.9, false),
+            param("prony_tau", 0.05, 20.0, true),
+        ]),
+        // And no creep at all, the model it is added to (E, g 0, its
+        // relaxation time), a floor for the fit (see `fit_model`): it
+        // ends no worse than that model. After damping on the beam's
+        // load52_a, the start above alone left it 9 % worse.
+        off: Some(vec![e, 0.0, scene.model.prony_tau.clamp(0.05, 20.0)]),
+    };
+    // Dissipation: the springs are damped at a ratio of their critical
+    // damping (1 as the thesis sets it); a real material can lose more
+    // or less energy per swing. Quasi-static samples are at rest, where
+    // damping changes nothing, so it is offered for time series only.
+    let d = scene.model.damping_ratio.max(0.01);
+    let damping = Candidate {
+        effect: "damping",
+        variant: String::new(),
+        scene: scene.clone(),
+        params: with_modulus(vec![param("damping_ratio", d / 10.0, d * 30.0, true)]),
+        off: None,
+    };
+    vec![creep, damping]
 }
 
 /// Strain stiffening: Yeoh's one term and, for elements, the two-term form.

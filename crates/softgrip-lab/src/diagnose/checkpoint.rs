@@ -134,6 +134,7 @@ impl Checkpoint {
         self.saved.lock().map_or(0, |s| s.len())
     }
 
+    /// No fit in the file.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }

@@ -8,13 +8,17 @@ use crate::error::LabError;
 /// A candidate tried.
 #[derive(Debug, Clone)]
 pub struct Hypothesis {
+    /// The effect's catalogue name (`table-friction`, ...).
     pub effect: &'static str,
+    /// Which variant (the region's place, the stiffening's form); empty for an effect with one.
     pub variant: String,
+    /// The model with the candidate, fitted; or why its fit failed.
     pub fit: Result<ModelFit, LabError>,
     /// BIC against the model it was added to (negative: better).
     pub score: f64,
     /// Share of the weighted residual sum of squares it removed.
     pub explained: f64,
+    /// The search's round it was fitted in, from 0.
     pub round: usize,
     /// Vuong's statistic against the best candidate of another effect in
     /// the same round (positive: this one fits closer) or, when no other

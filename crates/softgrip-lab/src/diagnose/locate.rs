@@ -29,7 +29,10 @@ pub struct Location {
     pub description: String,
     /// The whole residual's chi-square and degrees of freedom.
     pub chi2: f64,
+    /// Degrees of freedom of `chi2`: the coordinates recorded.
     pub dof: usize,
+    /// Whether `chi2` is beyond three standard deviations of its distribution
+    /// (`statistics::significant`).
     pub significant: bool,
 }
 

@@ -12,6 +12,7 @@
 mod baseline;
 mod catalogue;
 mod checkpoint;
+pub mod figures;
 mod hypothesis;
 mod locate;
 mod model_fit;
@@ -41,7 +42,7 @@ pub use noise::{
 };
 pub use nominal::{carries_the_loads, implied_bulk_modulus};
 pub use options::{BaselineModel, DiagnoseOptions, FITTED, Progress, check_bounds, parse_bound};
-pub use output::to_json;
+pub use output::{diagnosis_figures, to_json};
 pub use pairs::{LoneTest, PairNeed, PairTest, pair_verdict};
 pub use regions::{CELLS, DRAWS, Grid, RegionScan, Shape};
 pub use remainder::{
@@ -56,13 +57,14 @@ pub use statistics::{
 };
 pub use verdict::{Diagnosis, RegionFound};
 
+use crate::discretisation::Discretisation;
 use crate::error::LabError;
+use crate::fit::FitParam;
 use crate::recording::Recording;
 use noise::load_turns;
 use options::FitCount;
 use softgrip_core::quasi_static::RestTolerance;
 
-/// Runs the diagnosis.
 /// Refuses a recording too short to measure its noise: the noise is taken from second
 /// differences along the samples within each run of loads moving one way, so some run needs
 /// three samples. Without it every verdict would be measured against a noise level of nothing.
@@ -84,6 +86,8 @@ fn enough_samples(recording: &Recording) -> Result<(), LabError> {
     )))
 }
 
+/// Runs the diagnosis of `recording`: the baseline fit, the noise, where the residual stands
+/// out of it, the search of the catalogue, the verdict with its evidence.
 pub fn diagnose(
     recording: &Recording,
     options: &DiagnoseOptions,
@@ -101,46 +105,19 @@ pub fn diagnose(
     // The fits planned: the baseline's two, and each candidate once a round.
     let planned = 2 + catalogue(recording, &recording.scene).len() * options.max_effects;
     let mut fits = FitCount::new(planned, progress);
-    // The baseline, first weighing every coordinate alike; the noise from
-    // its residual; the baseline again, weighed by the noise.
-    fits.starting("baseline");
-    let first = baseline::fit_unweighted(recording, options, &base_params)?;
-    let noise = estimate_noise_split(&first.replay.residuals, &load_turns(recording));
-    fits.done = 1;
-    fits.starting("baseline, weighted by the noise");
-    let baseline = baseline::refit_weighted(recording, &noise, options, &base_params, &first)?;
-    fits.done = 2;
+    let (first, noise, baseline) = fit_baseline(recording, options, &base_params, &mut fits)?;
     // Where the residual stands out of the noise.
     let location = locate(recording, &baseline.replay, &noise);
     // Reported, not acted on: a parameter at its bound is evidence of a form
     // error, and refitting it in every candidate adds freedom to each alike
-    // (docs/results/diagnosis-notes/pinned-refitted.md).
+    // (docs/results/diagnosis-history.md, "Variant: the baseline's pinned parameters refitted").
     let pinned = pinned_at_bounds(&baseline.params, &base_params);
     // The effects that explain it, by a greedy search of the catalogue.
     let mut found = search::explain(recording, &noise, options, &location, &baseline, &mut fits)?;
     // The verdict: what is left, how far the discretisation alone moves the
     // markers, and the evidence in words.
     let remaining = locate(recording, &found.current.replay, &noise);
-    // On the final model: the baseline's may not show it (a rate-dependent
-    // effect makes the found model step-sensitive where the baseline is not).
-    fits.done = fits.done.min(fits.planned);
-    fits.starting("the final model on a finer mesh and step");
-    let discretisation = crate::discretisation::check(
-        recording,
-        &found.current.scene,
-        &found.current.replay,
-        &noise,
-        RestTolerance::for_fits(),
-    );
-    // What the final model leaves: a reading that leaves hysteresis, a lone marker or a kept
-    // share it does not beat is set aside, and the verdict is "unexplained" there.
-    let remainder = remainder::of_final(
-        recording,
-        &noise,
-        (&baseline, &found.current),
-        discretisation.mesh.measured().map(|c| c.moved.as_slice()),
-        !found.effects.is_empty(),
-    );
+    let (discretisation, remainder) = final_checks(recording, &noise, &baseline, &found, &mut fits);
     // The search's evidence as it stands, after the checks' finding when they failed.
     let mut evidence = verdict::evidence(&location, &found, &pinned, &baseline, &discretisation);
     let set_aside = set_aside_if_left(&remainder, &mut found, &mut evidence);
@@ -172,6 +149,68 @@ pub fn diagnose(
         set_aside,
     };
     d.evidence.push_str(&alternatives_text(&d));
+    finish(&mut d, recording, options, &mut fits);
+    Ok(d)
+}
+
+/// The baseline, first weighing every coordinate alike; the noise from
+/// its residual; the baseline again, weighed by the noise. The unweighted fit, the noise and
+/// the weighted fit.
+fn fit_baseline(
+    recording: &Recording,
+    options: &DiagnoseOptions,
+    base_params: &[FitParam],
+    fits: &mut FitCount<'_>,
+) -> Result<(ModelFit, Noise, ModelFit), LabError> {
+    fits.starting("baseline");
+    let first = baseline::fit_unweighted(recording, options, base_params)?;
+    let noise = estimate_noise_split(&first.replay.residuals, &load_turns(recording));
+    fits.done = 1;
+    fits.starting("baseline, weighted by the noise");
+    let baseline = baseline::refit_weighted(recording, &noise, options, base_params, &first)?;
+    fits.done = 2;
+    Ok((first, noise, baseline))
+}
+
+/// The final model on a finer mesh and step, and what it leaves beyond the noise.
+fn final_checks(
+    recording: &Recording,
+    noise: &Noise,
+    baseline: &ModelFit,
+    found: &search::Explanation,
+    fits: &mut FitCount<'_>,
+) -> (Discretisation, Remainder) {
+    // On the final model: the baseline's may not show it (a rate-dependent
+    // effect makes the found model step-sensitive where the baseline is not).
+    fits.done = fits.done.min(fits.planned);
+    fits.starting("the final model on a finer mesh and step");
+    let discretisation = crate::discretisation::check(
+        recording,
+        &found.current.scene,
+        &found.current.replay,
+        noise,
+        RestTolerance::for_fits(),
+    );
+    // What the final model leaves: a reading that leaves hysteresis, a lone marker or a kept
+    // share it does not beat is set aside, and the verdict is "unexplained" there.
+    let remainder = remainder::of_final(
+        recording,
+        noise,
+        (baseline, &found.current),
+        discretisation.mesh.measured().map(|c| c.moved.as_slice()),
+        !found.effects.is_empty(),
+    );
+    (discretisation, remainder)
+}
+
+/// The last stages: the final model's standard errors (where an effect is named), and the
+/// stages' times.
+fn finish(
+    d: &mut Diagnosis,
+    recording: &Recording,
+    options: &DiagnoseOptions,
+    fits: &mut FitCount<'_>,
+) {
     fits.starting("the final model's standard errors");
     if !d.effects.is_empty() {
         (d.standard_errors, d.correlations) =
@@ -180,7 +219,6 @@ pub fn diagnose(
     fits.done = fits.planned;
     fits.starting("done");
     d.stages = std::mem::take(&mut fits.stages);
-    Ok(d)
 }
 
 /// When the remainder's checks fail, the search's effects (returned) are set aside, the verdict

@@ -14,10 +14,13 @@ use crate::recording::{MarkerRef, Recording};
 /// coordinate).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Noise {
+    /// The object markers' noise, m.
     pub object_m: f64,
+    /// The finger markers' noise, m.
     pub finger_m: f64,
-    /// How many second differences each estimate rests on.
+    /// How many second differences the object's estimate rests on.
     pub object_count: usize,
+    /// How many second differences the fingers' estimate rests on.
     pub finger_count: usize,
 }
 

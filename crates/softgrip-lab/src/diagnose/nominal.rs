@@ -27,12 +27,32 @@ pub fn carries_the_loads(
         Err(e @ SimError::NoEquilibrium { .. }) => e.into(),
         Err(e) => return Err(e.into()),
     };
+    let repairs = repairs(recording);
+    let LabError::Sim(e) = &failure else {
+        unreachable!("made above")
+    };
+    let SimError::NoEquilibrium { load, near, .. } = &**e else {
+        unreachable!("matched above")
+    };
+    if let Some((with, finding)) = repaired(recording, &repairs, options, *load, near)? {
+        return Ok((Some(with), Some(finding)));
+    }
+    if let Some((before, finding)) = truncated(recording, options, *load, near) {
+        return Ok((Some(before), Some(finding)));
+    }
+    Err(failure)
+}
+
+/// One repair of the scene's model: the parameter, its value, and the repair in words.
+type Repair = (&'static str, f64, String);
+
+/// What the scene leaves out that would let the model carry the loads: the bulk term its E
+/// and nu imply, then the spring limits as forces (the projection alone lets a lattice
+/// creep into collapse).
+fn repairs(recording: &Recording) -> Vec<Repair> {
     let (object, model) = (&recording.scene.object, &recording.scene.model);
-    // What the scene leaves out that would let the model carry the loads: the bulk term its E
-    // and nu imply, then the spring limits as forces (the projection alone lets a lattice
-    // creep into collapse).
     let bulk = implied_bulk_modulus(object.young_modulus, object.poisson_ratio);
-    let mut repairs: Vec<(&str, f64, String)> = Vec::new();
+    let mut repairs: Vec<Repair> = Vec::new();
     if model.bulk_modulus == 0.0 && object.poisson_ratio > 0.0 {
         repairs.push((
             "bulk_modulus",
@@ -52,13 +72,19 @@ pub fn carries_the_loads(
             format!("spring limits that act as forces ([model] limit_stiffness = {k})"),
         ));
     }
-    let LabError::Sim(e) = &failure else {
-        unreachable!("made above")
-    };
-    let SimError::NoEquilibrium { load, near, .. } = &**e else {
-        unreachable!("matched above")
-    };
-    // The fewest repairs that carry every load: the first alone, then the first two.
+    repairs
+}
+
+/// The recording with the fewest `repairs` that carry every load (the first alone, then the
+/// first two), and the finding in words; `None` when none does. The model failed at `load`
+/// (N) `near` (m).
+fn repaired(
+    recording: &Recording,
+    repairs: &[Repair],
+    options: ReplayOptions,
+    load: f64,
+    near: &[f64; 3],
+) -> Result<Option<(Recording, String)>, LabError> {
     for n in 1..=repairs.len() {
         let mut with = recording.clone();
         for (name, value, _) in &repairs[..n] {
@@ -77,8 +103,19 @@ pub fn carries_the_loads(
             1e3 * near[2],
             given.join(" and "),
         );
-        return Ok((Some(with), Some(finding)));
+        return Ok(Some((with, finding)));
     }
+    Ok(None)
+}
+
+/// The recording cut before the sample where the model failed at `load` (N) `near` (m), and
+/// the finding in words, where at least `MIN_SAMPLES` are left and the model carries them.
+fn truncated(
+    recording: &Recording,
+    options: ReplayOptions,
+    load: f64,
+    near: &[f64; 3],
+) -> Option<(Recording, String)> {
     // No repair carries it: the samples before the first load the model cannot carry are still
     // evidence, and a verdict on them beats none (a lab's last levels can lie past where the
     // model holds, as the Ecoflex compressions' 67 % strain does).
@@ -94,22 +131,19 @@ pub fn carries_the_loads(
         let to = recording.samples[i].load.abs();
         (from.min(to) - tol..=from.max(to) + tol).contains(&load.abs())
     });
-    if let Some(k) = first.filter(|&k| k >= MIN_SAMPLES) {
-        let mut before = recording.clone();
-        before.samples.truncate(k);
-        if replay(&before, &before.scene, options, |_| {}).is_ok() {
-            let finding = format!(
-                "The scene's model finds no equilibrium at {load:.2} N (sample {} of {}, near ({:.1}, {:.1}, {:.1}) mm); the diagnosis below is of the {k} samples before it.",
-                k + 1,
-                recording.samples.len(),
-                1e3 * near[0],
-                1e3 * near[1],
-                1e3 * near[2],
-            );
-            return Ok((Some(before), Some(finding)));
-        }
-    }
-    Err(failure)
+    let k = first.filter(|&k| k >= MIN_SAMPLES)?;
+    let mut before = recording.clone();
+    before.samples.truncate(k);
+    replay(&before, &before.scene, options, |_| {}).ok()?;
+    let finding = format!(
+        "The scene's model finds no equilibrium at {load:.2} N (sample {} of {}, near ({:.1}, {:.1}, {:.1}) mm); the diagnosis below is of the {k} samples before it.",
+        k + 1,
+        recording.samples.len(),
+        1e3 * near[0],
+        1e3 * near[1],
+        1e3 * near[2],
+    );
+    Some((before, finding))
 }
 
 /// The fewest samples a diagnosis is run on when the model carries no more of a recording.

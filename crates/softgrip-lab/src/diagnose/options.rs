@@ -66,6 +66,7 @@ impl BaselineModel {
     /// Both, as `--model` names them.
     pub const ALL: [BaselineModel; 2] = [BaselineModel::Lattice, BaselineModel::Continuum];
 
+    /// Its `--model` name.
     pub fn name(self) -> &'static str {
         match self {
             BaselineModel::Lattice => "lattice",

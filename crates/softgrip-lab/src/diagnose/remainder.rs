@@ -48,6 +48,7 @@ pub const FORM_ERROR_FACTOR: f64 = 1.0 / (1.0 - FINER);
 pub struct Test {
     /// The chi-square of what the check measures, on its degrees of freedom.
     pub chi2: f64,
+    /// Degrees of freedom of `chi2`.
     pub dof: usize,
     /// Its p-value (Wilson-Hilferty's normal approximation); for lone markers, the worst
     /// marker's times the markers tested.
@@ -61,7 +62,9 @@ pub struct Test {
 /// Both checks; `None` where one does not apply (no later branch, no discretisation measured).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Remainder {
+    /// The hysteresis check (module docs): later branches against the first at the same load.
     pub hysteresis: Option<Test>,
+    /// The lone-marker check (module docs, `lone_markers`).
     pub lone_markers: Option<Test>,
     /// The symptom's own description as a rival to the search's reading (module docs).
     pub kept_share: Option<KeptShare>,
@@ -78,6 +81,7 @@ pub struct KeptShare {
     /// What it removes of the baseline's weighted residual (chi-square on 1 degree of freedom)
     /// and its p-value.
     pub chi2: f64,
+    /// The p-value of `chi2`.
     pub p_value: f64,
     /// Vuong's z of the final model against it (positive: the final model fits closer); `None`
     /// when no effect was named.
@@ -392,49 +396,8 @@ pub fn lone_markers(
     if moved.len() != residuals.len() {
         return None;
     }
-    // Each object marker's weighted residual and own move (from its reference) per coordinate.
-    // Object markers only: a finger's reading is the actuator's, not a point on the skin, and its
-    // depth carries the contact law's own error.
-    type Coordinates = Vec<(usize, f64, f64, f64)>;
-    let mut tracks: BTreeMap<(u8, usize), (MarkerRef, Coordinates)> = BTreeMap::new();
-    for (r, m) in residuals.iter().zip(moved) {
-        let MarkerRef::Object(i) = r.marker else {
-            continue;
-        };
-        let Some(reference) = recording.markers.get(i).map(|m| m.reference) else {
-            continue;
-        };
-        let s = noise.sigma(r.marker);
-        for axis in 0..3 {
-            let Some(x) = r.recorded[axis] else { continue };
-            let band = FORM_ERROR_FACTOR * m[axis];
-            let track = &mut tracks
-                .entry(marker_key(r.marker))
-                .or_insert((r.marker, Vec::new()))
-                .1;
-            track.push((
-                r.sample,
-                r.simulated[axis] - x,
-                r.simulated[axis] - reference[axis],
-                1.0 / (s * s + band * band),
-            ));
-        }
-    }
-    // What is left of each once its own move is scaled to fit: a model's error of form moves a
-    // marker more or less along the way it moves it; a slip moves it where the model does not.
-    let mut per: BTreeMap<(u8, usize), (MarkerRef, f64, usize)> = BTreeMap::new();
-    let mut per_capped = per.clone();
-    for (key, (marker, track)) in tracks {
-        let (ru, uu) = track.iter().fold((0.0, 0.0), |(a, b), (_, r, u, w)| {
-            (a + w * r * u, b + w * u * u)
-        });
-        let c = if uu > 0.0 { ru / uu } else { 0.0 };
-        let (chi2, capped, dof) = capped_chi2(&track, c);
-        per.insert(key, (marker, chi2, dof));
-        per_capped.insert(key, (marker, capped, dof));
-    }
-    let per: Vec<(MarkerRef, f64, usize)> = per.into_values().collect();
-    let per_capped: Vec<(MarkerRef, f64, usize)> = per_capped.into_values().collect();
+    let tracks = marker_tracks(recording, residuals, noise, moved);
+    let (per, per_capped) = scaled_chi2(tracks);
     if per.len() < 2 {
         return None;
     }
@@ -468,6 +431,70 @@ pub fn lone_markers(
         markers: if fails { confirmed } else { markers },
         fails,
     })
+}
+
+/// Each marker's chi-square and degrees of freedom once its own move is scaled out, plain and
+/// with each sample's part capped ([`capped_chi2`]), in the markers' order.
+fn scaled_chi2(tracks: BTreeMap<(u8, usize), (MarkerRef, Coordinates)>) -> (PerMarker, PerMarker) {
+    // What is left of each once its own move is scaled to fit: a model's error of form moves a
+    // marker more or less along the way it moves it; a slip moves it where the model does not.
+    let mut per: BTreeMap<(u8, usize), (MarkerRef, f64, usize)> = BTreeMap::new();
+    let mut per_capped = per.clone();
+    for (key, (marker, track)) in tracks {
+        let (ru, uu) = track.iter().fold((0.0, 0.0), |(a, b), (_, r, u, w)| {
+            (a + w * r * u, b + w * u * u)
+        });
+        let c = if uu > 0.0 { ru / uu } else { 0.0 };
+        let (chi2, capped, dof) = capped_chi2(&track, c);
+        per.insert(key, (marker, chi2, dof));
+        per_capped.insert(key, (marker, capped, dof));
+    }
+    let per: Vec<(MarkerRef, f64, usize)> = per.into_values().collect();
+    let per_capped: Vec<(MarkerRef, f64, usize)> = per_capped.into_values().collect();
+    (per, per_capped)
+}
+
+/// A marker's coordinates: each one's sample, residual (simulated - recorded, m), own simulated
+/// move from its reference (m), and weight (1 / m^2: the noise and the form error band).
+type Coordinates = Vec<(usize, f64, f64, f64)>;
+
+/// Each marker's chi-square and degrees of freedom.
+type PerMarker = Vec<(MarkerRef, f64, usize)>;
+
+/// Each object marker's coordinates ([`Coordinates`]), by marker. Object markers only: a
+/// finger's reading is the actuator's, not a point on the skin, and its depth carries the
+/// contact law's own error.
+fn marker_tracks(
+    recording: &Recording,
+    residuals: &[Residual],
+    noise: &Noise,
+    moved: &[DVec3],
+) -> BTreeMap<(u8, usize), (MarkerRef, Coordinates)> {
+    let mut tracks: BTreeMap<(u8, usize), (MarkerRef, Coordinates)> = BTreeMap::new();
+    for (r, m) in residuals.iter().zip(moved) {
+        let MarkerRef::Object(i) = r.marker else {
+            continue;
+        };
+        let Some(reference) = recording.markers.get(i).map(|m| m.reference) else {
+            continue;
+        };
+        let s = noise.sigma(r.marker);
+        for axis in 0..3 {
+            let Some(x) = r.recorded[axis] else { continue };
+            let band = FORM_ERROR_FACTOR * m[axis];
+            let track = &mut tracks
+                .entry(marker_key(r.marker))
+                .or_insert((r.marker, Vec::new()))
+                .1;
+            track.push((
+                r.sample,
+                r.simulated[axis] - x,
+                r.simulated[axis] - reference[axis],
+                1.0 / (s * s + band * band),
+            ));
+        }
+    }
+    tracks
 }
 
 /// A marker's chi-square, the same with each sample's part capped at its 1 % point (9.21 for two

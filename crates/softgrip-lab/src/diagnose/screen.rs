@@ -36,12 +36,15 @@ pub const SCREEN_LEVEL: f64 = 0.05;
 /// One candidate's score test.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Screen {
+    /// The candidate's effect (catalogue name).
     pub effect: &'static str,
+    /// The candidate's variant; empty for an effect with one.
     pub variant: String,
     /// The parameters tested, at the values where the effect is absent.
     pub tested: Vec<(&'static str, f64)>,
     /// The statistic `T` and its degrees of freedom.
     pub statistic: f64,
+    /// Degrees of freedom of `statistic`.
     pub dof: usize,
     /// Its p-value where the effect is absent.
     pub p_value: f64,
@@ -55,7 +58,7 @@ pub struct Screen {
 }
 
 /// The parameters a candidate's score is taken in, at its null: `None` where it is tried on a
-/// grid instead ([`on_a_grid`]) or not a quasi-static recording's.
+/// grid instead (`on_a_grid`) or not a quasi-static recording's.
 fn tested(c: &Candidate) -> Option<Vec<&'static str>> {
     match (c.effect, c.variant.as_str()) {
         ("strain-stiffening", "") => Some(vec!["stiffening"]),
@@ -147,10 +150,28 @@ pub(super) fn screen(
     )?;
     let rss: f64 = r.iter().map(|x| x * x).sum();
     let s2 = rss / r.len().saturating_sub(current.k).max(1) as f64;
+    let (out, next) = candidate_screens(candidates, &nulls, &grid_solved, &columns, &r, (rss, s2));
+    let region = cells.and_then(|(grid, _)| {
+        region_screen(recording, noise, current, &grid, &columns, next, (&r, s2))
+    });
+    mark_kept(out, region)
+}
+
+/// Each candidate's test from the replays' residual `r` and `columns` (the modulus's first, then
+/// the nested candidates' in order): on its grid, nested at its null, or untested. The tests,
+/// and the index of the first column after the candidates' (the region scan's cells).
+fn candidate_screens(
+    candidates: &[Candidate],
+    nulls: &[Null],
+    grid_solved: &[GridColumns],
+    columns: &[Vec<f64>],
+    r: &[f64],
+    (rss, s2): (f64, f64),
+) -> (Vec<Screen>, usize) {
     let e = &columns[0];
     let mut next = 1;
     let mut out = Vec::with_capacity(candidates.len());
-    for ((c, null), grid) in candidates.iter().zip(&nulls).zip(&grid_solved) {
+    for ((c, null), grid) in candidates.iter().zip(nulls).zip(grid_solved) {
         let screen = match (on_a_grid(c), null) {
             (Some(name), _) => best_on_a_grid(c, name, grid, rss, s2),
             (None, Some((scene, names))) => {
@@ -159,37 +180,57 @@ pub(super) fn screen(
                     .map(|col| project_out(col, e))
                     .collect();
                 next += names.len();
-                Some(nested(c, scene, names, &projected, &r, s2))
+                Some(nested(c, scene, names, &projected, r, s2))
             }
             (None, None) => None,
         };
         out.push(screen.unwrap_or_else(|| Screen::untested(c)));
     }
-    let region = cells.and_then(|(grid, _)| {
-        // What refining the mesh moves is the model's own form, not the specimen's: a region
-        // gets no credit along it (nor along E, which is refitted).
-        let cells = grid.cells().len();
-        // The contact's stiffness is the model's own form too: a soft block under the finger
-        // does what a softer contact does.
-        let contact = columns.get(next + cells).cloned();
-        let form = [
-            mesh_direction(recording, noise, &current.scene, r.len()),
-            contact,
-        ];
-        let nuisance = orthogonal_nuisance(e, form.into_iter().flatten());
-        let projected: Vec<Vec<f64>> = columns[next..next + cells]
-            .iter()
-            .map(|c| {
-                nuisance
-                    .iter()
-                    .fold(project_out(c, e), |c, d| project_out(&c, d))
-            })
-            .collect();
-        scan(&grid, &projected, &r, s2)
-    });
+    (out, next)
+}
+
+/// The region scan over `grid`'s cells, from their columns at `next` on (then the contact's),
+/// with the modulus's (`columns[0]`) and the model's own form's directions projected out.
+fn region_screen(
+    recording: &Recording,
+    noise: &Noise,
+    current: &ModelFit,
+    grid: &Grid,
+    columns: &[Vec<f64>],
+    next: usize,
+    (r, s2): (&[f64], f64),
+) -> Option<RegionScan> {
+    let e = &columns[0];
+    // What refining the mesh moves is the model's own form, not the specimen's: a region
+    // gets no credit along it (nor along E, which is refitted).
+    let cells = grid.cells().len();
+    // The contact's stiffness is the model's own form too: a soft block under the finger
+    // does what a softer contact does.
+    let contact = columns.get(next + cells).cloned();
+    let form = [
+        mesh_direction(recording, noise, &current.scene, r.len()),
+        contact,
+    ];
+    let nuisance = orthogonal_nuisance(e, form.into_iter().flatten());
+    let projected: Vec<Vec<f64>> = columns[next..next + cells]
+        .iter()
+        .map(|c| {
+            nuisance
+                .iter()
+                .fold(project_out(c, e), |c, d| project_out(&c, d))
+        })
+        .collect();
+    scan(grid, &projected, r, s2)
+}
+
+/// The screens and the region scan as the search takes them: the halves stand aside for the
+/// scan, and every variant of a kept effect is kept.
+fn mark_kept(
+    mut out: Vec<Screen>,
+    mut region: Option<RegionScan>,
+) -> Option<(Vec<Screen>, Option<RegionScan>)> {
     // The scan's shapes stand in for the halves (which are among them); a significant half
     // still opens the region's fit, as it opened the four halves' before the scan.
-    let mut region = region;
     if let Some(scan) = region.as_mut() {
         scan.halves_significant = out
             .iter()
@@ -413,7 +454,7 @@ fn nested(
     }
 }
 
-/// The frictions a grid candidate ([`on_a_grid`]) is tried at, a decade in three steps below a
+/// The frictions a grid candidate (`on_a_grid`) is tried at, a decade in three steps below a
 /// silicone's usual 0.3 to 1 (where contacts stick, and a higher friction changes little).
 pub const FRICTION_GRID: [f64; 3] = [0.03, 0.1, 0.3];
 

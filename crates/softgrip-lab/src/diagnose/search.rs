@@ -100,43 +100,26 @@ pub(super) fn explain(
             .iter()
             .find(|c| c.effect == REGION)
             .cloned();
-        let fitted = fit_candidates(
+        fit_round(
             recording,
             noise,
             options,
-            &found.current,
-            round_candidates,
-            round,
+            &mut found,
+            (round_candidates, round, scan_tests),
             fits,
         )?;
-        found.hypotheses.extend(fitted);
-        compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
-        // A region chosen as the best of the scan's boxes must clear the scan's bar; the halves
-        // are among its boxes.
-        for h in &mut found.hypotheses[start..] {
-            if let Some(t) = scan_tests.filter(|_| h.effect == REGION) {
-                h.tests = h.tests.max(t);
-            }
-        }
         let Some(b) = best_of(&found.hypotheses, start) else {
             break;
         };
-        if let Some(r) = tied_rival(&found.hypotheses, start, b)
-            && let (Ok(hf), Ok(rf)) = (
-                found.hypotheses[b].fit.clone(),
-                found.hypotheses[r].fit.clone(),
-            )
-        {
-            name_pair(
-                recording,
-                noise,
-                options,
-                location,
-                &mut found,
-                (b, hf),
-                (r, rf),
-                fits,
-            )?;
+        if named_a_tie(
+            recording,
+            noise,
+            options,
+            location,
+            &mut found,
+            (start, b),
+            fits,
+        )? {
             break;
         }
         if !accepted(&found.hypotheses[b]) {
@@ -156,6 +139,72 @@ pub(super) fn explain(
         tried.push(h.effect);
     }
     Ok(found)
+}
+
+/// Fits round `round`'s `candidates` on the current model, adds their hypotheses to `found` and
+/// tests each against the best of another effect; a region must also clear the scan's bar
+/// (`scan_tests`, its count of independent places).
+fn fit_round(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    found: &mut Explanation,
+    (candidates, round, scan_tests): (Vec<Candidate>, usize, Option<f64>),
+    fits: &mut FitCount,
+) -> Result<(), LabError> {
+    let start = found.hypotheses.len();
+    let fitted = fit_candidates(
+        recording,
+        noise,
+        options,
+        &found.current,
+        candidates,
+        round,
+        fits,
+    )?;
+    found.hypotheses.extend(fitted);
+    compare_with_rivals(&mut found.hypotheses[start..], &found.current, noise);
+    // A region chosen as the best of the scan's boxes must clear the scan's bar; the halves
+    // are among its boxes.
+    for h in &mut found.hypotheses[start..] {
+        if let Some(t) = scan_tests.filter(|_| h.effect == REGION) {
+            h.tests = h.tests.max(t);
+        }
+    }
+    Ok(())
+}
+
+/// Where hypothesis `b`, the best of the round whose hypotheses begin at `start`, ties with a
+/// rival of another effect: both fitted together and the pair judged ([`name_pair`]). Whether
+/// they tied (and the search ends).
+fn named_a_tie(
+    recording: &Recording,
+    noise: &Noise,
+    options: &DiagnoseOptions,
+    location: &Location,
+    found: &mut Explanation,
+    (start, b): (usize, usize),
+    fits: &mut FitCount,
+) -> Result<bool, LabError> {
+    if let Some(r) = tied_rival(&found.hypotheses, start, b)
+        && let (Ok(hf), Ok(rf)) = (
+            found.hypotheses[b].fit.clone(),
+            found.hypotheses[r].fit.clone(),
+        )
+    {
+        name_pair(
+            recording,
+            noise,
+            options,
+            location,
+            found,
+            (b, hf),
+            (r, rf),
+            fits,
+        )?;
+        return Ok(true);
+    }
+    Ok(false)
 }
 
 /// Round `round`'s `candidates` that the score tests keep (all of them where the tests cannot be

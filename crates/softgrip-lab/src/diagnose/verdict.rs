@@ -18,13 +18,21 @@ use crate::params;
 /// The outcome.
 #[derive(Debug, Clone)]
 pub struct Diagnosis {
+    /// The baseline: the scene's own model fitted, weighted by the noise.
     pub baseline: ModelFit,
+    /// The noise level, from the unweighted baseline fit's residual (m).
     pub noise: Noise,
+    /// Where the baseline's residual stands out of the noise.
     pub location: Location,
+    /// Every candidate fitted, round by round.
     pub hypotheses: Vec<Hypothesis>,
     /// The effects accepted, in order; empty: none or unexplained.
     pub effects: Vec<&'static str>,
+    /// A significant mismatch well above the noise that no candidate explains, or whose
+    /// reading the remainder's checks set aside.
     pub unexplained: bool,
+    /// The search's final model: the baseline with the effects it named (the baseline when
+    /// none).
     pub final_fit: ModelFit,
     /// The standard error of each of the final fit's parameters (its order), from the noise
     /// (`uncertainty`); empty when no effect was named.
@@ -34,6 +42,7 @@ pub struct Diagnosis {
     pub correlations: Vec<Vec<f64>>,
     /// Location of what is left after the effects.
     pub remaining: Location,
+    /// The verdict and its evidence, in words.
     pub evidence: String,
     /// The pair fitted when the best two effects tied, if they did.
     pub pair: Option<PairTest>,
@@ -358,7 +367,6 @@ fn evidence_text(
         v.sort_by(|a, b| a.score.total_cmp(&b.score));
         v
     };
-    let name = |h: &Hypothesis| effect_label(h.effect, &h.variant);
     if effects.is_empty() {
         return nothing_named_text(location, hypotheses, unexplained, pinned);
     }
@@ -368,64 +376,71 @@ fn evidence_text(
         let chosen = r.iter().find(|h| h.effect == *effect);
         let runner = r.iter().find(|h| h.effect != *effect);
         if let Some(c) = chosen {
-            let mut s = format!(
-                "{} lowers BIC by {:.1} and removes {:.0} % of the weighted residual",
-                name(c),
-                -c.score,
-                100.0 * c.explained
-            );
-            match runner {
-                // Named by the pair test (see `pair_text`) though the
-                // other scored better alone.
-                Some(ru) if ru.score < c.score => {
-                    s += &format!(
-                        "; {} scores better alone, {:.1} ({:.0} %), but Vuong's test cannot tell the two apart{}, and fitted together the pair needs {} (below)",
-                        name(ru),
-                        -ru.score,
-                        100.0 * ru.explained,
-                        c.vuong
-                            .map(|z| format!(" (z = {z:+.2})"))
-                            .unwrap_or_default(),
-                        c.effect
-                    );
-                }
-                Some(ru) => {
-                    s += &format!(
-                        "; the runner-up, {}, only {:.1} ({:.0} %){}",
-                        name(ru),
-                        -ru.score,
-                        100.0 * ru.explained,
-                        c.vuong
-                            .map(|z| if z >= VUONG_Z {
-                                format!(
-                                    ", and Vuong's test finds {} closer to the data at z = {z:.2}",
-                                    c.effect
-                                )
-                            } else {
-                                // Named through the pair (see `pair_text`).
-                                format!(
-                                    ", but Vuong's test cannot tell the two apart (z = {z:+.2}); fitted together, see below"
-                                )
-                            })
-                            .unwrap_or_default()
-                    );
-                }
-                None => {
-                    if let Some(z) = c.vuong.filter(|_| c.against_model) {
-                        s += &format!(
-                            "; no other effect was fitted beside it, and Vuong's test finds it closer to the data than {} at z = {z:.2}",
-                            c.rival_text()
-                        );
-                    }
-                }
-            }
-            parts.push(s);
+            parts.push(named_text(c, runner.copied()));
         }
     }
     format!(
         "{}. NRMSE (all markers) {nrmse_before:.4} -> {nrmse_after:.4}",
         parts.join("; then "),
     )
+}
+
+/// The sentence for effect `c`, named in its round, against that round's `runner` (the best
+/// fitted of another effect), if any.
+fn named_text(c: &Hypothesis, runner: Option<&Hypothesis>) -> String {
+    let name = |h: &Hypothesis| effect_label(h.effect, &h.variant);
+    let mut s = format!(
+        "{} lowers BIC by {:.1} and removes {:.0} % of the weighted residual",
+        name(c),
+        -c.score,
+        100.0 * c.explained
+    );
+    match runner {
+        // Named by the pair test (see `pair_text`) though the
+        // other scored better alone.
+        Some(ru) if ru.score < c.score => {
+            s += &format!(
+                "; {} scores better alone, {:.1} ({:.0} %), but Vuong's test cannot tell the two apart{}, and fitted together the pair needs {} (below)",
+                name(ru),
+                -ru.score,
+                100.0 * ru.explained,
+                c.vuong
+                    .map(|z| format!(" (z = {z:+.2})"))
+                    .unwrap_or_default(),
+                c.effect
+            );
+        }
+        Some(ru) => {
+            s += &format!(
+                "; the runner-up, {}, only {:.1} ({:.0} %){}",
+                name(ru),
+                -ru.score,
+                100.0 * ru.explained,
+                c.vuong
+                    .map(|z| if z >= VUONG_Z {
+                        format!(
+                            ", and Vuong's test finds {} closer to the data at z = {z:.2}",
+                            c.effect
+                        )
+                    } else {
+                        // Named through the pair (see `pair_text`).
+                        format!(
+                            ", but Vuong's test cannot tell the two apart (z = {z:+.2}); fitted together, see below"
+                        )
+                    })
+                    .unwrap_or_default()
+            );
+        }
+        None => {
+            if let Some(z) = c.vuong.filter(|_| c.against_model) {
+                s += &format!(
+                    "; no other effect was fitted beside it, and Vuong's test finds it closer to the data than {} at z = {z:.2}",
+                    c.rival_text()
+                );
+            }
+        }
+    }
+    s
 }
 
 /// The evidence when nothing was named: at the noise, or the best candidate and why it fell short

@@ -51,10 +51,15 @@ pub fn confirm_bounds(
 pub struct Computed {
     /// The scene the window is of (with the fit's values, where given).
     pub scene: Scene,
+    /// The window's settings, each with where it came from.
     pub plan: Plan,
+    /// The scene's gripper and object, ready to squeeze.
     pub gripper: Gripper,
+    /// The window found by the statics.
     pub window: Window,
+    /// The dynamic lifts at the bounds (empty without `confirm`).
     pub confirmations: Vec<Confirmation>,
+    /// Each bound's standard error from the fit's, where a fit was given.
     pub errors: Option<BoundErrors>,
 }
 
@@ -127,7 +132,8 @@ pub fn compute(
 }
 
 /// Where a damage measure peaks, in the JSON.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct PeakFigures {
     /// The measure's value (its unit: `unit`).
     pub value: f64,
@@ -148,73 +154,121 @@ impl From<&Peak> for PeakFigures {
 }
 
 /// The measure that binds where there is no window.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct Binding {
-    pub measure: &'static str,
+    /// The damage measure's name: `strain`, `stress` or `pressure`.
+    pub measure: String,
+    /// The measure's limit, in its unit (Pa; none for a strain).
     pub limit: f64,
+    /// The measure's peak at the least squeeze that holds, in its unit.
     pub value_at_least_squeeze: f64,
+    /// Where that peak is.
     #[serde(rename = "where")]
     pub at: PeakFigures,
 }
 
 /// One squeeze tried.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct SampleFigures {
+    /// The squeeze, N (the largest finger's force).
     pub squeeze: f64,
+    /// The squeeze held the load.
     pub held: bool,
     /// `None` where it fell.
     pub slip_m: Option<f64>,
+    /// Share of the fingers' friction left unused when holding, `1 - load / (sum mu N)`.
     pub margin: f64,
+    /// The damage measure's peak, holding the load where held, else squeezed.
     pub peak: PeakFigures,
 }
 
 /// One dynamic lift.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct ConfirmationFigures {
+    /// The squeeze lifted with, N.
     pub squeeze: f64,
+    /// The lift held the object ([`super::GraspRun::held`]).
     pub held: bool,
+    /// No particle touched the table at the end.
     pub off_table: bool,
+    /// How far the object slid down the fingers during the hold, m.
     pub hold_slip_m: f64,
+    /// Seconds held after the lift, s.
     pub hold_s: f64,
+    /// The damage measure's largest value over the run and where.
     pub peak: PeakFigures,
 }
 
 /// A bound's derivative in a fitted parameter (N per the parameter's unit).
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct Derivative {
+    /// The fitted parameter's name.
     pub parameter: String,
+    /// d(least squeeze)/dp, N per the parameter's unit.
     pub d_least: f64,
+    /// d(most squeeze)/dp, N per the parameter's unit; `None` where the limit was not reached.
     pub d_most: Option<f64>,
 }
 
 /// What `softgrip grasp window --json` writes and Python returns (docs/cli.md): squeezes in N.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct WindowFigures {
+    /// The least squeeze that holds, N.
     pub least_squeeze: f64,
+    /// The most squeeze before the damage limit, N; `None` where the limit was not reached.
     pub most_squeeze: Option<f64>,
+    /// A squeeze both holds and stays below the limit.
     pub window: bool,
+    /// The largest squeeze tried that did not hold, N (0 if none).
     pub least_dropped_at: f64,
+    /// The least squeeze tried at or above the limit, N (with `most_squeeze`).
     pub most_reached_at: Option<f64>,
+    /// The largest squeeze tried, all below the limit, N (without `most_squeeze`).
     pub most_not_reached_up_to: Option<f64>,
+    /// The rigid force balance's least squeeze, `m |g - a| / sum mu`, N.
     pub force_balance_squeeze: f64,
+    /// The load the grip carries, `m |g - a|`, N.
     pub load_n: f64,
+    /// The lift's upward acceleration, m/s^2.
     pub acceleration_m_s2: f64,
+    /// Where the acceleration came from.
     pub acceleration_from: String,
+    /// The lift's sideways acceleration, m/s^2.
     pub shake_m_s2: f64,
+    /// Held: the contacts slid by less than this, m.
     pub slip_tolerance_m: f64,
-    pub measure: &'static str,
-    pub unit: &'static str,
+    /// The damage measure's name: `strain`, `stress` or `pressure`.
+    pub measure: String,
+    /// The measure's unit: `Pa`, or empty for a strain.
+    pub unit: String,
+    /// The damage limit, in the measure's unit.
     pub limit: f64,
+    /// Where the limit came from.
     pub limit_from: String,
+    /// Each bound found to within this share of itself (fraction).
     pub tolerance: f64,
+    /// The measure that binds, where there is no window.
     pub binding: Option<Binding>,
+    /// The least squeeze's standard error from the fit, N.
     pub least_squeeze_se: Option<f64>,
+    /// The most squeeze's standard error from the fit, N.
     pub most_squeeze_se: Option<f64>,
+    /// The confidence of the reported ranges (0.95), with a fit.
     pub confidence: Option<f64>,
+    /// The two ends' 95 % ranges overlap, with a fit.
     pub ends_overlap: Option<bool>,
+    /// Each bound's derivative in each fitted parameter, with a fit.
     pub derivatives: Option<Vec<Derivative>>,
-    pub method: &'static str,
+    /// How the window was found, in words.
+    pub method: String,
+    /// Every squeeze tried, in order of squeeze.
     pub samples: Vec<SampleFigures>,
+    /// The dynamic lifts at the bounds.
     pub confirmations: Vec<ConfirmationFigures>,
 }
 
@@ -230,7 +284,7 @@ pub fn figures(
         .at_least()
         .filter(|_| !window.exists())
         .map(|s| Binding {
-            measure: o.damage.measure.name(),
+            measure: o.damage.measure.name().into(),
             limit: o.damage.limit,
             value_at_least_squeeze: s.peak.value,
             at: (&s.peak).into(),
@@ -252,8 +306,8 @@ pub fn figures(
         acceleration_from: plan.acceleration_from.clone(),
         shake_m_s2: o.profile.shake,
         slip_tolerance_m: o.profile.slip_tolerance,
-        measure: o.damage.measure.name(),
-        unit: o.damage.measure.unit(),
+        measure: o.damage.measure.name().into(),
+        unit: o.damage.measure.unit().into(),
         limit: o.damage.limit,
         limit_from: plan.limit_from.clone(),
         tolerance: o.tolerance,
@@ -272,7 +326,7 @@ pub fn figures(
                 })
                 .collect()
         }),
-        method: "statics: squeeze, then the load m (g - a) with friction by its return mapping; least squeeze bisected, most by regula falsi (Illinois)",
+        method: "statics: squeeze, then the load m (g - a) with friction by its return mapping; least squeeze bisected, most by regula falsi (Illinois)".into(),
         samples: window
             .samples
             .iter()

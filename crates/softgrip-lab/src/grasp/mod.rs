@@ -49,12 +49,14 @@ pub struct GraspRun {
     pub lift_end: f64,
     /// How far the fingers and the object's centre of mass rose by then (m).
     pub finger_rise: f64,
+    /// How far the object's centre of mass rose by the lift's end, m.
     pub object_rise: f64,
     /// How far the object slid down the fingers during the hold (m): the
     /// fingers' rise minus the object's, from the lift's end to the hold's.
     pub hold_slip: f64,
     /// No particle touches the table at the end.
     pub off_table: bool,
+    /// Held: off the table, the object rose by more than half the fingers' rise, and it slid by less than the slip bound over the hold.
     pub held: bool,
     /// (time, object centre-of-mass z, mean lifting-finger z) every 10 ms.
     pub trace: Vec<[f64; 3]>,
@@ -193,17 +195,20 @@ pub fn lift_observed(
 pub struct Boundary {
     /// The largest friction tried that dropped it and the least that held.
     pub dropped: f64,
+    /// The least friction tried that held (friction coefficient).
     pub held: f64,
     /// Every friction tried and whether it held, in order.
     pub tries: Vec<(f64, bool)>,
 }
 
 impl Boundary {
+    /// The boundary's estimate: the middle of `dropped` and `held`.
     pub fn estimate(&self) -> f64 {
         0.5 * (self.dropped + self.held)
     }
 }
 
+/// The least finger friction that holds the object in `(low, high)` (friction coefficients), by bisection to within `tolerance`; `progress` hears tries done of the total expected.
 pub fn boundary_friction(
     scene: &Scene,
     options: GraspOptions,

@@ -14,8 +14,11 @@ use softgrip_core::scene::Scene;
 /// One fitted parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fitted {
+    /// The parameter's name (as `--params` names it).
     pub name: String,
+    /// Its fitted value, in its unit.
     pub value: f64,
+    /// Its standard error, in its unit.
     pub standard_error: f64,
 }
 

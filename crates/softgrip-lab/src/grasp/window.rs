@@ -44,6 +44,7 @@ pub struct Gripper {
     scene_squeeze: f64,
     /// The body force per kilogram while held: `g - a` (N/kg).
     body: DVec3,
+    /// The lift the grip must survive.
     pub profile: LiftProfile,
 }
 
@@ -61,12 +62,14 @@ pub struct Grip {
 }
 
 impl Grip {
+    /// The grip reached an equilibrium holding the load and slid less than the profile's slip tolerance.
     pub fn holds(&self, profile: &LiftProfile) -> bool {
         self.held.is_ok() && self.slip <= profile.slip_tolerance
     }
 }
 
 impl Gripper {
+    /// The gripper of `scene`, or why the scene cannot be gripped (no gravity, no squeezing finger, forces that do not balance, no friction).
     pub fn new(scene: &Scene, profile: LiftProfile) -> Result<Gripper, LabError> {
         let gravity = scene.simulation.gravity;
         if gravity.length() == 0.0 {
@@ -291,32 +294,42 @@ pub fn peak(measure: Measure, sim: &Simulation) -> Peak {
 /// node) and its position now (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Peak {
+    /// The measure's largest value, in its unit (Pa; none for a strain).
     pub value: f64,
+    /// The element (strain, stress) or surface node (pressure) where it is.
     pub index: usize,
+    /// Where that element's centroid or node is now, m.
     pub at: DVec3,
 }
 
 /// The damage limit: a measure and the value it must stay below.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Damage {
+    /// Which measure of damage.
     pub measure: Measure,
+    /// The value the measure must stay below, in its unit (Pa; none for a strain).
     pub limit: f64,
 }
 
 /// How the window is searched.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindowOptions {
+    /// The lift the grip must survive.
     pub profile: LiftProfile,
+    /// The damage limit.
     pub damage: Damage,
     /// Each bound is found to within this share of itself.
     pub tolerance: f64,
+    /// The static solver's settings for each squeeze.
     pub statics: StaticOptions,
 }
 
 /// One squeeze tried: whether it held, its slip margin and its damage.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
+    /// The squeeze, N (the largest finger's force).
     pub squeeze: f64,
+    /// The squeeze held the load ([`Grip::holds`]).
     pub held: bool,
     /// The contacts' slide as the object took its load (m); infinite where it fell.
     pub slip: f64,
@@ -340,7 +353,12 @@ pub struct Least {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Most {
     /// Below the limit at `below`, at or above it at `above` (the bound: `below`).
-    Found { below: f64, above: f64 },
+    Found {
+        /// The largest squeeze tried below the limit, N: the bound.
+        below: f64,
+        /// The least squeeze tried at or above the limit, N.
+        above: f64,
+    },
     /// Below the limit at every squeeze tried, up to this one.
     NotReached(f64),
 }
@@ -348,7 +366,9 @@ pub enum Most {
 /// The window, or why there is none.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Window {
+    /// The least squeeze that holds, bracketed.
     pub least: Least,
+    /// The most squeeze before the damage limit, bracketed, or how far the search went without reaching it.
     pub most: Most,
     /// Every squeeze tried, in order of squeeze.
     pub samples: Vec<Sample>,
@@ -356,6 +376,7 @@ pub struct Window {
     pub force_balance: f64,
     /// The load the grip carries (N).
     pub load: f64,
+    /// How the window was searched.
     pub options: WindowOptions,
 }
 
@@ -701,7 +722,9 @@ impl Gripper {
 /// A bound confirmed by one dynamic lift of the scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Confirmation {
+    /// The squeeze lifted with, N.
     pub squeeze: f64,
+    /// The dynamic lift and its hold.
     pub run: super::GraspRun,
     /// The damage measure's largest value over the run (sampled every 10 ms) and where.
     pub peak: Peak,

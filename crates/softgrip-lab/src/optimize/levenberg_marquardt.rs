@@ -43,54 +43,129 @@ pub fn levenberg_marquardt_with(
 ) -> Minimum {
     let options = options.into();
     let n = x0.len();
-    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    let (mut x, mut r) = (x0.to_vec(), r0);
-    let mut fx = cost(&r);
-    let mut evaluations = 0;
-    let mut lambda = 1e-2;
-    let mut converged = false;
-    while evaluations + n + 2 <= budget {
-        let analytic =
-            jacobian(&x).filter(|c| c.len() == n && c.iter().all(|c| c.len() == r.len()));
-        let jac = match analytic {
-            Some(columns) => {
-                evaluations += 1;
-                columns
-            }
-            None => {
-                // Jacobian, column by column.
-                let steps: Vec<f64> = x
-                    .iter()
-                    .map(|&v| {
-                        if v + jacobian_step <= 1.0 {
-                            jacobian_step
-                        } else {
-                            -jacobian_step
-                        }
-                    })
-                    .collect();
-                let probes: Vec<Vec<f64>> = (0..n)
-                    .map(|i| {
-                        let mut p = x.clone();
-                        p[i] += steps[i];
-                        p
-                    })
-                    .collect();
-                let columns = f(&probes);
-                evaluations += n;
-                let mut jac: Vec<Vec<f64>> = Vec::with_capacity(n);
-                for (i, c) in columns.into_iter().enumerate() {
-                    match c {
-                        Some(c) if c.len() == r.len() => {
-                            jac.push(c.iter().zip(&r).map(|(a, b)| (a - b) / steps[i]).collect())
-                        }
-                        _ => jac.push(vec![0.0; r.len()]),
-                    }
-                }
-                jac
-            }
+    let fx = cost(&r0);
+    let mut s = State {
+        x: x0.to_vec(),
+        r: r0,
+        fx,
+        evaluations: 0,
+        lambda: 1e-2,
+        converged: false,
+    };
+    while s.evaluations + n + 2 <= budget {
+        let jac = jacobian_at(f, jacobian, &s, jacobian_step);
+        s.evaluations += jac.evaluations;
+        let system = NormalEquations::new(&jac.columns, &s.r, n);
+        let improved = damped_steps(f, &system, &mut s, budget, &options);
+        if !improved || s.converged {
+            s.converged = s.converged || !improved;
+            break;
+        }
+    }
+    Minimum {
+        x: s.x,
+        f: s.fx,
+        evaluations: s.evaluations,
+        converged: s.converged,
+        stalled: false,
+    }
+}
+
+/// The least-squares cost: the residuals' sum of squares.
+fn cost(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum::<f64>()
+}
+
+/// Where the search stands.
+struct State {
+    /// The point, in the unit box.
+    x: Vec<f64>,
+    /// Its residuals.
+    r: Vec<f64>,
+    /// Its cost.
+    fx: f64,
+    /// New evaluations spent.
+    evaluations: usize,
+    /// The damping factor tried first.
+    lambda: f64,
+    /// Whether the search has converged.
+    converged: bool,
+}
+
+/// The Jacobian at a point, and the evaluations it took.
+struct Jacobian {
+    /// Its columns `dr/dx_i`, each as long as the residual.
+    columns: Vec<Vec<f64>>,
+    /// Evaluations spent on it.
+    evaluations: usize,
+}
+
+/// The Jacobian at `s.x`: from `jacobian` where it gives one of the right shape, else by forward
+/// differences of `jacobian_step` (stepped inward at a bound).
+fn jacobian_at(
+    f: &mut ResidualBatch,
+    jacobian: &mut JacobianAt,
+    s: &State,
+    jacobian_step: f64,
+) -> Jacobian {
+    let (x, r) = (&s.x, &s.r);
+    let n = x.len();
+    let analytic = jacobian(x).filter(|c| c.len() == n && c.iter().all(|c| c.len() == r.len()));
+    if let Some(columns) = analytic {
+        return Jacobian {
+            columns,
+            evaluations: 1,
         };
-        // Normal equations.
+    }
+    // Jacobian, column by column.
+    let steps: Vec<f64> = x
+        .iter()
+        .map(|&v| {
+            if v + jacobian_step <= 1.0 {
+                jacobian_step
+            } else {
+                -jacobian_step
+            }
+        })
+        .collect();
+    let probes: Vec<Vec<f64>> = (0..n)
+        .map(|i| {
+            let mut p = x.clone();
+            p[i] += steps[i];
+            p
+        })
+        .collect();
+    let columns = f(&probes);
+    let mut jac: Vec<Vec<f64>> = Vec::with_capacity(n);
+    for (i, c) in columns.into_iter().enumerate() {
+        match c {
+            Some(c) if c.len() == r.len() => {
+                jac.push(c.iter().zip(r).map(|(a, b)| (a - b) / steps[i]).collect())
+            }
+            _ => jac.push(vec![0.0; r.len()]),
+        }
+    }
+    Jacobian {
+        columns: jac,
+        evaluations: n,
+    }
+}
+
+/// The normal equations `JᵀJ d = -Jᵀr` of one iteration, scaled to their largest diagonal.
+struct NormalEquations {
+    /// `JᵀJ`.
+    jtj: Vec<Vec<f64>>,
+    /// `Jᵀr`.
+    jtr: Vec<f64>,
+    /// The largest diagonal of `JᵀJ`.
+    scale: f64,
+    /// The parameters held for this step (a zero column).
+    inert: Vec<bool>,
+}
+
+impl NormalEquations {
+    /// The normal equations of the Jacobian's `n` columns `jac` at residuals `r`.
+    fn new(jac: &[Vec<f64>], r: &[f64], n: usize) -> Self {
         let jtj: Vec<Vec<f64>> = (0..n)
             .map(|i| {
                 (0..n)
@@ -99,7 +174,7 @@ pub fn levenberg_marquardt_with(
             })
             .collect();
         let jtr: Vec<f64> = (0..n)
-            .map(|i| jac[i].iter().zip(&r).map(|(a, b)| a * b).sum())
+            .map(|i| jac[i].iter().zip(r).map(|(a, b)| a * b).sum())
             .collect();
         // A parameter that does nothing where it stands (a relaxation
         // time while the relaxing share is 0) has a zero column: it is
@@ -107,97 +182,117 @@ pub fn levenberg_marquardt_with(
         // the others move. The system is scaled to its largest diagonal.
         let scale = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
         let inert: Vec<bool> = (0..n).map(|i| jtj[i][i] <= 1e-12 * scale).collect();
-        let step_for = |lambda: f64| -> Option<Vec<f64>> {
-            if scale <= 0.0 || !scale.is_finite() {
-                return None;
-            }
-            let a: Vec<Vec<f64>> = (0..n)
-                .map(|i| {
-                    (0..n)
-                        .map(|j| match (inert[i] || inert[j], i == j) {
-                            (true, true) => 1.0,
-                            (true, false) => 0.0,
-                            (false, true) => jtj[i][i] / scale * (1.0 + lambda),
-                            (false, false) => jtj[i][j] / scale,
-                        })
-                        .collect()
-                })
-                .collect();
-            let inv = invert(a)?;
-            Some(
-                (0..n)
-                    .map(|i| {
-                        let d: f64 = (0..n)
-                            .filter(|&j| !inert[j])
-                            .map(|j| -inv[i][j] * jtr[j] / scale)
-                            .sum();
-                        (x[i] + d).clamp(0.0, 1.0)
-                    })
-                    .collect(),
-            )
-        };
-        let mut improved = false;
-        for _ in 0..6 {
-            if evaluations + 2 > budget {
-                break;
-            }
-            let lambdas = [lambda, lambda * 10.0];
-            let trials: Vec<Vec<f64>> = lambdas.iter().filter_map(|&l| step_for(l)).collect();
-            if trials.is_empty() {
-                break;
-            }
-            // Steps within the tolerance are not worth a run: where the
-            // model says to move less than `x_tolerance`, this is the
-            // minimum (a step that small would end the search anyway).
-            let moves = |t: &Vec<f64>| {
-                t.iter()
-                    .zip(&x)
-                    .any(|(a, b)| (a - b).abs() > options.x_tolerance)
-            };
-            if !trials.iter().any(moves) {
-                converged = true;
-                break;
-            }
-            let results = f(&trials);
-            evaluations += trials.len();
-            let best = trials
-                .iter()
-                .zip(results)
-                .enumerate()
-                .filter_map(|(k, (t, res))| res.map(|res| (k, t.clone(), cost(&res), res)))
-                .min_by(|a, b| a.2.total_cmp(&b.2));
-            match best {
-                Some((k, t, c, res)) if c < fx => {
-                    let moved = t
-                        .iter()
-                        .zip(&x)
-                        .map(|(a, b)| (a - b).abs())
-                        .fold(0.0, f64::max);
-                    let gained = fx - c;
-                    (x, r, fx) = (t, res, c);
-                    lambda = if k == 0 { lambda / 5.0 } else { lambda * 2.0 };
-                    lambda = lambda.max(1e-7);
-                    improved = true;
-                    if gained <= options.f_tolerance * fx || moved <= options.x_tolerance {
-                        converged = true;
-                    }
-                    break;
-                }
-                _ => lambda *= 100.0,
-            }
+        NormalEquations {
+            jtj,
+            jtr,
+            scale,
+            inert,
         }
-        if !improved || converged {
-            converged = converged || !improved;
+    }
+
+    /// The point the step from `x` with damping `lambda` reaches, clamped to the unit box;
+    /// `None` where the system is empty or singular.
+    fn step_for(&self, x: &[f64], lambda: f64) -> Option<Vec<f64>> {
+        let (jtj, jtr, scale, inert) = (&self.jtj, &self.jtr, self.scale, &self.inert);
+        let n = jtr.len();
+        if scale <= 0.0 || !scale.is_finite() {
+            return None;
+        }
+        let a: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| match (inert[i] || inert[j], i == j) {
+                        (true, true) => 1.0,
+                        (true, false) => 0.0,
+                        (false, true) => jtj[i][i] / scale * (1.0 + lambda),
+                        (false, false) => jtj[i][j] / scale,
+                    })
+                    .collect()
+            })
+            .collect();
+        let inv = invert(a)?;
+        Some(
+            (0..n)
+                .map(|i| {
+                    let d: f64 = (0..n)
+                        .filter(|&j| !inert[j])
+                        .map(|j| -inv[i][j] * jtr[j] / scale)
+                        .sum();
+                    (x[i] + d).clamp(0.0, 1.0)
+                })
+                .collect(),
+        )
+    }
+}
+
+/// Up to six tries of two damping factors at once from `s`, until one gains (then `s` moves
+/// there): whether one did. Sets `s.converged` where the step is too small to be worth a run or
+/// the gain or move under the tolerances.
+fn damped_steps(
+    f: &mut ResidualBatch,
+    system: &NormalEquations,
+    s: &mut State,
+    budget: usize,
+    options: &Tolerances,
+) -> bool {
+    let mut improved = false;
+    for _ in 0..6 {
+        if s.evaluations + 2 > budget {
             break;
         }
+        let lambdas = [s.lambda, s.lambda * 10.0];
+        let trials: Vec<Vec<f64>> = lambdas
+            .iter()
+            .filter_map(|&l| system.step_for(&s.x, l))
+            .collect();
+        if trials.is_empty() {
+            break;
+        }
+        // Steps within the tolerance are not worth a run: where the
+        // model says to move less than `x_tolerance`, this is the
+        // minimum (a step that small would end the search anyway).
+        let moves = |t: &Vec<f64>| {
+            t.iter()
+                .zip(&s.x)
+                .any(|(a, b)| (a - b).abs() > options.x_tolerance)
+        };
+        if !trials.iter().any(moves) {
+            s.converged = true;
+            break;
+        }
+        let results = f(&trials);
+        s.evaluations += trials.len();
+        let best = trials
+            .iter()
+            .zip(results)
+            .enumerate()
+            .filter_map(|(k, (t, res))| res.map(|res| (k, t.clone(), cost(&res), res)))
+            .min_by(|a, b| a.2.total_cmp(&b.2));
+        match best {
+            Some((k, t, c, res)) if c < s.fx => {
+                let moved = t
+                    .iter()
+                    .zip(&s.x)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                let gained = s.fx - c;
+                (s.x, s.r, s.fx) = (t, res, c);
+                s.lambda = if k == 0 {
+                    s.lambda / 5.0
+                } else {
+                    s.lambda * 2.0
+                };
+                s.lambda = s.lambda.max(1e-7);
+                improved = true;
+                if gained <= options.f_tolerance * s.fx || moved <= options.x_tolerance {
+                    s.converged = true;
+                }
+                break;
+            }
+            _ => s.lambda *= 100.0,
+        }
     }
-    Minimum {
-        x,
-        f: fx,
-        evaluations,
-        converged,
-        stalled: false,
-    }
+    improved
 }
 
 #[cfg(test)]

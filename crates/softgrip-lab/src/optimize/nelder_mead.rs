@@ -59,34 +59,16 @@ pub fn nelder_mead(
 ) -> Minimum {
     let options = options.into();
     let n = x0.len();
-    let nf = n as f64;
-    let (reflect, expand) = (1.0, 1.0 + 2.0 / nf);
-    let (contract, shrink) = (0.75 - 1.0 / (2.0 * nf), 1.0 - 1.0 / nf);
-    let clamp = |x: Vec<f64>| -> Vec<f64> { x.into_iter().map(|v| v.clamp(0.0, 1.0)).collect() };
-    let mut simplex: Vec<Vec<f64>> = vec![x0.to_vec()];
-    for i in 0..n {
-        let mut x = x0.to_vec();
-        x[i] = if x[i] + step <= 1.0 {
-            x[i] + step
-        } else {
-            x[i] - step
-        };
-        simplex.push(x);
-    }
+    let c = Coefficients::new(n);
+    let mut simplex = first_simplex(x0, step);
     let mut values = vec![f0];
     values.extend(f(&simplex[1..]));
     let mut evaluations = n;
     let (mut converged, mut stalled) = (false, false);
     // The best value and the evaluation count when it last improved.
     let mut progress_at = (f64::INFINITY, 0);
-    let combine = |a: &[f64], b: &[f64], t: f64| -> Vec<f64> {
-        a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect()
-    };
     loop {
-        let mut order: Vec<usize> = (0..=n).collect();
-        order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
-        simplex = order.iter().map(|&i| simplex[i].clone()).collect();
-        values = order.iter().map(|&i| values[i]).collect();
+        sort_simplex(&mut simplex, &mut values);
         let size = simplex[1..]
             .iter()
             .flat_map(|x| x.iter().zip(&simplex[0]).map(|(a, b)| (a - b).abs()))
@@ -107,46 +89,7 @@ pub fn nelder_mead(
         if evaluations >= budget {
             break;
         }
-        let centroid: Vec<f64> = (0..n)
-            .map(|k| simplex[..n].iter().map(|x| x[k]).sum::<f64>() / nf)
-            .collect();
-        let worst = simplex[n].clone();
-        let xr = clamp(combine(&centroid, &worst, -reflect));
-        let fr = f(std::slice::from_ref(&xr))[0];
-        evaluations += 1;
-        if fr < values[0] {
-            let xe = clamp(combine(&centroid, &worst, -reflect * expand));
-            let fe = f(std::slice::from_ref(&xe))[0];
-            evaluations += 1;
-            if fe < fr {
-                (simplex[n], values[n]) = (xe, fe);
-            } else {
-                (simplex[n], values[n]) = (xr, fr);
-            }
-            continue;
-        }
-        if fr < values[n - 1] {
-            (simplex[n], values[n]) = (xr, fr);
-            continue;
-        }
-        let (xc, limit) = if fr < values[n] {
-            (clamp(combine(&centroid, &xr, contract)), fr)
-        } else {
-            (clamp(combine(&centroid, &worst, contract)), values[n])
-        };
-        let fc = f(std::slice::from_ref(&xc))[0];
-        evaluations += 1;
-        if fc < limit {
-            (simplex[n], values[n]) = (xc, fc);
-            continue;
-        }
-        let best = simplex[0].clone();
-        for x in &mut simplex[1..] {
-            *x = combine(&best, x, shrink);
-        }
-        let shrunk = f(&simplex[1..]);
-        values[1..].copy_from_slice(&shrunk);
-        evaluations += n;
+        evaluations += simplex_step(f, &mut simplex, &mut values, &c);
     }
     Minimum {
         x: simplex[0].clone(),
@@ -155,6 +98,121 @@ pub fn nelder_mead(
         converged,
         stalled,
     }
+}
+
+/// The dimension-adapted coefficients of Gao and Han (2012).
+struct Coefficients {
+    /// The dimension, as a float.
+    nf: f64,
+    /// Reflection.
+    reflect: f64,
+    /// Expansion.
+    expand: f64,
+    /// Contraction.
+    contract: f64,
+    /// Shrinking.
+    shrink: f64,
+}
+
+impl Coefficients {
+    /// The coefficients in `n` dimensions.
+    fn new(n: usize) -> Self {
+        let nf = n as f64;
+        let (reflect, expand) = (1.0, 1.0 + 2.0 / nf);
+        let (contract, shrink) = (0.75 - 1.0 / (2.0 * nf), 1.0 - 1.0 / nf);
+        Coefficients {
+            nf,
+            reflect,
+            expand,
+            contract,
+            shrink,
+        }
+    }
+}
+
+/// `x` clamped to the unit box.
+fn clamp(x: Vec<f64>) -> Vec<f64> {
+    x.into_iter().map(|v| v.clamp(0.0, 1.0)).collect()
+}
+
+/// The point `a + t (b - a)`.
+fn combine(a: &[f64], b: &[f64], t: f64) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect()
+}
+
+/// The first simplex: `x0`, and `x0` moved by `step` along each axis (backwards where that
+/// would leave the box).
+fn first_simplex(x0: &[f64], step: f64) -> Vec<Vec<f64>> {
+    let n = x0.len();
+    let mut simplex: Vec<Vec<f64>> = vec![x0.to_vec()];
+    for i in 0..n {
+        let mut x = x0.to_vec();
+        x[i] = if x[i] + step <= 1.0 {
+            x[i] + step
+        } else {
+            x[i] - step
+        };
+        simplex.push(x);
+    }
+    simplex
+}
+
+/// The simplex's points and values sorted by value, best first (stable: ties keep their order).
+fn sort_simplex(simplex: &mut Vec<Vec<f64>>, values: &mut Vec<f64>) {
+    let n = simplex.len() - 1;
+    let mut order: Vec<usize> = (0..=n).collect();
+    order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+    *simplex = order.iter().map(|&i| simplex[i].clone()).collect();
+    *values = order.iter().map(|&i| values[i]).collect();
+}
+
+/// One step of a sorted simplex: its worst point reflected, expanded or contracted through the
+/// centroid of the others, or else the whole simplex shrunk towards its best. The evaluations
+/// it took.
+fn simplex_step(
+    f: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>,
+    simplex: &mut [Vec<f64>],
+    values: &mut [f64],
+    c: &Coefficients,
+) -> usize {
+    let n = simplex.len() - 1;
+    let centroid: Vec<f64> = (0..n)
+        .map(|k| simplex[..n].iter().map(|x| x[k]).sum::<f64>() / c.nf)
+        .collect();
+    let worst = simplex[n].clone();
+    let xr = clamp(combine(&centroid, &worst, -c.reflect));
+    let fr = f(std::slice::from_ref(&xr))[0];
+    if fr < values[0] {
+        let xe = clamp(combine(&centroid, &worst, -c.reflect * c.expand));
+        let fe = f(std::slice::from_ref(&xe))[0];
+        if fe < fr {
+            (simplex[n], values[n]) = (xe, fe);
+        } else {
+            (simplex[n], values[n]) = (xr, fr);
+        }
+        return 2;
+    }
+    if fr < values[n - 1] {
+        (simplex[n], values[n]) = (xr, fr);
+        return 1;
+    }
+    let (xc, limit) = if fr < values[n] {
+        (clamp(combine(&centroid, &xr, c.contract)), fr)
+    } else {
+        (clamp(combine(&centroid, &worst, c.contract)), values[n])
+    };
+    let fc = f(std::slice::from_ref(&xc))[0];
+    if fc < limit {
+        (simplex[n], values[n]) = (xc, fc);
+        return 2;
+    }
+    let best = simplex[0].clone();
+    for x in &mut simplex[1..] {
+        *x = combine(&best, x, c.shrink);
+    }
+    let shrunk = f(&simplex[1..]);
+    values[1..].copy_from_slice(&shrunk);
+    2 + n
 }
 
 #[cfg(test)]

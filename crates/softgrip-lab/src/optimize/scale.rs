@@ -4,7 +4,9 @@
 /// The bounds of one coordinate and how the unit box maps onto them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BoundedScale {
+    /// Lower bound, in the coordinate's own unit (above 0 on a log scale).
     pub lower: f64,
+    /// Upper bound, in the coordinate's own unit.
     pub upper: f64,
     /// Mapped on a log scale.
     pub log: bool,

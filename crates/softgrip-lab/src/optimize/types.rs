@@ -18,9 +18,13 @@ pub struct Tolerances {
 /// What one search found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Minimum {
+    /// The best point found, in the unit box (length: dimensions).
     pub x: Vec<f64>,
+    /// The cost there.
     pub f: f64,
+    /// New evaluations spent (the start's not counted).
     pub evaluations: usize,
+    /// Stopped by its own stopping rule (see each optimiser), not by the budget.
     pub converged: bool,
     /// Stopped because the best did not improve for a while.
     pub stalled: bool,

@@ -2,10 +2,12 @@
 //! suite of recordings made by softgrip with settings the diagnosis does
 //! not know (a finer mesh, other material values, 0.1 mm of noise, x and z
 //! seen by a side camera, 8 markers and the finger as in the thesis's
-//! experiment), each with one effect at two strengths, four controls with
-//! none and one with two (`suite`); every recording is diagnosed blind
-//! ([`run`]) and the outcome written as a Markdown report ([`report()`]; the
-//! current one is `docs/results/diagnosis.md`).
+//! experiment), each with one effect at two strengths, eight controls with
+//! none (four on the sphere, two of them time series, and one on each other
+//! experiment), three with physics softgrip has no model of, and one with two
+//! (`suite`); every recording is diagnosed blind ([`run`]) and the outcome
+//! written as a Markdown report ([`report()`]; the current one is
+//! `docs/results/diagnosis.md`).
 
 mod report;
 mod suite;
@@ -51,7 +53,9 @@ pub struct Outcome {
     pub seed: u64,
     /// The model the diagnosis started from.
     pub model: BaselineModel,
+    /// The case diagnosed.
     pub case: Case,
+    /// The diagnosis of the case's recording, or why it failed.
     pub diagnosis: Result<Diagnosis, LabError>,
     /// Its wall time, counting a fit taken from a checkpoint at the time it took the run that
     /// saved it: about what the verdict costs uninterrupted.
@@ -242,7 +246,7 @@ pub fn truth_errors(d: &Diagnosis, clean: &Recording) -> Result<[f64; 2], LabErr
 /// unless `base` already bounds E. `softgrip prove` gives no range unless
 /// asked (`--e-measured-within`): on this suite, a range of 2 let the
 /// diagnosis name strong stiffening and cost four cases a second effect
-/// (docs/results/diagnosis-notes/e-measured-within-2.md).
+/// (docs/results/diagnosis-history.md, "Variant: E's measured range given").
 pub fn options_for(case: &Case, base: &DiagnoseOptions, e_within: Option<f64>) -> DiagnoseOptions {
     let mut options = base.clone();
     if let Some(f) = e_within

@@ -23,11 +23,15 @@ pub fn report(outcomes: &[Outcome], prove: &ProveOptions) -> String {
 /// A hidden parameter against what the diagnosis recovered.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Recovery {
+    /// The parameter, by the diagnosis's name.
     pub name: &'static str,
+    /// Its hidden value (a region's modulus as its ratio to the object's E).
     pub hidden: f64,
     /// The final model's value (a region's as its ratio to the object's E, as the hidden one),
     /// `None` where the effect was not named.
     pub recovered: Option<f64>,
+    /// The final model's standard error of it, in its unit; `None` for a region's ratio, or
+    /// where the effect was not named.
     pub standard_error: Option<f64>,
     /// Whether the two measure the same thing: the lattice's stiffening is another law than the
     /// truth's (Yeoh's on the continuum), so only a continuum baseline's is compared.
@@ -484,29 +488,7 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
                 .partial_cmp(&(b.round, b.score))
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
-        let parts: Vec<String> = ranked
-            .iter()
-            .map(|h| {
-                let name = diagnose::effect_label(h.effect, &h.variant);
-                format!(
-                    "r{} {name} {:+.0} / {:.0} %{} ({:.0} s)",
-                    h.round + 1,
-                    h.score,
-                    100.0 * h.explained,
-                    match h.vuong {
-                        Some(z) if h.against_model =>
-                            format!(" / z {z:+.2} against {}", h.rival_text()),
-                        Some(z) => format!(" / z {z:+.2}"),
-                        None => String::new(),
-                    } + &if h.tests > 1.0 && h.vuong.is_some() {
-                        format!(" of {:.2}", diagnose::vuong_threshold(h.tests))
-                    } else {
-                        String::new()
-                    },
-                    h.seconds
-                )
-            })
-            .collect();
+        let parts: Vec<String> = ranked.iter().map(|h| candidate_text(h)).collect();
         line.push_str(&parts.join("; "));
         if let Some(left) = d.remainder.describe() {
             let aside = if d.set_aside.is_empty() {
@@ -517,33 +499,60 @@ fn write_candidates(s: &mut String, outcomes: &[Outcome]) {
             let _ = write!(line, "; {aside}{left}");
         }
         if let Some(t) = &d.pair {
-            let z = |z: Option<f64>| z.map_or("-".into(), |z| format!("{z:+.1}"));
-            let without: Vec<String> = (0..2)
-                .map(|i| {
-                    let w = &t.without[i];
-                    format!(
-                        "without {} {:+.0} / {:.0} % / z {} ({} by sample){}",
-                        t.label(i),
-                        w.bic,
-                        100.0 * w.explained,
-                        z(w.vuong),
-                        z(w.vuong_by_sample),
-                        if w.needed { ", needed" } else { "" }
-                    )
-                })
-                .collect();
-            let _ = write!(line, "; tied, fitted together: {}", without.join(", "));
-            if let Some((i, lone)) = t.alone {
-                let _ = write!(
-                    line,
-                    "; not needing {}, {} alone against the model without it: z {}",
-                    t.label(1 - i),
-                    t.label(i),
-                    z(lone)
-                );
-            }
+            write_pair(&mut line, t);
         }
         let _ = writeln!(s, "{line}");
+    }
+}
+
+/// One candidate fitted: its round, name, change of BIC, share removed, Vuong's z (and the z its
+/// forms' tests ask) and its fit's seconds.
+fn candidate_text(h: &diagnose::Hypothesis) -> String {
+    let name = diagnose::effect_label(h.effect, &h.variant);
+    format!(
+        "r{} {name} {:+.0} / {:.0} %{} ({:.0} s)",
+        h.round + 1,
+        h.score,
+        100.0 * h.explained,
+        match h.vuong {
+            Some(z) if h.against_model => format!(" / z {z:+.2} against {}", h.rival_text()),
+            Some(z) => format!(" / z {z:+.2}"),
+            None => String::new(),
+        } + &if h.tests > 1.0 && h.vuong.is_some() {
+            format!(" of {:.2}", diagnose::vuong_threshold(h.tests))
+        } else {
+            String::new()
+        },
+        h.seconds
+    )
+}
+
+/// The pair test of two tied effects, appended to `line`: each left out, and the lone test.
+fn write_pair(line: &mut String, t: &diagnose::PairTest) {
+    let z = |z: Option<f64>| z.map_or("-".into(), |z| format!("{z:+.1}"));
+    let without: Vec<String> = (0..2)
+        .map(|i| {
+            let w = &t.without[i];
+            format!(
+                "without {} {:+.0} / {:.0} % / z {} ({} by sample){}",
+                t.label(i),
+                w.bic,
+                100.0 * w.explained,
+                z(w.vuong),
+                z(w.vuong_by_sample),
+                if w.needed { ", needed" } else { "" }
+            )
+        })
+        .collect();
+    let _ = write!(line, "; tied, fitted together: {}", without.join(", "));
+    if let Some((i, lone)) = t.alone {
+        let _ = write!(
+            line,
+            "; not needing {}, {} alone against the model without it: z {}",
+            t.label(1 - i),
+            t.label(i),
+            z(lone)
+        );
     }
 }
 

@@ -15,6 +15,7 @@ use softgrip_core::scene::{AaBox, BulkPressure, Elasticity, Region, Scene, Suppo
 /// One recording of the suite.
 #[derive(Debug, Clone)]
 pub struct Case {
+    /// The case's name: the effect and its strength, or the control's.
     pub name: String,
     /// The effects hidden in it (empty: a control).
     pub effects: Vec<&'static str>,
@@ -27,6 +28,7 @@ pub struct Case {
     /// The same without the hidden effects: what the effect moves is the
     /// difference.
     pub plain_scene: Scene,
+    /// Quasi-static samples or a time series.
     pub mode: Mode,
     /// Where a time series starts: at rest (the load stepped on) or in equilibrium under its first
     /// sample's load.
@@ -436,6 +438,46 @@ fn material_effects(seed: u64) -> Vec<Case> {
             },
         ));
     }
+    out.extend(stiffening_effects(seed));
+    for (strength, lo, hi) in [("weak", 0.5, 0.65), ("strong", 0.75, 0.85)] {
+        out.push(case(
+            &format!("viscoelastic-creep-{strength}"),
+            vec!["viscoelastic-creep"],
+            from_rest,
+            &|s, d| {
+                let (g, tau) = (d.uniform(lo, hi), d.log_uniform(0.3, 0.8));
+                s.model.prony_g = g;
+                s.model.prony_tau = tau;
+                vec![("prony_g", g), ("prony_tau", tau)]
+            },
+        ));
+    }
+    // The nominal finger's friction is 0.5: less lets the top face spread under the plate.
+    for (strength, lo, hi) in [("weak", 0.05, 0.15), ("strong", 0.0, 0.02)] {
+        out.push(case_on(
+            seed,
+            Experiment::Plate,
+            &format!("finger-friction-{strength}"),
+            vec!["finger-friction"],
+            qs,
+            &|s, d| {
+                let mu = d.uniform(lo, hi);
+                s.fingers[0].friction = mu;
+                vec![("friction", mu)]
+            },
+        ));
+    }
+    out
+}
+
+/// Strain stiffening at two strengths: in the catalogue's own law (Yeoh's), and by Gent's
+/// locking, a law it does not fit.
+fn stiffening_effects(seed: u64) -> Vec<Case> {
+    let qs = (Mode::QuasiStatic, Start::Rest);
+    let case = |name: &str, effects: Vec<&'static str>, kind: (Mode, Start), hide: Hide| {
+        case_on(seed, Experiment::Sphere, name, effects, kind, hide)
+    };
+    let mut out = Vec::new();
     // Yeoh's second-order term on the continuum's isochoric invariant (`docs/design/neo-hookean.md`):
     // the shear modulus times 1 + beta e^2 at a uniaxial strain e. On the 2 mm truth beta 5 moves
     // the top markers 0.24 mm, twice the noise; 20 moves them 0.57 mm (`moved_by_effect` on the
@@ -465,34 +507,6 @@ fn material_effects(seed: u64) -> Vec<Case> {
                 let k = d.uniform(lo, hi);
                 s.model.gent_limit = 1.0 / k;
                 vec![("gent_stiffening", k)]
-            },
-        ));
-    }
-    for (strength, lo, hi) in [("weak", 0.5, 0.65), ("strong", 0.75, 0.85)] {
-        out.push(case(
-            &format!("viscoelastic-creep-{strength}"),
-            vec!["viscoelastic-creep"],
-            from_rest,
-            &|s, d| {
-                let (g, tau) = (d.uniform(lo, hi), d.log_uniform(0.3, 0.8));
-                s.model.prony_g = g;
-                s.model.prony_tau = tau;
-                vec![("prony_g", g), ("prony_tau", tau)]
-            },
-        ));
-    }
-    // The nominal finger's friction is 0.5: less lets the top face spread under the plate.
-    for (strength, lo, hi) in [("weak", 0.05, 0.15), ("strong", 0.0, 0.02)] {
-        out.push(case_on(
-            seed,
-            Experiment::Plate,
-            &format!("finger-friction-{strength}"),
-            vec!["finger-friction"],
-            qs,
-            &|s, d| {
-                let mu = d.uniform(lo, hi);
-                s.fingers[0].friction = mu;
-                vec![("friction", mu)]
             },
         ));
     }
@@ -614,6 +628,8 @@ fn stiffness_regions(seed: u64) -> Vec<Case> {
     out
 }
 
+/// The suite drawn under `seed`: the controls, each catalogue effect at two strengths, then
+/// physics softgrip has no model of and the case with two effects.
 pub fn cases(seed: u64) -> Vec<Case> {
     let qs = (Mode::QuasiStatic, Start::Rest);
     let mut out = Vec::new();
@@ -704,7 +720,7 @@ pub fn synthesis(c: &Case, seed: u64, noise: f64) -> Synthesis {
 }
 
 /// `case` with its truth (and the truth's effect-free twin) meshed at
-/// `edge` instead of the suite's [`TRUTH_EDGE`].
+/// `edge` instead of the suite's `TRUTH_EDGE`.
 pub fn with_truth_edge(mut case: Case, edge: f64) -> Case {
     case.truth_scene.object.edge_length = edge;
     case.plain_scene.object.edge_length = edge;

@@ -80,47 +80,7 @@ pub(super) fn replay_plots(
     let few = recording.samples.len() <= MAX_ARROW_SAMPLES;
     if axes.len() >= 2 {
         let (a, b) = (axes[0].min(axes[1]), axes[0].max(axes[1]));
-        let mut chart = Chart {
-            title: format!("{title}: marker displacements, recorded (dots) and simulated (lines)"),
-            x_label: format!("{} displacement (mm)", AXES[a]),
-            y_label: format!("{} displacement (mm)", AXES[b]),
-            equal_aspect: true,
-            ..Chart::default()
-        };
-        // From each marker's undeformed position: sub-millimetre paths on a 50 mm object
-        // would be dots at their absolute positions.
-        let at = |r: &Residual| reference(recording, r.marker);
-        chart.series = marker_series(
-            recording,
-            residuals,
-            &markers,
-            |r| {
-                (
-                    1e3 * (r.simulated[a] - at(r)[a]),
-                    1e3 * (r.simulated[b] - at(r)[b]),
-                )
-            },
-            |r| {
-                Some((
-                    1e3 * (r.recorded[a]? - at(r)[a]),
-                    1e3 * (r.recorded[b]? - at(r)[b]),
-                ))
-            },
-        );
-        if few {
-            for m in &markers {
-                for r in residuals.iter().filter(|r| r.marker == *m) {
-                    if let (Some(x), Some(y)) = (r.recorded[a], r.recorded[b]) {
-                        let o = at(r);
-                        chart.arrows.push((
-                            (1e3 * (r.simulated[a] - o[a]), 1e3 * (r.simulated[b] - o[b])),
-                            (1e3 * (x - o[a]), 1e3 * (y - o[b])),
-                            [120, 120, 120],
-                        ));
-                    }
-                }
-            }
-        }
+        let chart = paths_chart(recording, residuals, &markers, [a, b], few, title);
         md += &out.chart("paths.png", &chart, "marker paths")?;
     }
     if let Some(&a) = axes.first() {
@@ -148,6 +108,60 @@ pub(super) fn replay_plots(
         "residuals",
     )?;
     Ok(md)
+}
+
+/// The markers' paths in the plane of axes `a` and `b` (`title: ...`): recorded dots, simulated
+/// lines, with an arrow from each simulated to its recorded position where `few` samples.
+fn paths_chart(
+    recording: &Recording,
+    residuals: &[Residual],
+    markers: &[MarkerRef],
+    [a, b]: [usize; 2],
+    few: bool,
+    title: &str,
+) -> Chart {
+    let mut chart = Chart {
+        title: format!("{title}: marker displacements, recorded (dots) and simulated (lines)"),
+        x_label: format!("{} displacement (mm)", AXES[a]),
+        y_label: format!("{} displacement (mm)", AXES[b]),
+        equal_aspect: true,
+        ..Chart::default()
+    };
+    // From each marker's undeformed position: sub-millimetre paths on a 50 mm object
+    // would be dots at their absolute positions.
+    let at = |r: &Residual| reference(recording, r.marker);
+    chart.series = marker_series(
+        recording,
+        residuals,
+        markers,
+        |r| {
+            (
+                1e3 * (r.simulated[a] - at(r)[a]),
+                1e3 * (r.simulated[b] - at(r)[b]),
+            )
+        },
+        |r| {
+            Some((
+                1e3 * (r.recorded[a]? - at(r)[a]),
+                1e3 * (r.recorded[b]? - at(r)[b]),
+            ))
+        },
+    );
+    if few {
+        for m in markers {
+            for r in residuals.iter().filter(|r| r.marker == *m) {
+                if let (Some(x), Some(y)) = (r.recorded[a], r.recorded[b]) {
+                    let o = at(r);
+                    chart.arrows.push((
+                        (1e3 * (r.simulated[a] - o[a]), 1e3 * (r.simulated[b] - o[b])),
+                        (1e3 * (x - o[a]), 1e3 * (y - o[b])),
+                        [120, 120, 120],
+                    ));
+                }
+            }
+        }
+    }
+    chart
 }
 
 /// Where a marker is on the undeformed scene: its reference, or a finger's starting centre.

@@ -94,27 +94,7 @@ pub fn fit_many(
     let mut images = Vec::new();
     let mut sections = Vec::new();
     for (i, (recording, part)) in recordings.iter().zip(&fit.recordings).enumerate() {
-        let name = format!("{:02}-{}", i + 1, recording_name(&recording.source));
-        let _ = writeln!(
-            md,
-            "| `{}` | {} | {} | {:.5} | {:.5} | {:.3} | [{name}]({name}/recording.md) |",
-            recording.source.display(),
-            recording.mode.name(),
-            recording.samples.len(),
-            part.before.nrmse,
-            part.after.nrmse,
-            1e3 * part.after.rmse_m
-        );
-        let mut sub = Out::new(&dir.join(&name))?;
-        let mut smd = header(recording, "Fit over several recordings, this one");
-        let _ = writeln!(
-            smd,
-            "Fitted together with the other recordings of [the fit](../fit.md). NRMSE {:.5} at the start, {:.5} fitted.\n",
-            part.before.nrmse, part.after.nrmse
-        );
-        smd += &errors_table(&[("start", &part.before), ("fitted", &part.after)]);
-        smd += &fitted_sections(&mut sub, recording, &part.start_replay, &part.replay)?;
-        let written = sub.finish("recording.md", &smd)?;
+        let (name, written) = recording_part(&mut md, dir, i, recording, part)?;
         sections.push((name, written.images.clone()));
         images.extend(written.images);
     }
@@ -139,8 +119,50 @@ pub fn fit_many(
     md += "The standard errors come from the recordings' residuals stacked into one vector (one noise level for all); the NRMSE at -10 % and +10 % is the mean over the recordings.\n\n";
     md += "## Plots\n\n";
     md += &convergence(&mut out, &shared)?;
+    md += &figure_links(&sections);
+    let mut written = out.finish("fit.md", &md)?;
+    written.images.extend(images);
+    Ok(written)
+}
+
+/// Recording `i`'s row of the table in `md`, and its own report in `NN-NAME/recording.md`:
+/// the directory's name and what was written there.
+fn recording_part(
+    md: &mut String,
+    dir: &Path,
+    i: usize,
+    recording: &Recording,
+    part: &crate::fit::RecordingFit,
+) -> Result<(String, Written), ReportError> {
+    let name = format!("{:02}-{}", i + 1, recording_name(&recording.source));
+    let _ = writeln!(
+        md,
+        "| `{}` | {} | {} | {:.5} | {:.5} | {:.3} | [{name}]({name}/recording.md) |",
+        recording.source.display(),
+        recording.mode.name(),
+        recording.samples.len(),
+        part.before.nrmse,
+        part.after.nrmse,
+        1e3 * part.after.rmse_m
+    );
+    let mut sub = Out::new(&dir.join(&name))?;
+    let mut smd = header(recording, "Fit over several recordings, this one");
+    let _ = writeln!(
+        smd,
+        "Fitted together with the other recordings of [the fit](../fit.md). NRMSE {:.5} at the start, {:.5} fitted.\n",
+        part.before.nrmse, part.after.nrmse
+    );
+    smd += &errors_table(&[("start", &part.before), ("fitted", &part.after)]);
+    smd += &fitted_sections(&mut sub, recording, &part.start_replay, &part.replay)?;
+    let written = sub.finish("recording.md", &smd)?;
+    Ok((name, written))
+}
+
+/// The section linking each recording's report and figures (`sections`: directory, images).
+fn figure_links(sections: &[(String, Vec<std::path::PathBuf>)]) -> String {
+    let mut md = String::new();
     md += "## Each recording's figures\n\n";
-    for (name, files) in &sections {
+    for (name, files) in sections {
         let list: Vec<String> = files
             .iter()
             .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
@@ -149,9 +171,7 @@ pub fn fit_many(
         let _ = writeln!(md, "- [{name}]({name}/recording.md): {}", list.join(", "));
     }
     md.push('\n');
-    let mut written = out.finish("fit.md", &md)?;
-    written.images.extend(images);
-    Ok(written)
+    md
 }
 
 /// What a fit of one recording and one of several share: the parameters and the search.
@@ -167,7 +187,6 @@ struct Shared<'a> {
     largest_strain: [f64; 2],
 }
 
-/// The parameters' section: the uncertainty, the table, the spring limits, the correlations.
 /// One recording's residuals at the start and fitted, its replay plots and its marker table.
 fn fitted_sections(
     out: &mut Out,
@@ -194,6 +213,7 @@ fn fitted_sections(
     Ok(md)
 }
 
+/// The parameters' section: the uncertainty, the table, the spring limits, the correlations.
 fn parameters(sh: &Shared) -> String {
     let mut md = String::new();
     let u = sh.uncertainty;
@@ -204,6 +224,16 @@ fn parameters(sh: &Shared) -> String {
         u.residuals,
         sh.params.len()
     );
+    md += &parameter_table(sh);
+    md += &spring_limits(sh);
+    md += &correlations(sh);
+    md
+}
+
+/// The table of the parameters: bounds, start, fit, standard error, sensitivity, verdict.
+fn parameter_table(sh: &Shared) -> String {
+    let u = sh.uncertainty;
+    let mut md = String::new();
     md += "| parameter | bounds | start | fitted | standard error | 95 % interval | NRMSE at -10 % | NRMSE at +10 % | verdict |\n|---|---|---|---|---|---|---|---|---|\n";
     for (i, p) in sh.params.iter().enumerate() {
         let se = u.standard_errors[i];
@@ -242,6 +272,13 @@ fn parameters(sh: &Shared) -> String {
         );
     }
     md.push('\n');
+    md
+}
+
+/// Whether each fitted spring limit acts: above the largest strain of the fitted run, it never
+/// does.
+fn spring_limits(sh: &Shared) -> String {
+    let mut md = String::new();
     let [stretch, compression] = sh.largest_strain;
     for (i, p) in sh.params.iter().enumerate() {
         let (largest, what) = match p.param.name {
@@ -264,6 +301,13 @@ fn parameters(sh: &Shared) -> String {
             );
         }
     }
+    md
+}
+
+/// The pairs of estimates correlated beyond |r| = 0.9, if any.
+fn correlations(sh: &Shared) -> String {
+    let u = sh.uncertainty;
+    let mut md = String::new();
     let correlated: Vec<String> = (0..sh.params.len())
         .flat_map(|i| (i + 1..sh.params.len()).map(move |j| (i, j)))
         .filter(|&(i, j)| u.correlations[i][j].abs() > 0.9)

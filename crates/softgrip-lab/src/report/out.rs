@@ -5,13 +5,18 @@ use std::path::{Path, PathBuf};
 
 use crate::plot::{self, PlotError};
 
+/// Why a report could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
+    /// A file could not be written.
     #[error("cannot write the report in {path}: {source}")]
     Write {
+        /// The file or directory.
         path: PathBuf,
+        /// Why not.
         source: std::io::Error,
     },
+    /// A plot could not be drawn.
     #[error("report plot: {0}")]
     Plot(#[from] PlotError),
 }
@@ -19,7 +24,9 @@ pub enum ReportError {
 /// The files a report wrote.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Written {
+    /// The Markdown file.
     pub markdown: PathBuf,
+    /// The plots, in the order written.
     pub images: Vec<PathBuf>,
 }
 

@@ -1,6 +1,6 @@
 //! A whole diagnosis, end to end on a concealed recording with a small
-//! budget: the spec's JSON and the report's files. (Whether it names the
-//! right effect is `softgrip prove`'s question, on the full budget.)
+//! budget: the effect it names, the spec's JSON and the report's files. (How often it names
+//! the right effect over the suite is `softgrip prove`'s question, on the full budget.)
 
 use softgrip_lab::diagnose::{self, DiagnoseOptions};
 use softgrip_lab::prove;
@@ -22,7 +22,7 @@ fn small_budget(per_param: usize) -> DiagnoseOptions {
 
 #[test]
 #[ignore = "slow: a whole diagnosis"]
-fn a_diagnosis_writes_the_specs_json_and_its_report() {
+fn a_diagnosis_names_the_strong_load_loss_and_writes_the_specs_json_and_report() {
     let dir = support::temp_dir("diag");
     let case = prove::case(prove::DEVELOPMENT_SEED, "load-loss-strong").expect("case");
     let mut rec = prove::write_case(&case, &dir.join("rec"), 5).expect("recording");
@@ -59,7 +59,7 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         assert_eq!(named, usize::from(d.effects.contains(&effect)), "{effect}");
     }
     // A named effect's evidence says whether other readings fit about as well, either way.
-    assert!(!d.effects.is_empty(), "the strong load loss is named");
+    assert_eq!(d.effects, ["load-loss"], "the strong load loss is named");
     let says = if d.alternatives().is_empty() {
         "No other reading fits about as well"
     } else {
@@ -123,6 +123,7 @@ fn a_diagnosis_writes_the_specs_json_and_its_report() {
         "{pair}"
     );
     let effect = v["verdict"]["effect"].as_str().expect("effect");
+    assert_eq!(effect, "load-loss", "the JSON names it too");
     let names: Vec<&str> = ["none", "unexplained"]
         .into_iter()
         .chain(diagnose::EFFECTS)

@@ -18,6 +18,7 @@ mod recordings;
 mod regions;
 mod remainder;
 mod replay;
+mod schema;
 mod sensitivity;
 mod support;
 mod sweep;

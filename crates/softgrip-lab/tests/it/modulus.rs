@@ -79,7 +79,7 @@ fn the_ecoflex_recordings_give_the_database_moduli() {
     }
 }
 
-/// What `docs/reports/README.md` reads in the Ecoflex diagnoses: against
+/// What `docs/results/diagnosis-history.md` reads in the Ecoflex diagnoses: against
 /// an incompressible neo-Hookean solid of the database's small-strain
 /// modulus in uniaxial stress (nominal stress `mu (l - 1 / l^2)`, `mu = E /
 /// 3`), each recording's nominal stress falls below it through the middle

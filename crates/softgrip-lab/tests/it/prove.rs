@@ -227,8 +227,8 @@ fn the_measured_range_of_e_holds_every_truths_e() {
         let (name, low, high) = &options.bounds[0];
         assert_eq!(name, "young_modulus");
         let truth = c.truth_scene.object.young_modulus;
-        // 1.4 either way: the truth never near an end (the suite's widest
-        // is control-3's 1.32 times the nominal).
+        // 1.4 either way: the truth never near an end (a truth's E is the nominal times a draw
+        // in E_ERROR, 0.8 to 1.25).
         assert!(
             *low * 1.4 <= truth && truth * 1.4 <= *high,
             "{}: truth E {truth} against {low}..{high}",

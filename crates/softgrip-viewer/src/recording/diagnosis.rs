@@ -26,7 +26,9 @@ pub enum Shown {
     /// The recording's own scene (before any diagnosis).
     #[default]
     Nominal,
+    /// The model fitted without any effect (the diagnosis's baseline fit).
     Baseline,
+    /// The model with the effects found, fitted (the diagnosis's final fit).
     Extended,
 }
 
@@ -39,7 +41,9 @@ pub struct DiagnosisSection {
     /// began: every one but the last has finished.
     stages: Arc<Mutex<Vec<(String, f64)>>>,
     result: Option<Arc<Diagnosis>>,
+    /// Which fitted model the overlay shows.
     pub shown: Shown,
+    /// The last job's error (a diagnosis that failed or could not start), shown in red.
     pub error: Option<String>,
     /// Open the section on the next frame (a diagnosis started or came).
     reveal: bool,
@@ -68,6 +72,7 @@ impl Default for DiagnosisSection {
 }
 
 impl DiagnosisSection {
+    /// Whether a diagnosis is running on its thread.
     pub fn running(&self) -> bool {
         self.job.is_some()
     }
@@ -162,6 +167,34 @@ impl DiagnosisSection {
     pub fn ui(&mut self, ui: &mut egui::Ui, can_start: bool) -> SectionAction {
         let mut action = SectionAction::None;
         let running = self.job.is_some();
+        self.e_bound_ui(ui, running);
+        if ui
+            .add_enabled(can_start && !running, egui::Button::new("Run diagnosis"))
+            .on_hover_text(
+                "fit the model (E, alpha, tau_s, tau_c), locate what it still misses against the noise, try the catalogue of missing physics and name what explains it (minutes, on a background thread)",
+            )
+            .clicked()
+        {
+            action = SectionAction::Start;
+        }
+        self.progress_ui(ui);
+        if let Some(e) = &self.error {
+            ui.colored_label(ERROR_RED, e);
+        }
+        let Some(d) = self.result.clone() else {
+            return action;
+        };
+        verdict_ui(ui, &d);
+        ranking(ui, &d);
+        details_ui(ui, &d);
+        if let Some(toggled) = self.overlay_ui(ui, &d) {
+            action = toggled;
+        }
+        action
+    }
+
+    /// The "E measured, within a factor of" row, disabled while a diagnosis runs.
+    fn e_bound_ui(&mut self, ui: &mut egui::Ui, running: bool) {
         ui.add_enabled_ui(!running, |ui| {
             ui.horizontal(|ui| {
                 ui.checkbox(&mut self.e_measured, "E measured, within a factor of")
@@ -177,114 +210,34 @@ impl DiagnosisSection {
                 );
             });
         });
-        if ui
-            .add_enabled(can_start && !running, egui::Button::new("Run diagnosis"))
-            .on_hover_text(
-                "fit the model (E, alpha, tau_s, tau_c), locate what it still misses against the noise, try the catalogue of missing physics and name what explains it (minutes, on a background thread)",
-            )
-            .clicked()
-        {
-            action = SectionAction::Start;
-        }
-        if let Some(job) = &self.job {
-            let done = job.done();
-            let planned = match job.progress.planned.load(Ordering::Relaxed) {
-                0 => job.total,
-                n => n,
-            };
-            let stage = self.stage.lock().map(|s| s.clone()).unwrap_or_default();
-            let bar = egui::ProgressBar::new((done as f32 / planned.max(1) as f32).min(1.0)).text(
-                format!(
-                    "diagnosing: {done} / {planned} fits ({stage}), {:.0} s",
-                    job.started.elapsed().as_secs_f64()
-                ),
-            );
-            progress_with_stop(ui, job, bar);
-            let stages = self.stages.lock().map(|s| s.clone()).unwrap_or_default();
-            for line in stage_lines(&stages, job.started.elapsed().as_secs_f64()) {
-                ui.small(line);
-            }
-        }
-        if let Some(e) = &self.error {
-            ui.colored_label(ERROR_RED, e);
-        }
-        let Some(d) = self.result.clone() else {
-            return action;
+    }
+
+    /// The running diagnosis's progress bar with its Stop button, and its stages so far.
+    fn progress_ui(&self, ui: &mut egui::Ui) {
+        let Some(job) = &self.job else {
+            return;
         };
-        let verdict = match d.effects.as_slice() {
-            [] if d.remainder.fails() => format!(
-                "unexplained, at {}: physics softgrip has no model of",
-                d.mismatch_markers().join(", ")
-            ),
-            [] if d.unexplained => "mismatch beyond the noise that no candidate explains".into(),
-            [] => "nothing missing: the model fits to the noise".into(),
-            effects => format!("missing: {}", effects.join(" + ")),
+        let done = job.done();
+        let planned = match job.progress.planned.load(Ordering::Relaxed) {
+            0 => job.total,
+            n => n,
         };
-        ui.label(egui::RichText::new(verdict).strong());
-        if let Some(left) = d.remainder.describe() {
-            ui.label(format!("left by the model: {left}"));
+        let stage = self.stage.lock().map(|s| s.clone()).unwrap_or_default();
+        let bar =
+            egui::ProgressBar::new((done as f32 / planned.max(1) as f32).min(1.0)).text(format!(
+                "diagnosing: {done} / {planned} fits ({stage}), {:.0} s",
+                job.started.elapsed().as_secs_f64()
+            ));
+        progress_with_stop(ui, job, bar);
+        let stages = self.stages.lock().map(|s| s.clone()).unwrap_or_default();
+        for line in stage_lines(&stages, job.started.elapsed().as_secs_f64()) {
+            ui.small(line);
         }
-        if d.location.significant {
-            ui.label(format!("where: {}", d.location.description));
-            ui.label(format!("when: {}", d.location.when));
-        }
-        let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
-        ui.label(format!(
-            "NRMSE over all markers {:.4} -> {:.4}",
-            d.baseline.errors.nrmse_all, d.final_fit.errors.nrmse_all
-        ))
-        .on_hover_text("the recording's noise included: it cannot fall below the noise");
-        ui.label(format!(
-            "beyond the noise {beyond_before:.4} -> {beyond_after:.4}"
-        ))
-        .on_hover_text(
-            "the part of the residual the noise does not account for: the model's own error",
-        );
-        if !d.effects.is_empty() {
-            let fitted: Vec<String> = d
-                .fitted_params()
-                .iter()
-                .map(|(n, v)| format!("{n} {}", fitted_value(*v)))
-                .collect();
-            ui.label(egui::RichText::new(fitted.join(", ")).small());
-        }
-        ranking(ui, &d);
-        ui.label(egui::RichText::new(&d.evidence).small());
-        ui.label(
-            egui::RichText::new(format!("discretisation: {}", d.discretisation.describe()))
-                .small(),
-        )
-        .on_hover_text(
-            "the final model replayed on a mesh 0.8 times as fine and, for a time series, at half the step: a mismatch this size may be the model's own",
-        );
-        let ruled_out: Vec<String> = d
-            .screens
-            .iter()
-            .filter(|(_, s)| !s.kept)
-            .map(|(_, s)| diagnose::effect_label(s.effect, &s.variant))
-            .collect();
-        if !ruled_out.is_empty() {
-            ui.label(
-                egui::RichText::new(format!(
-                    "not fitted (the score test found nothing for them): {}",
-                    ruled_out.join(", ")
-                ))
-                .small(),
-            )
-            .on_hover_text(
-                "each candidate's first-order effect at the current fit, from one replay with sensitivities: those not significant at 5 % cannot come near the evidence that names an effect",
-            );
-        }
-        let total: f64 = d.stages.iter().map(|(_, s)| s).sum();
-        if total > 0.0 {
-            let longest = d
-                .stages
-                .iter()
-                .max_by(|a, b| a.1.total_cmp(&b.1))
-                .map(|(n, s)| format!(", longest {n} {s:.1} s"))
-                .unwrap_or_default();
-            ui.label(egui::RichText::new(format!("took {total:.1} s{longest}")).small());
-        }
+    }
+
+    /// The overlay toggle (baseline or with the effects); the replay to show when it changed.
+    fn overlay_ui(&mut self, ui: &mut egui::Ui, d: &Diagnosis) -> Option<SectionAction> {
+        let mut action = None;
         ui.horizontal(|ui| {
             ui.label("overlay:");
             let before = self.shown;
@@ -295,21 +248,106 @@ impl DiagnosisSection {
                     .on_hover_text("replay on the model with the effects found, fitted");
             });
             if self.shown != before {
-                action = match self.shown {
+                action = Some(match self.shown {
                     Shown::Baseline => SectionAction::Replay(Box::new(d.baseline.scene.clone())),
                     Shown::Extended => SectionAction::Replay(Box::new(d.final_fit.scene.clone())),
                     Shown::Nominal => SectionAction::None,
-                };
+                });
             }
         });
         action
     }
 }
 
+/// The diagnosis's verdict, what the model leaves, where and when, the NRMSE before and after
+/// (all of it and beyond the noise) and, with effects found, the fitted parameters.
+fn verdict_ui(ui: &mut egui::Ui, d: &Diagnosis) {
+    let verdict = match d.effects.as_slice() {
+        [] if d.remainder.fails() => format!(
+            "unexplained, at {}: physics softgrip has no model of",
+            d.mismatch_markers().join(", ")
+        ),
+        [] if d.unexplained => "mismatch beyond the noise that no candidate explains".into(),
+        [] => "nothing missing: the model fits to the noise".into(),
+        effects => format!("missing: {}", effects.join(" + ")),
+    };
+    ui.label(egui::RichText::new(verdict).strong());
+    if let Some(left) = d.remainder.describe() {
+        ui.label(format!("left by the model: {left}"));
+    }
+    if d.location.significant {
+        ui.label(format!("where: {}", d.location.description));
+        ui.label(format!("when: {}", d.location.when));
+    }
+    let (beyond_before, beyond_after) = d.nrmse_all_beyond_noise();
+    ui.label(format!(
+        "NRMSE over all markers {:.4} -> {:.4}",
+        d.baseline.errors.nrmse_all, d.final_fit.errors.nrmse_all
+    ))
+    .on_hover_text("the recording's noise included: it cannot fall below the noise");
+    ui.label(format!(
+        "beyond the noise {beyond_before:.4} -> {beyond_after:.4}"
+    ))
+    .on_hover_text(
+        "the part of the residual the noise does not account for: the model's own error",
+    );
+    if !d.effects.is_empty() {
+        let fitted: Vec<String> = d
+            .fitted_params()
+            .iter()
+            .map(|(n, v)| format!("{n} {}", fitted_value(*v)))
+            .collect();
+        ui.label(egui::RichText::new(fitted.join(", ")).small());
+    }
+}
+
+/// Below the ranking: the evidence, the discretisation check, the candidates ruled out by the
+/// score test and how long the diagnosis took.
+fn details_ui(ui: &mut egui::Ui, d: &Diagnosis) {
+    ui.label(egui::RichText::new(&d.evidence).small());
+    ui.label(
+        egui::RichText::new(format!("discretisation: {}", d.discretisation.describe()))
+            .small(),
+    )
+    .on_hover_text(
+        "the final model replayed on a mesh 0.8 times as fine and, for a time series, at half the step: a mismatch this size may be the model's own",
+    );
+    let ruled_out: Vec<String> = d
+        .screens
+        .iter()
+        .filter(|(_, s)| !s.kept)
+        .map(|(_, s)| diagnose::effect_label(s.effect, &s.variant))
+        .collect();
+    if !ruled_out.is_empty() {
+        ui.label(
+            egui::RichText::new(format!(
+                "not fitted (the score test found nothing for them): {}",
+                ruled_out.join(", ")
+            ))
+            .small(),
+        )
+        .on_hover_text(
+            "each candidate's first-order effect at the current fit, from one replay with sensitivities: those not significant at 5 % cannot come near the evidence that names an effect",
+        );
+    }
+    let total: f64 = d.stages.iter().map(|(_, s)| s).sum();
+    if total > 0.0 {
+        let longest = d
+            .stages
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(n, s)| format!(", longest {n} {s:.1} s"))
+            .unwrap_or_default();
+        ui.label(egui::RichText::new(format!("took {total:.1} s{longest}")).small());
+    }
+}
+
 /// What the section asks of the panel.
 #[derive(Debug, Clone)]
 pub enum SectionAction {
+    /// Nothing.
     None,
+    /// Start a diagnosis (the "Run diagnosis" button was clicked).
     Start,
     /// Replay the recording on this scene (the overlay's toggle).
     Replay(Box<Scene>),

@@ -18,7 +18,9 @@ pub const FIT_PARAMS: [&str; 4] = ["young_modulus", "alpha", "tau_s", "tau_c"];
 
 /// A fit that finished, and the recording it fitted.
 pub struct Fitted {
+    /// The recording fitted.
     pub recording: Arc<Recording>,
+    /// The fit: the fitted values, their standard errors and verdicts.
     pub fit: Fit,
 }
 

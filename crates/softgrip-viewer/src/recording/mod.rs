@@ -121,10 +121,12 @@ impl RecordingPanel {
         self.sample = k.min(n.saturating_sub(1));
     }
 
+    /// Whether a replay is running on its thread.
     pub fn replaying(&self) -> bool {
         self.replay_job.is_some()
     }
 
+    /// Whether a fit is running on its thread.
     pub fn fitting(&self) -> bool {
         self.fit.fitting()
     }

@@ -11,8 +11,11 @@ use softgrip_core::state::State;
 /// What the 3-D view draws instead of the live frame while the recording
 /// is shown.
 pub struct Overlay {
+    /// The model the recording was replayed on.
     pub model: Arc<Model>,
+    /// The replayed state at the sample shown.
     pub state: State,
+    /// The sample's compared markers, recorded and simulated (m).
     pub markers: Vec<MarkerPair>,
     /// Residuals drawn this many times longer.
     pub exaggerate: f64,

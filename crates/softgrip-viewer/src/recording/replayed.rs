@@ -20,6 +20,7 @@ use softgrip_lab::replay::{Replay, ReplayOptions, replay};
 pub struct Replayed {
     /// The recording, with the scene it was replayed on.
     pub recording: Arc<Recording>,
+    /// The model built from that scene, which the replay ran.
     pub model: Arc<Model>,
     /// With each sample's state (`keep_states`).
     pub replay: Replay,

@@ -3,7 +3,7 @@
 use glam::{Mat4, Vec3};
 
 /// Preset views (`softgrip screenshot --view`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum View {
     /// Looking along +y (from the front, -y side).
     Front,
@@ -15,8 +15,10 @@ pub enum View {
     Iso,
 }
 
+/// An orbit camera: looks at `target` from `distance` away, at angles `yaw` and `pitch`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// The point looked at and orbited about, world m.
     pub target: Vec3,
     /// Distance from the target (m).
     pub distance: f32,

@@ -10,11 +10,15 @@ use softgrip_core::model::Model;
 use softgrip_core::scene::FingerShape;
 use softgrip_core::state::{State, TableMode};
 
+/// One vertex as the GPU reads it (`shaders/lit.wgsl`'s `VertexIn`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {
+    /// Position in the world, m.
     pub position: [f32; 3],
+    /// Normal for the lighting (normalised by the shader; zero for lines, drawn unlit).
     pub normal: [f32; 3],
+    /// Colour, linear RGBA 0..1; alpha below 1 is see-through in the blended layers.
     pub color: [f32; 4],
 }
 
@@ -24,14 +28,17 @@ pub struct Vertex {
 /// object is coloured.
 #[derive(Debug, Clone, Default)]
 pub struct Drawing {
+    /// Opaque lit triangles: the object, opaque fingers, contacts, arrows, the table.
     pub opaque: Mesh,
     /// Pairs of indices (a line list), drawn unlit.
     pub lines: Mesh,
+    /// Alpha-blended triangles, not writing depth: see-through fingers.
     pub translucent: Mesh,
     /// Triangles drawn only where something else is in front of them, by
     /// their alpha: a recording's markers inside or behind the object
     /// show faintly through it.
     pub xray: Mesh,
+    /// The colour map's legend; `None` unless the object is coloured by a field.
     pub legend: Option<Legend>,
 }
 
@@ -39,8 +46,11 @@ pub struct Drawing {
 /// map's first colour) to `max` (its last), SI units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Legend {
+    /// The field the object is coloured by.
     pub field: Field,
+    /// The value drawn in the map's first colour, in the field's SI unit.
     pub min: f64,
+    /// The value drawn in the map's last colour, in the field's SI unit.
     pub max: f64,
 }
 
@@ -58,32 +68,45 @@ impl Legend {
 /// the interior shows; `flip` hides the other side instead.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cut {
+    /// The axis cut across: 0 = x, 1 = y, 2 = z (larger is taken as z).
     pub axis: usize,
+    /// Where the cutting plane lies, as a fraction 0..1 of the rest extent along `axis`.
     pub fraction: f32,
+    /// Hide the elements above the plane instead of those below.
     pub flip: bool,
 }
 
 /// An indexed triangle list.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
+    /// The vertices.
     pub vertices: Vec<Vertex>,
+    /// Indices into `vertices`, three per triangle (two per line in `Drawing::lines`).
     pub indices: Vec<u32>,
 }
 
 /// Colours (linear RGBA, 0..1) and what to show.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Style {
+    /// The object's free particles.
     pub object: [f32; 4],
+    /// The fingers (alpha replaced by `finger_opacity`).
     pub finger: [f32; 4],
+    /// The object's fixed particles.
     pub fixed: [f32; 4],
     /// The table (`[support] kind = "table"`).
     pub table: [f32; 4],
     /// A particle pressed against the object's own surface.
     pub self_contact: [f32; 4],
+    /// A contact point that sticks (finger contacts with stick >= 0.5, table contacts sticking).
     pub stick: [f32; 4],
+    /// A contact point that slides.
     pub slip: [f32; 4],
+    /// Contact normal-force arrows.
     pub normal_force: [f32; 4],
+    /// Contact friction (tangential force) arrows.
     pub tangential_force: [f32; 4],
+    /// The arrow of the contact force on each finger.
     pub finger_force: [f32; 4],
     /// The mouse spring, and where a held finger is held.
     pub drag: [f32; 4],
@@ -91,8 +114,11 @@ pub struct Style {
     pub force_scale: f32,
     /// 1 = opaque fingers; below, they are drawn see-through.
     pub finger_opacity: f32,
+    /// Draw the fingers.
     pub fingers: bool,
+    /// Draw the contact points (finger, table and self-contact dots).
     pub contacts: bool,
+    /// Draw the force arrows.
     pub arrows: bool,
     /// Colour the object by this field (with a legend) instead of `object`.
     pub color_by: Option<Field>,
@@ -101,7 +127,9 @@ pub struct Style {
     pub surface: bool,
     /// Draw every spring as a line.
     pub wireframe: bool,
+    /// The wireframe's lines, unless the surface is off and the object is coloured by a field.
     pub wire: [f32; 4],
+    /// The cut-away, if any.
     pub cut: Option<Cut>,
 }
 
@@ -297,6 +325,21 @@ impl Mesh {
 /// The scene drawn for `state` of `model`.
 pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
     let mut drawing = Drawing::default();
+    add_object(&mut drawing, model, state, style);
+    let scale = bounds_size(model).max(1e-3);
+    add_fingers(&mut drawing, model, state, style, scale);
+    let mesh = &mut drawing.opaque;
+    add_drag(mesh, model, state, style, scale);
+    if let Some(table) = &model.table {
+        add_table(mesh, state, table, style, scale);
+    }
+    add_contacts(mesh, state, style, scale);
+    drawing
+}
+
+/// The object: its surface (cut away where `style.cut` says) and its wireframe, in its colours
+/// or a field's (whose legend goes into `drawing`).
+fn add_object(drawing: &mut Drawing, model: &Model, state: &State, style: &Style) {
     let colors = object_colors(model, state, style, &mut drawing.legend);
     let kept = style.cut.map(|cut| kept_elements(model, state, cut));
     match &kept {
@@ -316,9 +359,13 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             wire,
         );
     }
+}
+
+/// Each finger's parts (see-through below full opacity) and the arrow of the contact force on
+/// it; `scale` is the object's extent (m).
+fn add_fingers(drawing: &mut Drawing, model: &Model, state: &State, style: &Style, scale: f32) {
     let mut finger_color = style.finger;
     finger_color[3] = style.finger_opacity.clamp(0.0, 1.0);
-    let scale = bounds_size(model).max(1e-3);
     for (k, f) in model.fingers.iter().enumerate() {
         let Some(fs) = state.fingers.get(k) else {
             continue;
@@ -357,9 +404,10 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             mesh.add_arrow(from, force, 0.006 * scale, style.finger_force);
         }
     }
-    let mesh = &mut drawing.opaque;
-    // Dragging: the mouse spring as a thin rod to its target, a held
-    // finger's hold point as a dot.
+}
+
+/// Dragging: the mouse spring as a thin rod to its target, a held finger's hold point as a dot.
+fn add_drag(mesh: &mut Mesh, model: &Model, state: &State, style: &Style, scale: f32) {
     if let Some(pull) = &state.pull
         && let Some(tri) = model.facets.get(pull.facet as usize)
     {
@@ -377,9 +425,11 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             mesh.add_sphere(f32v(at), 0.01 * scale, style.drag);
         }
     }
-    if let Some(table) = &model.table {
-        add_table(mesh, state, table, style, scale);
-    }
+}
+
+/// The contacts: a dot on each particle pressed against the object's own surface and on each
+/// finger contact (stick or slip colours), with their force arrows.
+fn add_contacts(mesh: &mut Mesh, state: &State, style: &Style, scale: f32) {
     // Self-collision: a dot on each particle pressed against the surface,
     // and its force.
     for c in &state.self_contacts {
@@ -409,7 +459,6 @@ pub fn build(model: &Model, state: &State, style: &Style) -> Drawing {
             mesh.add_arrow(at, tangential, 0.0025 * scale, style.tangential_force);
         }
     }
-    drawing
 }
 
 /// The table as a slab three times the object's extent around where the

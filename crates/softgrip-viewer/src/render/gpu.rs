@@ -15,14 +15,18 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Background colour (linear RGBA).
 pub const BACKGROUND: [f64; 4] = [0.96, 0.96, 0.97, 1.0];
 
+/// Why an image could not be rendered.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
+    /// No graphics adapter was found (the reason wgpu gave).
     #[error(
         "no graphics adapter: {0}. softgrip renders on a software adapter when there is no GPU (Mesa's llvmpipe through EGL; on Debian: apt-get install libegl1 libgl1-mesa-dri)"
     )]
     NoAdapter(String),
+    /// The adapter would not open a device (the reason wgpu gave).
     #[error("the graphics device could not be opened: {0}")]
     NoDevice(String),
+    /// Copying the rendered image back to memory failed (the reason).
     #[error("reading the image back failed: {0}")]
     Readback(String),
 }
@@ -51,14 +55,19 @@ pub struct Pipeline {
 
 /// A colour texture (RGBA8) and its depth buffer, of one size.
 pub struct Target {
+    /// The colour texture drawn into (RGBA8, linear).
     pub color: wgpu::Texture,
+    /// A view of `color`, the render pass's attachment.
     pub view: wgpu::TextureView,
     depth: wgpu::TextureView,
+    /// Width, pixels (at least 1).
     pub width: u32,
+    /// Height, pixels (at least 1).
     pub height: u32,
 }
 
 impl Target {
+    /// A target of `width` x `height` pixels (each at least 1) on `device`.
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Target {
         let size = wgpu::Extent3d {
             width: width.max(1),
@@ -101,112 +110,49 @@ impl Target {
 }
 
 impl Pipeline {
+    /// The four pipelines (opaque, lines, blended, x-ray) and the camera uniform on `device`.
     pub fn new(device: &wgpu::Device) -> Pipeline {
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lit.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/lit.wgsl").into()),
         });
-        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("camera"),
-            size: std::mem::size_of::<CameraUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("camera"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("camera"),
-            layout: &layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: camera_buffer.as_entire_binding(),
-            }],
-        });
+        let (camera_buffer, layout, bind_group) = camera_binding(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("lit"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let make = |blend: Option<wgpu::BlendState>,
-                    depth_write: bool,
-                    depth_compare: wgpu::CompareFunction,
-                    topology: wgpu::PrimitiveTopology,
-                    fragment: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("lit"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(depth_write),
-                depth_compare: Some(depth_compare),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some(fragment),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: COLOR_FORMAT,
-                    blend,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-        };
+        let make = |layer: Layer| render_pipeline(device, &pipeline_layout, &shader, layer);
         let triangles = wgpu::PrimitiveTopology::TriangleList;
         let less = wgpu::CompareFunction::Less;
-        let pipeline = make(None, true, less, triangles, "fs_main");
-        let blended = make(
-            Some(wgpu::BlendState::ALPHA_BLENDING),
-            false,
-            less,
-            triangles,
-            "fs_main",
-        );
-        let lines = make(
-            None,
-            true,
-            less,
-            wgpu::PrimitiveTopology::LineList,
-            "fs_flat",
-        );
-        let xray = make(
-            Some(wgpu::BlendState::ALPHA_BLENDING),
-            false,
-            wgpu::CompareFunction::Greater,
-            triangles,
-            "fs_main",
-        );
+        let pipeline = make(Layer {
+            blend: None,
+            depth_write: true,
+            depth_compare: less,
+            topology: triangles,
+            fragment: "fs_main",
+        });
+        let blended = make(Layer {
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            depth_write: false,
+            depth_compare: less,
+            topology: triangles,
+            fragment: "fs_main",
+        });
+        let lines = make(Layer {
+            blend: None,
+            depth_write: true,
+            depth_compare: less,
+            topology: wgpu::PrimitiveTopology::LineList,
+            fragment: "fs_flat",
+        });
+        let xray = make(Layer {
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            depth_write: false,
+            depth_compare: wgpu::CompareFunction::Greater,
+            topology: triangles,
+            fragment: "fs_main",
+        });
         Pipeline {
             pipeline,
             blended,
@@ -295,6 +241,106 @@ impl Pipeline {
     }
 }
 
+/// How one of the pipelines draws: blending, depth test and write, primitives, fragment shader.
+struct Layer {
+    /// Alpha blending, or `None` for opaque.
+    blend: Option<wgpu::BlendState>,
+    /// Whether it writes the depth buffer.
+    depth_write: bool,
+    /// The depth test passed where the fragment's depth compares so to the buffer's.
+    depth_compare: wgpu::CompareFunction,
+    /// Triangles or lines.
+    topology: wgpu::PrimitiveTopology,
+    /// The fragment entry point of `lit.wgsl`: `fs_main` (lit) or `fs_flat` (unlit).
+    fragment: &'static str,
+}
+
+/// The camera uniform's buffer, its bind group layout and its bind group (binding 0, seen by
+/// both the vertex and the fragment stage).
+fn camera_binding(device: &wgpu::Device) -> (wgpu::Buffer, wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("camera"),
+        size: std::mem::size_of::<CameraUniform>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("camera"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("camera"),
+        layout: &layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: camera_buffer.as_entire_binding(),
+        }],
+    });
+    (camera_buffer, layout, bind_group)
+}
+
+/// One render pipeline of `shader` drawing [`Vertex`]es into the colour and depth formats as
+/// `layer` says.
+fn render_pipeline(
+    device: &wgpu::Device,
+    pipeline_layout: &wgpu::PipelineLayout,
+    shader: &wgpu::ShaderModule,
+    layer: Layer,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("lit"),
+        layout: Some(pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: shader,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &VERTEX_ATTRIBUTES,
+            })],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: layer.topology,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(layer.depth_write),
+            depth_compare: Some(layer.depth_compare),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: shader,
+            entry_point: Some(layer.fragment),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
+                blend: layer.blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// [`Vertex`]'s fields as the shader's locations: position, normal, colour.
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
+
 /// A device of its own, the pipeline and an offscreen target of a fixed
 /// size, read back as images.
 pub struct Offscreen {
@@ -307,6 +353,8 @@ pub struct Offscreen {
 }
 
 impl Offscreen {
+    /// A device on the first adapter found (GL unless `WGPU_BACKEND` says otherwise) and a
+    /// target of `width` x `height` pixels.
     pub fn new(width: u32, height: u32) -> Result<Offscreen, RenderError> {
         let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         if std::env::var_os("WGPU_BACKEND").is_none() {

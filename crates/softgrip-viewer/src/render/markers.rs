@@ -29,6 +29,7 @@ const XRAY_ALPHA: f32 = 0.35;
 /// One compared marker of a sample (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MarkerPair {
+    /// The simulated position (m).
     pub simulated: DVec3,
     /// The recorded position over the observed axes, the simulated
     /// coordinate on an unobserved one (so that the residual is what

@@ -13,6 +13,7 @@ use softgrip_core::state::State;
 /// A half-line from the eye through a pixel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray {
+    /// Where it starts: the pixel on the near plane, world m.
     pub origin: DVec3,
     /// Unit length.
     pub direction: DVec3,
@@ -22,17 +23,26 @@ pub struct Ray {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Picked {
     /// A finger, hit at `point`.
-    Finger { index: usize, point: DVec3 },
+    Finger {
+        /// The finger's index in `Model::fingers`.
+        index: usize,
+        /// Where the ray hit it, world m.
+        point: DVec3,
+    },
     /// A boundary facet of the object at the material point with these
     /// barycentric weights.
     Object {
+        /// The facet's index in `Model::facets`.
         facet: u32,
+        /// Barycentric weights of the hit over the facet's three particles (sum 1).
         weights: [f64; 3],
+        /// Where the ray hit it, world m.
         point: DVec3,
     },
 }
 
 impl Picked {
+    /// Where the ray hit what it grabbed, world m.
     pub fn point(&self) -> DVec3 {
         match *self {
             Picked::Finger { point, .. } | Picked::Object { point, .. } => point,

@@ -48,6 +48,21 @@ pub(super) struct Pixels {
 }
 
 impl Pixels {
+    /// `rect` (egui points) in pixels at the screen's scale, each side at least 16.
+    pub(super) fn of(ui: &egui::Ui, rect: egui::Rect) -> Pixels {
+        let ppp = ui.ctx().pixels_per_point();
+        let (w, h) = (
+            (rect.width() * ppp).round().max(16.0) as u32,
+            (rect.height() * ppp).round().max(16.0) as u32,
+        );
+        Pixels {
+            rect,
+            ppp,
+            width: w,
+            height: h,
+        }
+    }
+
     fn ray(&self, camera: &Camera, pos: egui::Pos2) -> Ray {
         camera.ray(
             (pos.x - self.rect.min.x) * self.ppp,

@@ -209,17 +209,8 @@ impl View3d {
         let Some(rs) = frame.wgpu_render_state() else {
             return;
         };
-        let ppp = ui.ctx().pixels_per_point();
-        let (w, h) = (
-            (rect.width() * ppp).round().max(16.0) as u32,
-            (rect.height() * ppp).round().max(16.0) as u32,
-        );
-        let pixels = Pixels {
-            rect,
-            ppp,
-            width: w,
-            height: h,
-        };
+        let pixels = Pixels::of(ui, rect);
+        let (w, h) = (pixels.width, pixels.height);
         let drawn = Drawn {
             model,
             state,
@@ -235,15 +226,7 @@ impl View3d {
             panels.send,
         );
         self.rect = Some((rect, w, h));
-        if (w, h) != (self.target.width, self.target.height) {
-            self.target = Target::new(&rs.device, w, h);
-            rs.renderer.write().update_egui_texture_from_wgpu_texture(
-                &rs.device,
-                &self.target.view,
-                wgpu::FilterMode::Linear,
-                self.texture,
-            );
-        }
+        fit_target(&mut self.target, rs, self.texture, (w, h));
         let camera = *camera;
         self.draw(
             rs,
@@ -261,5 +244,24 @@ impl View3d {
             egui::Color32::WHITE,
         );
         self.draw_labels(ui, rect, &f, overlay.as_ref(), meshing);
+    }
+}
+
+/// Makes `target` `w` x `h` pixels where it is not, and points the view's egui `texture` at the
+/// new one.
+fn fit_target(
+    target: &mut Target,
+    rs: &eframe::egui_wgpu::RenderState,
+    texture: egui::TextureId,
+    (w, h): (u32, u32),
+) {
+    if (w, h) != (target.width, target.height) {
+        *target = Target::new(&rs.device, w, h);
+        rs.renderer.write().update_egui_texture_from_wgpu_texture(
+            &rs.device,
+            &target.view,
+            wgpu::FilterMode::Linear,
+            texture,
+        );
     }
 }

@@ -10,7 +10,9 @@ use crate::mesh::TetMesh;
 /// repaired: see [`crate::mesh::checks`]) and what it skipped.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Imported {
+    /// The nodes in the file's order and units, and the tetrahedra by their index.
     pub mesh: TetMesh,
+    /// What the reader noted (corner nodes only, cells skipped by kind), one sentence each.
     pub warnings: Vec<String>,
 }
 

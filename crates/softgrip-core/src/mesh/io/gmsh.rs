@@ -67,6 +67,7 @@ struct Header {
     binary: bool,
 }
 
+/// The tetrahedra of a `.msh` file (other elements skipped).
 pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
     let mut c = Cursor::new(bytes, name);
     let mut header: Option<Header> = None;
@@ -99,23 +100,13 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
                         return Err(c.error("a second $Nodes section"));
                     }
                     seen_nodes = true;
-                    match (h.version, h.binary) {
-                        (Version::V22, false) => nodes_22(&mut c, &mut b)?,
-                        (Version::V22, true) => nodes_22_binary(&mut c, &mut b)?,
-                        (Version::V41, binary) => nodes_41(&mut c, &mut b, binary)?,
-                    }
-                    c.expect_keyword("$EndNodes")?;
+                    nodes_section(&mut c, &mut b, h)?;
                 } else {
                     if seen_elements {
                         return Err(c.error("a second $Elements section"));
                     }
                     seen_elements = true;
-                    higher_order = match (h.version, h.binary) {
-                        (Version::V22, false) => elements_22(&mut c, &mut b)?,
-                        (Version::V22, true) => elements_22_binary(&mut c, &mut b)?,
-                        (Version::V41, binary) => elements_41(&mut c, &mut b, binary)?,
-                    };
-                    c.expect_keyword("$EndElements")?;
+                    higher_order = elements_section(&mut c, &mut b, h)?;
                 }
             }
             s if s.starts_with("End") => {
@@ -150,6 +141,28 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
         );
     }
     b.finish().map_err(|m| ImportError::at(name, None, m))
+}
+
+/// A `$Nodes` section's body in the header's version and encoding, and its `$EndNodes`.
+fn nodes_section(c: &mut Cursor, b: &mut Builder, h: &Header) -> Result<(), ImportError> {
+    match (h.version, h.binary) {
+        (Version::V22, false) => nodes_22(c, b)?,
+        (Version::V22, true) => nodes_22_binary(c, b)?,
+        (Version::V41, binary) => nodes_41(c, b, binary)?,
+    }
+    c.expect_keyword("$EndNodes")
+}
+
+/// An `$Elements` section's body in the header's version and encoding, and its
+/// `$EndElements`: whether higher-order tetrahedra were among them.
+fn elements_section(c: &mut Cursor, b: &mut Builder, h: &Header) -> Result<bool, ImportError> {
+    let higher_order = match (h.version, h.binary) {
+        (Version::V22, false) => elements_22(c, b)?,
+        (Version::V22, true) => elements_22_binary(c, b)?,
+        (Version::V41, binary) => elements_41(c, b, binary)?,
+    };
+    c.expect_keyword("$EndElements")?;
+    Ok(higher_order)
 }
 
 fn read_format(c: &mut Cursor) -> Result<Header, ImportError> {

@@ -4,6 +4,7 @@
 //! an [`ImportError`] naming the file, the line (or byte) and what is wrong.
 //! Cells other than tetrahedra are skipped with a warning that counts them.
 
+pub(crate) mod base64;
 mod builder;
 pub(crate) mod cursor;
 pub(crate) mod error;
@@ -12,6 +13,7 @@ mod tetgen;
 mod text;
 mod vtk;
 mod vtu;
+mod xml;
 
 use std::path::{Path, PathBuf};
 
@@ -21,7 +23,7 @@ pub use error::ImportError;
 use text::num;
 
 /// The mesh formats softgrip reads and writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
     /// Gmsh 4.1 ASCII (`.msh`; reading also takes 2.2 and binary).
     Msh,

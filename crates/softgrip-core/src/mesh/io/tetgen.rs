@@ -25,14 +25,29 @@ fn uncommented(bytes: &[u8]) -> Vec<u8> {
     out
 }
 
+/// The mesh of a `.node` and `.ele` pair, checked against the optional
+/// `.face` file (whose faces only raise a warning when their count differs).
 pub fn read(
     node: (&[u8], &str),
     ele: (&[u8], &str),
     face: Option<(&[u8], String)>,
 ) -> Result<Imported, ImportError> {
     let mut b = Builder::default();
-    let text = uncommented(node.0);
-    let mut c = Cursor::new(&text, node.1);
+    read_node(&mut b, node)?;
+    read_ele(&mut b, ele)?;
+    let known: std::collections::HashSet<i64> = b.index.keys().copied().collect();
+    let mut imported = b.finish().map_err(|m| ImportError::at(ele.1, None, m))?;
+
+    if let Some((bytes, name)) = face {
+        check_face(&mut imported, &known, bytes, &name)?;
+    }
+    Ok(imported)
+}
+
+/// The points of a `.node` file (`bytes`, file `name`), added to `b`.
+fn read_node(b: &mut Builder, (bytes, name): (&[u8], &str)) -> Result<(), ImportError> {
+    let text = uncommented(bytes);
+    let mut c = Cursor::new(&text, name);
     if c.at_end() {
         return Err(c.error("the .node file is empty"));
     }
@@ -64,9 +79,14 @@ pub fn read(
             "more data after the {n} points announced (a wrong count?)"
         )));
     }
+    Ok(())
+}
 
-    let text = uncommented(ele.0);
-    let mut c = Cursor::new(&text, ele.1);
+/// The tetrahedra of an `.ele` file (`bytes`, file `name`), added to `b`
+/// (10-node ones by their corners, with a note).
+fn read_ele(b: &mut Builder, (bytes, name): (&[u8], &str)) -> Result<(), ImportError> {
+    let text = uncommented(bytes);
+    let mut c = Cursor::new(&text, name);
     if c.at_end() {
         return Err(c.error("the .ele file is empty"));
     }
@@ -100,37 +120,44 @@ pub fn read(
         b.notes
             .push("second-order tetrahedra: only their corner nodes are used".into());
     }
-    let known: std::collections::HashSet<i64> = b.index.keys().copied().collect();
-    let mut imported = b.finish().map_err(|m| ImportError::at(ele.1, None, m))?;
+    Ok(())
+}
 
-    if let Some((bytes, name)) = face {
-        let text = uncommented(bytes);
-        let mut c = Cursor::new(&text, &name);
-        let f = c.usize("the number of faces")?;
-        let markers = c.usize("the boundary-marker flag")?;
-        let f = c.check_count(f, 8, "faces")?;
-        for _ in 0..f {
-            c.i64("a face number")?;
-            for _ in 0..3 {
-                let v = c.i64("a face's node")?;
-                if !known.contains(&v) {
-                    return Err(c.error(format!(
-                        "a face refers to point {v}, which the .node file does not define"
-                    )));
-                }
-            }
-            for _ in 0..markers {
-                c.i64("a face marker")?;
+/// Reads a `.face` file: every face's points must be among `known` (the
+/// `.node` file's numbers); a face count other than the mesh's boundary is a
+/// warning on `imported`.
+fn check_face(
+    imported: &mut Imported,
+    known: &std::collections::HashSet<i64>,
+    bytes: &[u8],
+    name: &str,
+) -> Result<(), ImportError> {
+    let text = uncommented(bytes);
+    let mut c = Cursor::new(&text, name);
+    let f = c.usize("the number of faces")?;
+    let markers = c.usize("the boundary-marker flag")?;
+    let f = c.check_count(f, 8, "faces")?;
+    for _ in 0..f {
+        c.i64("a face number")?;
+        for _ in 0..3 {
+            let v = c.i64("a face's node")?;
+            if !known.contains(&v) {
+                return Err(c.error(format!(
+                    "a face refers to point {v}, which the .node file does not define"
+                )));
             }
         }
-        let boundary = imported.mesh.boundary_facets().len();
-        if f != boundary {
-            imported.warnings.push(format!(
-                "the .face file lists {f} faces; the tetrahedra have {boundary} boundary faces (softgrip uses the latter)"
-            ));
+        for _ in 0..markers {
+            c.i64("a face marker")?;
         }
     }
-    Ok(imported)
+    let boundary = imported.mesh.boundary_facets().len();
+    if f != boundary {
+        imported.warnings.push(format!(
+            "the .face file lists {f} faces; the tetrahedra have {boundary} boundary faces (softgrip uses the latter)"
+        ));
+    }
+    Ok(())
 }
 
 /// `.node`, `.ele` and `.face` text, numbered from 1.

@@ -101,10 +101,152 @@ impl Reader<'_> {
             self.c.end_of_header_line();
         }
     }
+
+    /// The `POINTS` section (after its keyword), each point added to `b`.
+    fn points(&mut self, b: &mut Builder) -> Result<(), ImportError> {
+        let n = self.c.usize("the number of points")?;
+        let data_type = self.c.expect_token("the data type")?;
+        let kind = kind_of(&self.c, data_type)?;
+        self.begin_data();
+        let n = self.c.check_count(
+            n,
+            if self.binary {
+                3 * Reader::size(kind)
+            } else {
+                6
+            },
+            "points",
+        )?;
+        for i in 0..n {
+            let p = DVec3::new(
+                self.real(kind, "an x coordinate")?,
+                self.real(kind, "a y coordinate")?,
+                self.real(kind, "a z coordinate")?,
+            );
+            b.node(i as i64, p).map_err(|m| self.c.error(m))?;
+        }
+        Ok(())
+    }
+
+    /// A 4.2 `CELLS n size` section (after its keyword): each cell's node
+    /// count inline before its nodes.
+    fn cells_inline(&mut self) -> Result<Vec<Vec<i64>>, ImportError> {
+        let binary = self.binary;
+        let n = self.c.usize("the number of cells")?;
+        let size = self.c.usize("the size of the cell list")?;
+        self.begin_data();
+        let n = self.c.check_count(n, if binary { 4 } else { 2 }, "cells")?;
+        self.c
+            .check_count(size, if binary { 4 } else { 2 }, "cell list entries")?;
+        let mut list = Vec::with_capacity(n);
+        let mut used = 0usize;
+        for _ in 0..n {
+            let count = self.int(Kind::I32, "a cell's node count")?;
+            if count < 0 || used + 1 + count as usize > size {
+                return Err(self.c.error(format!(
+                    "a cell of {count} nodes overruns the cell list of {size} entries"
+                )));
+            }
+            let count =
+                self.c
+                    .check_count(count as usize, if binary { 4 } else { 2 }, "cell nodes")?;
+            let mut cell = Vec::with_capacity(count);
+            for _ in 0..count {
+                cell.push(self.int(Kind::I32, "a cell's node")?);
+            }
+            used += 1 + count;
+            list.push(cell);
+        }
+        if used != size {
+            return Err(self.c.error(format!(
+                "the cells use {used} entries, the header announced {size}"
+            )));
+        }
+        Ok(list)
+    }
+
+    /// `len` integers after an array's `KEYWORD type` line (5.1's `OFFSETS`
+    /// and `CONNECTIVITY`), `what` naming the array and `one` an entry.
+    fn int_array(
+        &mut self,
+        keyword: &str,
+        len: usize,
+        what: &str,
+        one: &str,
+    ) -> Result<Vec<i64>, ImportError> {
+        self.c.expect_keyword(keyword)?;
+        let data_type = self.c.expect_token("the data type")?;
+        let kind = kind_of(&self.c, data_type)?;
+        self.begin_data();
+        let len =
+            self.c
+                .check_count(len, if self.binary { Reader::size(kind) } else { 2 }, what)?;
+        let mut out = Vec::with_capacity(len);
+        for _ in 0..len {
+            out.push(self.int(kind, one)?);
+        }
+        Ok(out)
+    }
+
+    /// A 5.1 `CELLS offsets connectivity` section (after its keyword): the
+    /// `OFFSETS` and `CONNECTIVITY` arrays, cut into cells.
+    fn cells_with_offsets(&mut self) -> Result<Vec<Vec<i64>>, ImportError> {
+        let offsets = self.c.usize("the number of offsets")?;
+        let connectivity = self.c.usize("the connectivity size")?;
+        let off = self.int_array("OFFSETS", offsets, "offsets", "an offset")?;
+        let offsets = off.len();
+        let conn = self.int_array(
+            "CONNECTIVITY",
+            connectivity,
+            "connectivity entries",
+            "a cell's node",
+        )?;
+        let mut list = Vec::with_capacity(offsets.saturating_sub(1));
+        for w in off.windows(2) {
+            let (a, z) = (w[0], w[1]);
+            if a < 0 || z < a || z as usize > conn.len() {
+                return Err(self.c.error(format!(
+                    "offsets {a}..{z} do not fit the {} connectivity entries",
+                    conn.len()
+                )));
+            }
+            list.push(conn[a as usize..z as usize].to_vec());
+        }
+        Ok(list)
+    }
+
+    /// The `CELL_TYPES` section (after its keyword).
+    fn cell_types(&mut self) -> Result<Vec<i64>, ImportError> {
+        let n = self.c.usize("the number of cell types")?;
+        self.begin_data();
+        let n = self
+            .c
+            .check_count(n, if self.binary { 4 } else { 2 }, "cell types")?;
+        let mut list = Vec::with_capacity(n);
+        for _ in 0..n {
+            list.push(self.int(Kind::I32, "a cell type")?);
+        }
+        Ok(list)
+    }
+
+    /// Skips a `METADATA` section: until the blank line that ends it.
+    fn skip_metadata(&mut self) {
+        self.c.rest_of_line();
+        loop {
+            if self.c.remaining() == 0 {
+                break;
+            }
+            if self.c.rest_of_line().trim().is_empty() {
+                break;
+            }
+        }
+    }
 }
 
-pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
-    let mut c = Cursor::new(bytes, name);
+/// The four header lines: the version line (returns whether it is 5 or
+/// later), the title, ASCII or BINARY (returns whether binary) and
+/// `DATASET UNSTRUCTURED_GRID`.
+fn header(c: &mut Cursor, name: &str) -> Result<(bool, bool), ImportError> {
     let first = c.rest_of_line();
     let version = first
         .trim()
@@ -136,6 +278,13 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
             "DATASET {dataset}: softgrip reads UNSTRUCTURED_GRID (tetrahedra) only"
         )));
     }
+    Ok((modern, binary))
+}
+
+/// The tetrahedra of a legacy `.vtk` unstructured grid (other cells skipped).
+pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
+    let mut c = Cursor::new(bytes, name);
+    let (modern, binary) = header(&mut c, name)?;
     let mut r = Reader { c, binary };
     let mut b = Builder::default();
     let mut cells: Option<Vec<Vec<i64>>> = None;
@@ -149,118 +298,13 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
         let keyword = r.c.expect_token("a keyword")?.to_ascii_uppercase();
         match keyword.as_str() {
             "POINTS" => {
-                let n = r.c.usize("the number of points")?;
-                let data_type = r.c.expect_token("the data type")?;
-                let kind = kind_of(&r.c, data_type)?;
-                r.begin_data();
-                let n =
-                    r.c.check_count(n, if binary { 3 * Reader::size(kind) } else { 6 }, "points")?;
-                for i in 0..n {
-                    let p = DVec3::new(
-                        r.real(kind, "an x coordinate")?,
-                        r.real(kind, "a y coordinate")?,
-                        r.real(kind, "a z coordinate")?,
-                    );
-                    b.node(i as i64, p).map_err(|m| r.c.error(m))?;
-                }
+                r.points(&mut b)?;
                 points = true;
             }
-            "CELLS" if !modern => {
-                let n = r.c.usize("the number of cells")?;
-                let size = r.c.usize("the size of the cell list")?;
-                r.begin_data();
-                let n = r.c.check_count(n, if binary { 4 } else { 2 }, "cells")?;
-                r.c.check_count(size, if binary { 4 } else { 2 }, "cell list entries")?;
-                let mut list = Vec::with_capacity(n);
-                let mut used = 0usize;
-                for _ in 0..n {
-                    let count = r.int(Kind::I32, "a cell's node count")?;
-                    if count < 0 || used + 1 + count as usize > size {
-                        return Err(r.c.error(format!(
-                            "a cell of {count} nodes overruns the cell list of {size} entries"
-                        )));
-                    }
-                    let count =
-                        r.c.check_count(count as usize, if binary { 4 } else { 2 }, "cell nodes")?;
-                    let mut cell = Vec::with_capacity(count);
-                    for _ in 0..count {
-                        cell.push(r.int(Kind::I32, "a cell's node")?);
-                    }
-                    used += 1 + count;
-                    list.push(cell);
-                }
-                if used != size {
-                    return Err(r.c.error(format!(
-                        "the cells use {used} entries, the header announced {size}"
-                    )));
-                }
-                cells = Some(list);
-            }
-            "CELLS" => {
-                let offsets = r.c.usize("the number of offsets")?;
-                let connectivity = r.c.usize("the connectivity size")?;
-                r.c.expect_keyword("OFFSETS")?;
-                let data_type = r.c.expect_token("the data type")?;
-                let kind = kind_of(&r.c, data_type)?;
-                r.begin_data();
-                let offsets = r.c.check_count(
-                    offsets,
-                    if binary { Reader::size(kind) } else { 2 },
-                    "offsets",
-                )?;
-                let mut off = Vec::with_capacity(offsets);
-                for _ in 0..offsets {
-                    off.push(r.int(kind, "an offset")?);
-                }
-                r.c.expect_keyword("CONNECTIVITY")?;
-                let data_type = r.c.expect_token("the data type")?;
-                let kind = kind_of(&r.c, data_type)?;
-                r.begin_data();
-                let connectivity = r.c.check_count(
-                    connectivity,
-                    if binary { Reader::size(kind) } else { 2 },
-                    "connectivity entries",
-                )?;
-                let mut conn = Vec::with_capacity(connectivity);
-                for _ in 0..connectivity {
-                    conn.push(r.int(kind, "a cell's node")?);
-                }
-                let mut list = Vec::with_capacity(offsets.saturating_sub(1));
-                for w in off.windows(2) {
-                    let (a, z) = (w[0], w[1]);
-                    if a < 0 || z < a || z as usize > conn.len() {
-                        return Err(r.c.error(format!(
-                            "offsets {a}..{z} do not fit the {} connectivity entries",
-                            conn.len()
-                        )));
-                    }
-                    list.push(conn[a as usize..z as usize].to_vec());
-                }
-                cells = Some(list);
-            }
-            "CELL_TYPES" => {
-                let n = r.c.usize("the number of cell types")?;
-                r.begin_data();
-                let n =
-                    r.c.check_count(n, if binary { 4 } else { 2 }, "cell types")?;
-                let mut list = Vec::with_capacity(n);
-                for _ in 0..n {
-                    list.push(r.int(Kind::I32, "a cell type")?);
-                }
-                types = Some(list);
-            }
-            "METADATA" => {
-                // Until the blank line that ends it.
-                r.c.rest_of_line();
-                loop {
-                    if r.c.remaining() == 0 {
-                        break;
-                    }
-                    if r.c.rest_of_line().trim().is_empty() {
-                        break;
-                    }
-                }
-            }
+            "CELLS" if !modern => cells = Some(r.cells_inline()?),
+            "CELLS" => cells = Some(r.cells_with_offsets()?),
+            "CELL_TYPES" => types = Some(r.cell_types()?),
+            "METADATA" => r.skip_metadata(),
             "POINT_DATA" | "CELL_DATA" | "FIELD" => break,
             other => {
                 return Err(r.c.error(format!(
@@ -276,6 +320,18 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
             "no CELLS and CELL_TYPES: the file has no cells (truncated?)",
         ));
     };
+    add_cells(&mut b, &cells, &types, name)?;
+    b.finish().map_err(|m| ImportError::at(name, None, m))
+}
+
+/// Adds the tetrahedra among `cells` (types 10 and 24) to `b`, counting the
+/// others as skipped.
+fn add_cells(
+    b: &mut Builder,
+    cells: &[Vec<i64>],
+    types: &[i64],
+    name: &str,
+) -> Result<(), ImportError> {
     if cells.len() != types.len() {
         return Err(ImportError::at(
             name,
@@ -283,7 +339,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
             format!("{} cells but {} cell types", cells.len(), types.len()),
         ));
     }
-    for (cell, kind) in cells.iter().zip(&types) {
+    for (cell, kind) in cells.iter().zip(types) {
         match kind {
             10 | 24 if cell.len() >= 4 => {
                 b.tets.push([cell[0], cell[1], cell[2], cell[3]]);
@@ -302,7 +358,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
             k => b.skip(&cell_name(*k)),
         }
     }
-    b.finish().map_err(|m| ImportError::at(name, None, m))
+    Ok(())
 }
 
 /// VTK legacy 4.2 ASCII.

@@ -5,93 +5,10 @@
 
 use glam::DVec3;
 
+use super::base64;
 use super::builder::{Builder, Imported};
 use super::error::ImportError;
-
-/// An XML start tag: its name and attributes.
-struct Tag<'a> {
-    attributes: Vec<(&'a str, &'a str)>,
-    /// Byte just after the tag's `>`.
-    end: usize,
-    self_closing: bool,
-}
-
-impl Tag<'_> {
-    fn get(&self, key: &str) -> Option<&str> {
-        self.attributes
-            .iter()
-            .find(|(k, _)| *k == key)
-            .map(|(_, v)| *v)
-    }
-}
-
-/// The next start tag named `name` at or after `from`.
-fn find_tag<'a>(text: &'a str, from: usize, name: &str) -> Option<Tag<'a>> {
-    let mut at = from;
-    loop {
-        let open = at + text.get(at..)?.find('<')?;
-        let rest = &text[open + 1..];
-        let name_end = rest
-            .find(|c: char| c.is_whitespace() || c == '>' || c == '/')
-            .unwrap_or(rest.len());
-        let close = open + 1 + rest.find('>')?;
-        if &rest[..name_end] == name {
-            let inner = &text[open + 1 + name_end..close];
-            let self_closing = inner.trim_end().ends_with('/');
-            return Some(Tag {
-                attributes: attributes(inner.trim_end_matches('/')),
-                end: close + 1,
-                self_closing,
-            });
-        }
-        at = close + 1;
-    }
-}
-
-/// `key="value"` pairs (single or double quotes).
-fn attributes(s: &str) -> Vec<(&str, &str)> {
-    let mut out = Vec::new();
-    let mut rest = s;
-    while let Some(eq) = rest.find('=') {
-        let key = rest[..eq].trim();
-        let after = rest[eq + 1..].trim_start();
-        let Some(quote) = after.chars().next().filter(|c| *c == '"' || *c == '\'') else {
-            break;
-        };
-        let Some(len) = after[1..].find(quote) else {
-            break;
-        };
-        out.push((key, &after[1..1 + len]));
-        rest = &after[1 + len + 1..];
-    }
-    out
-}
-
-/// Standard base64 (RFC 4648), white space ignored.
-fn base64(text: &[u8]) -> Result<Vec<u8>, String> {
-    let mut out = Vec::with_capacity(text.len() / 4 * 3);
-    let mut acc = 0u32;
-    let mut bits = 0;
-    for &c in text {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            b'=' => break,
-            c if c.is_ascii_whitespace() => continue,
-            c => return Err(format!("{:?} is not base64", c as char)),
-        };
-        acc = (acc << 6) | u32::from(v);
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-        }
-    }
-    Ok(out)
-}
+use super::xml::{Tag, closing, find_tag, section_end};
 
 #[derive(Clone, Copy)]
 struct Layout {
@@ -172,7 +89,7 @@ fn inline_compressed(text: &[u8], layout: Layout) -> Result<Vec<u8>, String> {
         .collect();
     let h = layout.header_size();
     let chars = |bytes: usize| bytes.div_ceil(3) * 4;
-    let first = base64(clean.get(..chars(h).min(clean.len())).unwrap_or(&[]))?;
+    let first = base64::decode(clean.get(..chars(h).min(clean.len())).unwrap_or(&[]))?;
     let blocks = layout
         .read_header(&first, 0)
         .ok_or("a truncated array header")?;
@@ -182,12 +99,12 @@ fn inline_compressed(text: &[u8], layout: Layout) -> Result<Vec<u8>, String> {
         ));
     }
     let header_chars = chars((3 + blocks) * h);
-    let header = base64(
+    let header = base64::decode(
         clean
             .get(..header_chars)
             .ok_or("a truncated array header")?,
     )?;
-    let data = base64(&clean[header_chars..])?;
+    let data = base64::decode(&clean[header_chars..])?;
     let mut joined = header[..((3 + blocks) * h).min(header.len())].to_vec();
     joined.extend_from_slice(&data);
     Ok(unpack(&joined, layout)?.0)
@@ -253,11 +170,10 @@ impl File<'_> {
             if tag.self_closing {
                 return Ok("");
             }
-            let end = self.xml[tag.end..]
-                .find("</DataArray>")
+            let end = closing(self.xml, tag, "DataArray")
                 .ok_or_else(|| self.err(format!("DataArray {what} is not closed (truncated?)")))?;
             // The data comes first; VTK may nest <InformationKey> after it.
-            let content = &self.xml[tag.end..tag.end + end];
+            let content = &self.xml[tag.end..end];
             Ok(content.split('<').next().unwrap_or(""))
         };
         let bad = |m: String| self.err(format!("DataArray {what}: {m}"));
@@ -274,7 +190,7 @@ impl File<'_> {
                 let bytes = if self.layout.compressed {
                     inline_compressed(text, self.layout).map_err(bad)?
                 } else {
-                    let raw = base64(text).map_err(bad)?;
+                    let raw = base64::decode(text).map_err(bad)?;
                     unpack(&raw, self.layout).map_err(bad)?.0
                 };
                 numbers(&bytes, kind).map_err(bad)
@@ -299,7 +215,7 @@ impl File<'_> {
                     if self.layout.compressed {
                         inline_compressed(text, self.layout).map_err(bad)?
                     } else {
-                        unpack(&base64(text).map_err(bad)?, self.layout)
+                        unpack(&base64::decode(text).map_err(bad)?, self.layout)
                             .map_err(bad)?
                             .0
                     }
@@ -328,6 +244,52 @@ impl File<'_> {
             at = tag.end;
         }
         None
+    }
+
+    /// The point coordinates of `piece` (x, y, z per point), checked to be
+    /// `3 * n_points` values.
+    fn coordinates(&self, piece: &Tag, n_points: usize) -> Result<Vec<f64>, ImportError> {
+        let points =
+            find_tag(self.xml, piece.end, "Points").ok_or_else(|| self.err("no <Points>"))?;
+        let points_end = section_end(self.xml, &points, "Points");
+        let coords_tag = self
+            .named(points.end, points_end, None)
+            .ok_or_else(|| self.err("<Points> has no DataArray"))?;
+        let coords = self.array(&coords_tag)?;
+        if coords.len() != 3 * n_points {
+            return Err(self.err(format!(
+                "{} point coordinates for the {n_points} points announced",
+                coords.len()
+            )));
+        }
+        Ok(coords)
+    }
+
+    /// The `<Cells>` arrays of `piece`, checked to hold `n_cells` offsets
+    /// and types.
+    fn cells(&self, piece: &Tag, n_cells: usize) -> Result<Cells, ImportError> {
+        let cells = find_tag(self.xml, piece.end, "Cells").ok_or_else(|| self.err("no <Cells>"))?;
+        let cells_end = section_end(self.xml, &cells, "Cells");
+        let array = |key: &str| -> Result<Vec<f64>, ImportError> {
+            let tag = self
+                .named(cells.end, cells_end, Some(key))
+                .ok_or_else(|| self.err(format!("<Cells> has no {key} array")))?;
+            self.array(&tag)
+        };
+        let (connectivity, offsets, types) =
+            (array("connectivity")?, array("offsets")?, array("types")?);
+        if offsets.len() != n_cells || types.len() != n_cells {
+            return Err(self.err(format!(
+                "{} offsets and {} types for the {n_cells} cells announced",
+                offsets.len(),
+                types.len()
+            )));
+        }
+        Ok(Cells {
+            connectivity,
+            offsets,
+            types,
+        })
     }
 }
 
@@ -396,61 +358,28 @@ fn open<'a>(bytes: &'a [u8], name: &'a str) -> Result<(File<'a>, usize), ImportE
 pub fn read_array(bytes: &[u8], name: &str, array: &str) -> Result<Vec<f64>, ImportError> {
     let (file, after_root) = open(bytes, name)?;
     let piece = find_tag(file.xml, after_root, "Piece").ok_or_else(|| file.err("no <Piece>"))?;
-    let piece_end = file.xml[piece.end..]
-        .find("</Piece>")
-        .map_or(file.xml.len(), |e| piece.end + e);
+    let piece_end = section_end(file.xml, &piece, "Piece");
     let tag = file
         .named(piece.end, piece_end, Some(array))
         .ok_or_else(|| file.err(format!("no DataArray named {array:?}")))?;
     file.array(&tag)
 }
 
+/// The tetrahedra of a `.vtu`'s first `<Piece>` (other cells skipped).
 pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
-    let err = |m: String| ImportError::at(name, None, m);
     let (file, after_root) = open(bytes, name)?;
-    let xml = file.xml;
-    let piece = find_tag(xml, after_root, "Piece").ok_or_else(|| err("no <Piece>".into()))?;
+    let piece = find_tag(file.xml, after_root, "Piece").ok_or_else(|| file.err("no <Piece>"))?;
     let count = |key: &str| -> Result<usize, ImportError> {
         piece
             .get(key)
             .and_then(|v| v.trim().parse().ok())
-            .ok_or_else(|| err(format!("<Piece> without a valid {key}")))
+            .ok_or_else(|| file.err(format!("<Piece> without a valid {key}")))
     };
     let (n_points, n_cells) = (count("NumberOfPoints")?, count("NumberOfCells")?);
-    let points = find_tag(xml, piece.end, "Points").ok_or_else(|| err("no <Points>".into()))?;
-    let points_end = xml[points.end..]
-        .find("</Points>")
-        .map_or(xml.len(), |e| points.end + e);
-    let coords_tag = file
-        .named(points.end, points_end, None)
-        .ok_or_else(|| err("<Points> has no DataArray".into()))?;
-    let coords = file.array(&coords_tag)?;
-    if coords.len() != 3 * n_points {
-        return Err(err(format!(
-            "{} point coordinates for the {n_points} points announced",
-            coords.len()
-        )));
-    }
-    let cells = find_tag(xml, piece.end, "Cells").ok_or_else(|| err("no <Cells>".into()))?;
-    let cells_end = xml[cells.end..]
-        .find("</Cells>")
-        .map_or(xml.len(), |e| cells.end + e);
-    let array = |key: &str| -> Result<Vec<f64>, ImportError> {
-        let tag = file
-            .named(cells.end, cells_end, Some(key))
-            .ok_or_else(|| err(format!("<Cells> has no {key} array")))?;
-        file.array(&tag)
-    };
-    let (connectivity, offsets, types) =
-        (array("connectivity")?, array("offsets")?, array("types")?);
-    if offsets.len() != n_cells || types.len() != n_cells {
-        return Err(err(format!(
-            "{} offsets and {} types for the {n_cells} cells announced",
-            offsets.len(),
-            types.len()
-        )));
-    }
+    let coords = file.coordinates(&piece, n_points)?;
+    let cells = file.cells(&piece, n_cells)?;
     let mut b = Builder::default();
+    let err = |m: String| file.err(m);
     for (i, c) in coords.chunks_exact(3).enumerate() {
         let p = DVec3::new(c[0], c[1], c[2]);
         if !p.is_finite() {
@@ -458,43 +387,68 @@ pub fn read(bytes: &[u8], name: &str) -> Result<Imported, ImportError> {
         }
         b.node(i as i64, p).map_err(err)?;
     }
-    let mut start = 0usize;
-    for (k, (&end, &kind)) in offsets.iter().zip(&types).enumerate() {
-        let end = end as usize;
-        if end < start || end > connectivity.len() {
-            return Err(err(format!(
-                "cell {k}: offset {end} does not fit the {} connectivity entries",
-                connectivity.len()
-            )));
-        }
-        let nodes = &connectivity[start..end];
-        match kind as i64 {
-            10 | 24 if nodes.len() >= 4 => {
-                b.tets.push([
-                    nodes[0] as i64,
-                    nodes[1] as i64,
-                    nodes[2] as i64,
-                    nodes[3] as i64,
-                ]);
-            }
-            10 | 24 => {
-                return Err(err(format!(
-                    "cell {k}: a tetrahedron with {} nodes",
-                    nodes.len()
-                )));
-            }
-            other => b.skip(&match other {
-                1 => "vertices".to_string(),
-                3 => "lines".into(),
-                5 => "triangles".into(),
-                9 => "quads".into(),
-                12 => "hexahedra".into(),
-                13 => "wedges".into(),
-                14 => "pyramids".into(),
-                o => format!("cells of type {o}"),
-            }),
-        }
-        start = end;
-    }
+    cells.add_to(&mut b).map_err(err)?;
     b.finish().map_err(err)
+}
+
+/// The `<Cells>` arrays of a `<Piece>`, as read (VTK's numbers as f64).
+struct Cells {
+    /// The cells' point indices, one cell after another.
+    connectivity: Vec<f64>,
+    /// Where each cell's points end in `connectivity` (length: cells).
+    offsets: Vec<f64>,
+    /// Each cell's VTK type (length: cells).
+    types: Vec<f64>,
+}
+
+impl Cells {
+    /// Adds the tetrahedra (VTK types 10 and 24) to `b` and counts the other
+    /// cells as skipped; the error says which cell is malformed.
+    fn add_to(&self, b: &mut Builder) -> Result<(), String> {
+        let connectivity = &self.connectivity;
+        let mut start = 0usize;
+        for (k, (&end, &kind)) in self.offsets.iter().zip(&self.types).enumerate() {
+            let end = end as usize;
+            if end < start || end > connectivity.len() {
+                return Err(format!(
+                    "cell {k}: offset {end} does not fit the {} connectivity entries",
+                    connectivity.len()
+                ));
+            }
+            let nodes = &connectivity[start..end];
+            match kind as i64 {
+                10 | 24 if nodes.len() >= 4 => {
+                    b.tets.push([
+                        nodes[0] as i64,
+                        nodes[1] as i64,
+                        nodes[2] as i64,
+                        nodes[3] as i64,
+                    ]);
+                }
+                10 | 24 => {
+                    return Err(format!(
+                        "cell {k}: a tetrahedron with {} nodes",
+                        nodes.len()
+                    ));
+                }
+                other => b.skip(&skipped_kind(other)),
+            }
+            start = end;
+        }
+        Ok(())
+    }
+}
+
+/// What the skip warning calls cells of VTK type `kind`.
+fn skipped_kind(kind: i64) -> String {
+    match kind {
+        1 => "vertices".to_string(),
+        3 => "lines".into(),
+        5 => "triangles".into(),
+        9 => "quads".into(),
+        12 => "hexahedra".into(),
+        13 => "wedges".into(),
+        14 => "pyramids".into(),
+        o => format!("cells of type {o}"),
+    }
 }

@@ -6,6 +6,26 @@ use crate::scene::error::SceneError;
 use crate::scene::raw::{RawFinger, RawPart};
 use crate::scene::{Control, Finger, FingerPart, FingerShape};
 
+/// A finger's contact material and friction (see [`Finger`]'s fields of the same names).
+struct ContactMaterial {
+    young_modulus: f64,
+    poisson_ratio: f64,
+    restitution: f64,
+    friction: f64,
+    stick_velocity: f64,
+    stick_stiffness: f64,
+    stick_damping: f64,
+}
+
+/// When and how far a finger moves, and its guide (see [`Finger`]'s fields of the same names).
+struct Motion {
+    travel: Option<f64>,
+    start_time: f64,
+    ramp_time: f64,
+    guide_friction: f64,
+    guide_speed: f64,
+}
+
 impl Resolver<'_> {
     pub(super) fn fingers(&mut self, raw: &[RawFinger]) -> Result<Vec<Finger>, SceneError> {
         // `[[finger.part]]` tables are numbered in file order, across fingers.
@@ -92,6 +112,8 @@ impl Resolver<'_> {
         Ok(parts)
     }
 
+    /// The `i`-th `[[finger]]`, stage by stage in file order (the order of the defaults
+    /// recorded and of the errors reported); its parts are numbered from `parts_seen` on.
     fn finger(
         &mut self,
         i: usize,
@@ -106,7 +128,58 @@ impl Resolver<'_> {
         let shape = self.finger_shape(at, f.shape.clone(), f.radius, f.size.clone())?;
         let parts = self.parts(f.part.as_deref().unwrap_or_default(), parts_seen)?;
         let position = self.vec3(at("position"), f.position, [0.0, 0.0, 0.035])?;
-        let axes_text = self.default(at("free_axes"), f.free_axes.clone(), "z".to_string());
+        let free_axes = self.finger_free_axes(at, f.free_axes.clone())?;
+        let control = self.finger_control(at, f.control.clone())?;
+        let force = self.vec3(at("force"), f.force, [0.0; 3])?;
+        let velocity = self.vec3(at("velocity"), f.velocity, [0.0; 3])?;
+        let mass = self.number(
+            at("mass"),
+            f.mass,
+            0.0,
+            |x| x >= 0.0,
+            "must be >= 0 kg (0 = a light guide)",
+        )?;
+        let contact = self.finger_contact(at, f)?;
+        let motion = self.finger_motion(at, f)?;
+        let contact_stiffness_scale = self.number(
+            at("contact_stiffness_scale"),
+            f.contact_stiffness_scale,
+            1.0,
+            |x| x > 0.0 && x <= 1e6,
+            "must be in (0, 1e6] (1 = thesis eq. 27)",
+        )?;
+        Ok(Finger {
+            shape,
+            parts,
+            position,
+            free_axes,
+            control,
+            force,
+            velocity,
+            mass,
+            young_modulus: contact.young_modulus,
+            poisson_ratio: contact.poisson_ratio,
+            restitution: contact.restitution,
+            friction: contact.friction,
+            stick_velocity: contact.stick_velocity,
+            stick_stiffness: contact.stick_stiffness,
+            stick_damping: contact.stick_damping,
+            travel: motion.travel,
+            start_time: motion.start_time,
+            ramp_time: motion.ramp_time,
+            guide_friction: motion.guide_friction,
+            guide_speed: motion.guide_speed,
+            contact_stiffness_scale,
+        })
+    }
+
+    /// `free_axes`: the letters of the axes along which the finger moves, each once.
+    fn finger_free_axes<'k>(
+        &mut self,
+        at: impl Fn(&'k str) -> At<'k>,
+        free_axes: Option<String>,
+    ) -> Result<[bool; 3], SceneError> {
+        let axes_text = self.default(at("free_axes"), free_axes, "z".to_string());
         let mut free_axes = [false; 3];
         for c in axes_text.chars() {
             let k = match c {
@@ -125,8 +198,17 @@ impl Resolver<'_> {
             }
             free_axes[k] = true;
         }
+        Ok(free_axes)
+    }
+
+    /// `control`: how the finger is driven, by force or by velocity.
+    fn finger_control<'k>(
+        &mut self,
+        at: impl Fn(&'k str) -> At<'k>,
+        control: Option<String>,
+    ) -> Result<Control, SceneError> {
         let control = match self
-            .default(at("control"), f.control.clone(), "force".to_string())
+            .default(at("control"), control, "force".to_string())
             .as_str()
         {
             "force" => Control::Force,
@@ -139,15 +221,15 @@ impl Resolver<'_> {
                 ));
             }
         };
-        let force = self.vec3(at("force"), f.force, [0.0; 3])?;
-        let velocity = self.vec3(at("velocity"), f.velocity, [0.0; 3])?;
-        let mass = self.number(
-            at("mass"),
-            f.mass,
-            0.0,
-            |x| x >= 0.0,
-            "must be >= 0 kg (0 = a light guide)",
-        )?;
+        Ok(control)
+    }
+
+    /// The finger's contact material and friction, from `young_modulus` to `stick_damping`.
+    fn finger_contact<'k>(
+        &mut self,
+        at: impl Fn(&'k str) -> At<'k>,
+        f: &RawFinger,
+    ) -> Result<ContactMaterial, SceneError> {
         let young_modulus = self.number(
             at("young_modulus"),
             f.young_modulus,
@@ -197,6 +279,23 @@ impl Resolver<'_> {
             |x| x >= 0.0,
             "must be >= 0 N s/m",
         )?;
+        Ok(ContactMaterial {
+            young_modulus,
+            poisson_ratio,
+            restitution,
+            friction,
+            stick_velocity,
+            stick_stiffness,
+            stick_damping,
+        })
+    }
+
+    /// When and how far the finger moves, and its guide: from `travel` to `guide_speed`.
+    fn finger_motion<'k>(
+        &mut self,
+        at: impl Fn(&'k str) -> At<'k>,
+        f: &RawFinger,
+    ) -> Result<Motion, SceneError> {
         let travel = self.optional(at("travel"), f.travel, |x| x >= 0.0, "must be >= 0 m")?;
         let start_time = self.number(
             at("start_time"),
@@ -226,35 +325,12 @@ impl Resolver<'_> {
             |x| x > 0.0,
             "must be > 0 m/s",
         )?;
-        let contact_stiffness_scale = self.number(
-            at("contact_stiffness_scale"),
-            f.contact_stiffness_scale,
-            1.0,
-            |x| x > 0.0 && x <= 1e6,
-            "must be in (0, 1e6] (1 = thesis eq. 27)",
-        )?;
-        Ok(Finger {
-            shape,
-            parts,
-            position,
-            free_axes,
-            control,
-            force,
-            velocity,
-            mass,
-            young_modulus,
-            poisson_ratio,
-            restitution,
-            friction,
-            stick_velocity,
-            stick_stiffness,
-            stick_damping,
+        Ok(Motion {
             travel,
             start_time,
             ramp_time,
             guide_friction,
             guide_speed,
-            contact_stiffness_scale,
         })
     }
 }

@@ -7,13 +7,72 @@ use crate::scene::error::SceneError;
 use crate::scene::raw::RawModel;
 use crate::scene::{BulkPressure, Elasticity, ModelParams};
 
+/// Where `key` of `[model]` is reported.
+fn at(key: &str) -> At<'_> {
+    At {
+        table: "model",
+        index: None,
+        key,
+    }
+}
+
+/// The spring limits of `[model]` (see [`ModelParams`]'s fields of the same names).
+struct SpringLimits {
+    limit_stiffness: f64,
+    tau_s: Option<f64>,
+    tau_c: Option<f64>,
+    constraint_iterations: usize,
+    constraint_tolerance: Option<f64>,
+}
+
+/// The nonlinear terms of the elastic law (see [`ModelParams`]'s fields of the same names).
+struct NonlinearTerms {
+    stiffening: f64,
+    stiffening_cubic: f64,
+    softening: f64,
+    gent_limit: f64,
+    compression_ratio: f64,
+}
+
 impl Resolver<'_> {
+    /// `[model]`, stage by stage in file order (the order of the defaults recorded and of the
+    /// errors reported).
     pub(super) fn model(&mut self, m: RawModel) -> Result<ModelParams, SceneError> {
-        let at = |key| At {
-            table: "model",
-            index: None,
-            key,
-        };
+        let (damping_ratio, rayleigh_mass, rayleigh_stiffness) = self.model_damping(&m)?;
+        let (alpha, bulk_modulus) = self.model_volume(&m)?;
+        let elasticity = self.model_elasticity(&m)?;
+        let bulk_pressure = self.model_bulk_pressure(&m, elasticity)?;
+        let limits = self.model_spring_limits(&m)?;
+        let terms = self.model_nonlinear_terms(&m)?;
+        let (prony_g, prony_tau) = self.model_prony(&m)?;
+        self.check_terms_fit_elasticity(elasticity, &terms)?;
+        let self_collision = self.default(at("self_collision"), m.self_collision, false);
+        Ok(ModelParams {
+            self_collision,
+            elasticity,
+            damping_ratio,
+            rayleigh_mass,
+            rayleigh_stiffness,
+            alpha,
+            bulk_modulus,
+            bulk_pressure,
+            limit_stiffness: limits.limit_stiffness,
+            tau_s: limits.tau_s,
+            tau_c: limits.tau_c,
+            constraint_iterations: limits.constraint_iterations,
+            constraint_tolerance: limits.constraint_tolerance,
+            stiffening: terms.stiffening,
+            stiffening_cubic: terms.stiffening_cubic,
+            softening: terms.softening,
+            gent_limit: terms.gent_limit,
+            compression_ratio: terms.compression_ratio,
+            prony_g,
+            prony_tau,
+        })
+    }
+
+    /// The dampers: `(damping_ratio, rayleigh_mass, rayleigh_stiffness)`.
+    fn model_damping(&mut self, m: &RawModel) -> Result<(f64, f64, f64), SceneError> {
         let damping_ratio = self.number(
             at("damping_ratio"),
             m.damping_ratio,
@@ -35,6 +94,11 @@ impl Resolver<'_> {
             |x| x >= 0.0,
             "must be >= 0 (s; Rayleigh damping's stiffness-proportional b: a mode of angular frequency w is damped at ratio b w / 2; 0 = off)",
         )?;
+        Ok((damping_ratio, rayleigh_mass, rayleigh_stiffness))
+    }
+
+    /// Volume preservation: `(alpha, bulk_modulus)`.
+    fn model_volume(&mut self, m: &RawModel) -> Result<(f64, f64), SceneError> {
         let alpha = self.number(
             at("alpha"),
             m.alpha,
@@ -49,6 +113,11 @@ impl Resolver<'_> {
             |x| x >= 0.0,
             "must be >= 0 Pa (0 = off; E / (3 (1 - 2 nu)) is the material's own bulk modulus)",
         )?;
+        Ok((alpha, bulk_modulus))
+    }
+
+    /// The elastic law: springs or neo-Hookean elements.
+    fn model_elasticity(&mut self, m: &RawModel) -> Result<Elasticity, SceneError> {
         let elasticity_at = at("elasticity");
         let elasticity = match self
             .default(elasticity_at, m.elasticity.clone(), "springs".to_string())
@@ -64,6 +133,15 @@ impl Resolver<'_> {
                 ));
             }
         };
+        Ok(elasticity)
+    }
+
+    /// Where the bulk term measures the volume change; its default depends on `elasticity`.
+    fn model_bulk_pressure(
+        &mut self,
+        m: &RawModel,
+        elasticity: Elasticity,
+    ) -> Result<BulkPressure, SceneError> {
         let bulk_pressure_at = at("bulk_pressure");
         let bulk_pressure = match self
             .default(
@@ -89,6 +167,11 @@ impl Resolver<'_> {
                 ));
             }
         };
+        Ok(bulk_pressure)
+    }
+
+    /// The limit springs, the over-stretch and over-compression limits and their projection.
+    fn model_spring_limits(&mut self, m: &RawModel) -> Result<SpringLimits, SceneError> {
         let limit_stiffness = self.number(
             at("limit_stiffness"),
             m.limit_stiffness,
@@ -118,6 +201,18 @@ impl Resolver<'_> {
             |x| x > 0.0 && x <= 0.1,
             "must be in (0, 0.1] (a fraction of the rest length; omit the key for exactly constraint_iterations sweeps)",
         )?;
+        Ok(SpringLimits {
+            limit_stiffness,
+            tau_s,
+            tau_c,
+            constraint_iterations: iters as usize,
+            constraint_tolerance,
+        })
+    }
+
+    /// The elastic law's nonlinear terms: stiffening, Yeoh's and Gent's terms, the
+    /// compression ratio.
+    fn model_nonlinear_terms(&mut self, m: &RawModel) -> Result<NonlinearTerms, SceneError> {
         let stiffening = self.number(
             at("stiffening"),
             m.stiffening,
@@ -153,6 +248,17 @@ impl Resolver<'_> {
             |x| x > 0.0 && x <= 100.0,
             "must be in (0, 100] (compression stiffness over tension stiffness; 1 = symmetric)",
         )?;
+        Ok(NonlinearTerms {
+            stiffening,
+            stiffening_cubic,
+            softening,
+            gent_limit,
+            compression_ratio,
+        })
+    }
+
+    /// Viscoelasticity, one Prony term: `(prony_g, prony_tau)`.
+    fn model_prony(&mut self, m: &RawModel) -> Result<(f64, f64), SceneError> {
         let prony_g = self.number(
             at("prony_g"),
             m.prony_g,
@@ -167,6 +273,22 @@ impl Resolver<'_> {
             |x| x > 0.0,
             "must be > 0 s (the relaxation time constant)",
         )?;
+        Ok((prony_g, prony_tau))
+    }
+
+    /// Rejects a nonlinear term that the chosen elastic law does not have.
+    fn check_terms_fit_elasticity(
+        &self,
+        elasticity: Elasticity,
+        terms: &NonlinearTerms,
+    ) -> Result<(), SceneError> {
+        let NonlinearTerms {
+            stiffening_cubic,
+            softening,
+            gent_limit,
+            compression_ratio,
+            ..
+        } = *terms;
         if elasticity == Elasticity::Springs {
             for (key, value) in [
                 ("stiffening_cubic", stiffening_cubic),
@@ -193,28 +315,6 @@ impl Resolver<'_> {
                 }
             }
         }
-        let self_collision = self.default(at("self_collision"), m.self_collision, false);
-        Ok(ModelParams {
-            self_collision,
-            elasticity,
-            damping_ratio,
-            rayleigh_mass,
-            rayleigh_stiffness,
-            alpha,
-            bulk_modulus,
-            bulk_pressure,
-            limit_stiffness,
-            tau_s,
-            tau_c,
-            constraint_iterations: iters as usize,
-            constraint_tolerance,
-            stiffening,
-            stiffening_cubic,
-            softening,
-            gent_limit,
-            compression_ratio,
-            prony_g,
-            prony_tau,
-        })
+        Ok(())
     }
 }
