@@ -32,7 +32,7 @@ value_enum! {
     MeshFormat(softgrip_core::mesh::io::Format) {
         Msh = "msh": "Gmsh 4.1 ASCII (`.msh`; reading also takes 2.2 and binary)",
         Msh22 = "msh22": "Gmsh 2.2 ASCII (`.msh`)",
-        Tetgen = "tetgen": "TetGen `.node` + `.ele` (+ `.face`): give either file name",
+        Tetgen = "tetgen": "TetGen `.node` + `.ele` (+ `.face`), named by either file",
         Vtk = "vtk": "VTK legacy ASCII unstructured grid (`.vtk`; reading also takes binary and version 5.1)",
         Vtu = "vtu": "VTK XML unstructured grid (`.vtu`, ASCII; reading also takes inline binary, appended and zlib-compressed data)",
     }
