@@ -614,6 +614,8 @@ fn synth_writes_a_recording_that_compares_to_its_noise() {
         "{text}"
     );
     let v = read_json(&json);
+    // With its discretisation the JSON is still its type's (docs/schema/compare.json).
+    softgrip_lab::schema::round_trip("compare", &v).unwrap();
     let d = &v["discretisation"];
     assert!(d["mesh"]["rms_m"].as_f64().is_some_and(|m| m > 0.0), "{v}");
     assert!(d["time_step"]["skipped"].is_string(), "{v}");

@@ -1,7 +1,9 @@
 //! Every command's `--json` read back through its type (`softgrip_lab::schema::round_trip`): a
 //! key the type does not know, one it lacks or a value of the wrong kind fails, and so does a
 //! file that does not come back the same. The schemas in `docs/schema/` are those types'
-//! (`softgrip-lab`'s test `schema`).
+//! (`softgrip-lab`'s test `schema`). The diagnosis's JSON is read back in its own end-to-end
+//! test (`softgrip-lab`'s `diagnose_run`), the grasp window's and compare's with
+//! `--discretisation` in `cli.rs`.
 
 use std::path::Path;
 
@@ -111,34 +113,6 @@ fn every_commands_json_fits_its_type() {
         arg(&out("ramp")),
     ]);
     fits("ramp", &out("ramp"));
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// The diagnosis's JSON, and compare's with `--discretisation` (the refined replays).
-#[test]
-#[ignore = "slow: a whole diagnosis"]
-fn the_diagnosis_json_fits_its_type() {
-    let dir = scratch_dir("softgrip-json-schema-diagnose");
-    let out = |name: &str| dir.join(format!("{name}.json"));
-    let thesis = recording("synthetic/thesis_7_loads/recording.toml");
-    let compare = [
-        "compare",
-        &thesis,
-        "--discretisation",
-        "--no-report",
-        "--json",
-    ];
-    ok(&[&compare[..], &[arg(&out("compare"))]].concat());
-    fits("compare", &out("compare"));
-    assert!(read_json(&out("compare"))["discretisation"].is_object());
-    let budget = ["--max-evaluations", "10", "--no-report", "--json"];
-    ok(&[
-        &["diagnose", &thesis][..],
-        &budget[..],
-        &[arg(&out("diagnose"))],
-    ]
-    .concat());
-    fits("diagnose", &out("diagnose"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

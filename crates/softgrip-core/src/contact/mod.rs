@@ -389,7 +389,7 @@ fn stamp(
             system.add_coupling(ends[a], n + k, blocks[a][3], damping, &vel);
         }
     } else {
-        add_pair_jacobian(model, system, k, j, tri, p, g, normal, tangential, &vel);
+        add_pair_jacobian(model, system, pair, &vel);
     }
 }
 
@@ -428,19 +428,22 @@ fn record(state: &mut State, pair: &Pair, params: &StickSlipParams) {
 /// The Jacobian blocks of one finger-facet contact in time steps: `[w_0, w_1, w_2, -1] (x) Q`
 /// with `Q` the normal stiffness along the normal and the stick spring's in the plane, and the
 /// sphere's lever stiffness (all symmetric positive semi-definite).
-#[allow(clippy::too_many_arguments)]
 fn add_pair_jacobian(
     model: &Model,
     system: &mut System,
-    k: usize,
-    j: usize,
-    tri: [u32; 3],
-    p: [DVec3; 3],
-    g: Geometry,
-    normal: hunt_crossley::NormalForce,
-    tangential: friction::TangentialForce,
+    pair: &Pair,
     vel: &impl Fn(usize) -> DVec3,
 ) {
+    let Pair {
+        k,
+        j,
+        tri,
+        p,
+        g,
+        normal,
+        tangential,
+        ..
+    } = *pair;
     let n = model.particle_count();
     let w = g.weights;
     let finger = &model.fingers[k];

@@ -467,15 +467,9 @@ impl Simulation {
     }
 
     fn iterate(&mut self, base: &Arc<Model>, o: StaticOptions) -> Result<StaticReport, SimError> {
-        let (
-            Bounds {
-                tolerance,
-                max_move,
-                smallest,
-                guide_hold,
-            },
-            mut report,
-        ) = bounds(base, &self.state, o);
+        let (b, mut report) = bounds(base, &self.state, o);
+        let (tolerance, max_move, smallest) = (b.tolerance, b.max_move, b.smallest);
+        let guide_hold = b.guide_hold;
         let mut models: Vec<(f64, bool, Arc<Model>)> = Vec::new();
         let mut h = if o.warm { o.max_pseudo_step } else { base.dt };
         let mut last_failure = Failure::Still(0.0);
@@ -574,15 +568,9 @@ impl Simulation {
     /// semi-definite one at the same `h`. The force at a trial step is the next iteration's own
     /// assembly, so a step the search keeps costs nothing extra.
     fn newton(&mut self, base: &Arc<Model>, o: StaticOptions) -> Result<StaticReport, SimError> {
-        let (
-            Bounds {
-                tolerance,
-                max_move,
-                smallest,
-                guide_hold,
-            },
-            mut report,
-        ) = bounds(base, &self.state, o);
+        let (b, mut report) = bounds(base, &self.state, o);
+        let (tolerance, max_move, smallest) = (b.tolerance, b.max_move, b.smallest);
+        let guide_hold = b.guide_hold;
         let mut models: Vec<(f64, bool, Arc<Model>)> = Vec::new();
         // From an equilibrium with its contacts made, Newton's full step; a finger or table not
         // touching yet ramps the pseudo step from dt, so that a free body's first moves stay

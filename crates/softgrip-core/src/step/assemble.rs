@@ -150,58 +150,49 @@ pub fn run(
 ) {
     let mut mark = Instant::now();
     for &stage in stages {
-        run_stage(stage, model, state, force, system, share, scratch);
+        let elements = share.elements.clone();
+        match stage {
+            Stage::Springs => match &model.fem {
+                Some(_) => forces::springs::accumulate_dampers(model, state, force, system),
+                None => forces::springs::accumulate(model, state, force, system),
+            },
+            Stage::NodalVolume => forces::volume::nodal(model, state, force, system),
+            Stage::External => forces::external::accumulate(model, state, force, system),
+            Stage::MassDamping => forces::viscosity::accumulate_mass(model, state, force, system),
+            Stage::Pull => forces::pull::accumulate(model, state, force, system),
+            Stage::FingerContact => {
+                contact::accumulate(model, state, force, system, &mut scratch.contact);
+            }
+            Stage::TableContact => contact::table::accumulate(model, state, force, system),
+            Stage::SelfCollision => contact::self_collision::accumulate(
+                model,
+                state,
+                force,
+                system,
+                &mut scratch.self_collision,
+            ),
+            Stage::Elements => match &model.fem {
+                Some(fem) => {
+                    forces::fem::accumulate_elements(model, fem, state, force, system, elements);
+                }
+                None => forces::volume::accumulate_elements(model, state, force, system, elements),
+            },
+            Stage::Dashpots => {
+                let springs = share.springs.clone();
+                forces::viscosity::accumulate_dashpots(model, state, force, system, springs);
+            }
+            Stage::Arms => {
+                forces::viscosity::accumulate_arms(model, state, force, system, elements)
+            }
+            Stage::ElementDamping => {
+                forces::viscosity::accumulate_element_damping(
+                    model, state, force, system, elements,
+                );
+            }
+        }
         let now = Instant::now();
         scratch.seconds[stage as usize] += (now - mark).as_secs_f64();
         mark = now;
-    }
-}
-
-/// One stage.
-fn run_stage(
-    stage: Stage,
-    model: &Model,
-    state: &mut State,
-    force: &mut [DVec3],
-    system: &mut System,
-    share: &Share,
-    scratch: &mut StageScratch,
-) {
-    let elements = share.elements.clone();
-    match stage {
-        Stage::Springs => match &model.fem {
-            Some(_) => forces::springs::accumulate_dampers(model, state, force, system),
-            None => forces::springs::accumulate(model, state, force, system),
-        },
-        Stage::NodalVolume => forces::volume::nodal(model, state, force, system),
-        Stage::External => forces::external::accumulate(model, state, force, system),
-        Stage::MassDamping => forces::viscosity::accumulate_mass(model, state, force, system),
-        Stage::Pull => forces::pull::accumulate(model, state, force, system),
-        Stage::FingerContact => {
-            contact::accumulate(model, state, force, system, &mut scratch.contact);
-        }
-        Stage::TableContact => contact::table::accumulate(model, state, force, system),
-        Stage::SelfCollision => contact::self_collision::accumulate(
-            model,
-            state,
-            force,
-            system,
-            &mut scratch.self_collision,
-        ),
-        Stage::Elements => match &model.fem {
-            Some(fem) => {
-                forces::fem::accumulate_elements(model, fem, state, force, system, elements)
-            }
-            None => forces::volume::accumulate_elements(model, state, force, system, elements),
-        },
-        Stage::Dashpots => {
-            let springs = share.springs.clone();
-            forces::viscosity::accumulate_dashpots(model, state, force, system, springs);
-        }
-        Stage::Arms => forces::viscosity::accumulate_arms(model, state, force, system, elements),
-        Stage::ElementDamping => {
-            forces::viscosity::accumulate_element_damping(model, state, force, system, elements);
-        }
     }
 }
 

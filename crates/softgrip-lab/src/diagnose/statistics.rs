@@ -89,51 +89,13 @@ pub fn effective_tests(d: &[Vec<f64>]) -> f64 {
             r[j][i] = c;
         }
     }
-    let l: Vec<f64> = symmetric_eigenvalues(r)
+    let l: Vec<f64> = crate::optimize::symmetric_eigenvalues(&r)
         .into_iter()
         .map(|l| l.max(0.0))
         .collect();
     let roots: f64 = l.iter().map(|x| x.sqrt()).sum();
     // The trace is k; rounding aside.
     roots * roots / l.iter().sum::<f64>().max(f64::MIN_POSITIVE)
-}
-
-/// Eigenvalues of a small symmetric matrix by cyclic Jacobi rotations.
-fn symmetric_eigenvalues(mut a: Vec<Vec<f64>>) -> Vec<f64> {
-    let k = a.len();
-    for _ in 0..100 {
-        let off: f64 = (0..k)
-            .flat_map(|i| (0..k).filter(move |&j| j != i).map(move |j| (i, j)))
-            .map(|(i, j)| a[i][j] * a[i][j])
-            .sum();
-        if off < 1e-24 {
-            break;
-        }
-        for p in 0..k {
-            for q in p + 1..k {
-                if a[p][q].abs() < 1e-300 {
-                    continue;
-                }
-                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                // The rotation that zeroes a[p][q] (Numerical Recipes, 11.1).
-                let sign = if theta >= 0.0 { 1.0 } else { -1.0 };
-                let t = sign / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                for row in a.iter_mut() {
-                    let (x, y) = (row[p], row[q]);
-                    row[p] = c * x - s * y;
-                    row[q] = s * x + c * y;
-                }
-                for j in 0..k {
-                    let (x, y) = (a[p][j], a[q][j]);
-                    a[p][j] = c * x - s * y;
-                    a[q][j] = s * x + c * y;
-                }
-            }
-        }
-    }
-    (0..k).map(|i| a[i][i]).collect()
 }
 
 /// A mismatch no candidate explains is "unexplained" when the baseline's
@@ -300,21 +262,5 @@ mod threshold_tests {
         assert!((effective_tests(&[a.clone(), vec![1.0, 2.0]]) - 2.0).abs() < 1e-9);
         assert_eq!(effective_tests(&[a]), 1.0);
         assert_eq!(effective_tests(&[]), 0.0);
-    }
-
-    /// The Jacobi eigenvalues of a matrix with known ones.
-    #[test]
-    fn jacobi_finds_known_eigenvalues() {
-        // [[2,1,0],[1,2,1],[0,1,2]]: 2 - sqrt 2, 2, 2 + sqrt 2.
-        let mut l = symmetric_eigenvalues(vec![
-            vec![2.0, 1.0, 0.0],
-            vec![1.0, 2.0, 1.0],
-            vec![0.0, 1.0, 2.0],
-        ]);
-        l.sort_by(f64::total_cmp);
-        let r2 = 2f64.sqrt();
-        for (got, want) in l.iter().zip([2.0 - r2, 2.0, 2.0 + r2]) {
-            assert!((got - want).abs() < 1e-12, "{l:?}");
-        }
     }
 }

@@ -22,7 +22,7 @@ pub use design::halton;
 pub use levenberg_marquardt::{
     JacobianAt, ResidualBatch, levenberg_marquardt, levenberg_marquardt_with,
 };
-pub use linalg::invert;
+pub use linalg::{invert, symmetric_eigenvalues};
 pub use nelder_mead::{minimize, nelder_mead};
 pub use scale::{BoundedScale, at_bound};
 pub use types::{Minimum, Tolerances};

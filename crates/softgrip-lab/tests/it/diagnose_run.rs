@@ -70,6 +70,8 @@ fn a_diagnosis_names_the_strong_load_loss_and_writes_the_specs_json_and_report()
     assert_eq!(d.baseline.params.len(), 1);
     assert_eq!(d.baseline.params[0].0, "young_modulus");
     let v = diagnose::to_json(&d, &rec);
+    // The JSON is its type's (docs/schema/diagnose.json).
+    softgrip_lab::schema::round_trip("diagnose", &v).unwrap();
     for key in ["nrmse", "nrmse_all", "rmse_m", "params"] {
         assert!(v["baseline"].get(key).is_some(), "baseline.{key}");
     }
