@@ -337,6 +337,18 @@ fn colouring_by_a_field_draws_its_legend() {
     harness.get_by_label("colour by").click();
     harness.run_steps(2);
     harness.get_by_label("displacement").click();
+    // The live run has moved the object (on a loaded machine it may not have, a few frames in).
+    harness
+        .state()
+        .panels
+        .live
+        .wait_for(PATIENCE, |f| {
+            f.model.as_ref().is_some_and(|m| {
+                let moved = f.state.positions.iter().zip(&m.rest_positions);
+                moved.into_iter().any(|(p, r)| p.distance(*r) > 2e-4)
+            })
+        })
+        .expect("the object moves");
     harness.run_steps(4);
     let legend = harness.state().legend().expect("a legend");
     assert_eq!(legend.field, softgrip_core::fields::Field::Displacement);
