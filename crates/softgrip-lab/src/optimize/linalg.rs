@@ -11,7 +11,7 @@ use faer::{Mat, Side};
 pub const RELATIVE_PIVOT: f64 = 1e-10;
 
 /// The inverse of a symmetric positive definite matrix (rows of equal length) by Cholesky;
-/// `None` when it is not positive definite, has a pivot below [`RELATIVE_PIVOT`] of its largest
+/// `None` when it is not positive definite, has a pivot below `RELATIVE_PIVOT` (1e-10) of its largest
 /// diagonal entry, or is not finite.
 pub fn invert(a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
     let n = a.len();
