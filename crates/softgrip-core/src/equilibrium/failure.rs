@@ -101,8 +101,9 @@ fn stall_words(model: &Model) -> (&'static str, &'static str) {
     } else {
         (
             "contacts switching on and off",
-            "No rest found under this load: check the supports (a frictionless one lets the \
-             object slide) and the load's size",
+            "No rest found under this load: check the supports (with no friction anywhere \
+             nothing holds the object sideways: give the table or a finger one, [support] \
+             friction or [[finger]] friction) and the load's size",
         )
     }
 }
