@@ -46,6 +46,7 @@ value_enum! {
     }
 }
 
+#[cfg(feature = "gui")]
 value_enum! {
     /// `screenshot --color`.
     Field(softgrip_core::fields::Field) {
