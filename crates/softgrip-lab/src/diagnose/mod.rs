@@ -148,7 +148,12 @@ pub fn diagnose(
         remainder,
         set_aside,
     };
-    d.evidence.push_str(&alternatives_text(&d));
+    let alternatives = alternatives_text(&d);
+    // A sentence of its own ("NRMSE ... 0.0186. No other reading ...").
+    if !alternatives.is_empty() && !d.evidence.trim_end().ends_with('.') {
+        d.evidence.push('.');
+    }
+    d.evidence.push_str(&alternatives);
     finish(&mut d, recording, options, &mut fits);
     Ok(d)
 }
