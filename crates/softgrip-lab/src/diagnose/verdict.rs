@@ -711,8 +711,7 @@ mod tests {
         // The effects' limit reached: no round after the last named, nothing said.
         assert!(!text(vec![]).contains("Nothing more"));
         // A candidate named in that round is not a stop.
-        let mut both = vec![named.clone(), round(tried("load-loss", -40.0, 0.3, 3.0), 1)];
-        both[1].round = 1;
+        let both = vec![named.clone(), round(tried("load-loss", -40.0, 0.3, 3.0), 1)];
         let two = evidence_text(
             &location,
             &both,
