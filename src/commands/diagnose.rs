@@ -115,10 +115,15 @@ pub fn run(args: Args) -> Result<()> {
             .transpose()?,
         ..DiagnoseOptions::default()
     };
-    if let Some(c) = options.checkpoint.as_ref().filter(|c| !c.is_empty()) {
+    if let Some(c) = options
+        .checkpoint
+        .as_ref()
+        .filter(|c| !c.is_empty() || c.simulations_len() > 0)
+    {
         println!(
-            "{} fits saved in {}: those of this diagnosis are not fitted again (delete the file to refit)",
+            "{} fits and {} simulations saved in {}: those of this diagnosis are not run again (delete the file to refit)",
             c.len(),
+            c.simulations_len(),
             c.path().display()
         );
     }
@@ -157,9 +162,16 @@ fn tell_checkpoint(c: &diagnose::Checkpoint) {
             c.path().display()
         );
     }
+    if c.reused_simulations() > 0 {
+        println!(
+            "resumed: {} simulations of fits that had not ended taken from {}",
+            c.reused_simulations(),
+            c.path().display()
+        );
+    }
     if let Some(c) = Some(c).filter(|c| c.damaged() > 0) {
         eprintln!(
-            "warning: {}: {} saved fit(s) not as softgrip wrote them (a line edited or damaged, or values outside their bounds) were fitted again; delete the file to start afresh",
+            "warning: {}: {} saved line(s) not as softgrip wrote them (a line edited or damaged, or a fit's values outside their bounds) were run again; delete the file to start afresh",
             c.path().display(),
             c.damaged()
         );

@@ -10,6 +10,15 @@
 //! replayed once at its values from rest: the same model as the run that saved it, its
 //! residuals within the replays' rest tolerance of that run's (whose last replay may have
 //! started from a neighbour's equilibrium), and so the noise and the scores after it.
+//!
+//! A fit of a time series also logs each simulation as it ends (`sim1` lines: the point, its
+//! weighted residuals' bits or that its replay failed), so that a stop in the middle of a fit
+//! (one of a beam's takes an hour or two) loses one simulation, not the fit: the resumed fit
+//! asks for the same points in the same order (a time series replays from rest, a pure
+//! function of the point) and takes each logged one instead of simulating it, so it ends
+//! where the uninterrupted fit would, bit for bit. Quasi-static fits log nothing: their
+//! replays start from a neighbour's equilibrium, which a logged point does not keep, and they
+//! take seconds.
 
 use std::collections::HashMap;
 use std::fmt::Debug;
@@ -23,8 +32,19 @@ use crate::error::LabError;
 /// The first word of every line: a file of another layout is not read as this one.
 const VERSION: &str = "fit3";
 
-/// The most a checkpoint file is read (bytes): a diagnosis saves tens of lines of 100 bytes.
+/// The first word of a simulation's line.
+const SIMULATION: &str = "sim1";
+
+/// The most a checkpoint file is read (bytes): a diagnosis saves tens of lines of 100 bytes,
+/// and a time series' a line of 17 bytes per residual for each simulation (a beam's diagnosis
+/// of 400 simulations of 2,000 residuals, 14 MB).
 const MAX_BYTES: u64 = 100_000_000;
+
+/// A simulation as logged: its weighted residuals, `None` where its replay failed.
+pub(super) type Logged = Option<Vec<f64>>;
+
+/// The simulations logged under one fit's key, by point (its unit-box coordinates' bits).
+pub(super) type Simulations = HashMap<Vec<u64>, Logged>;
 
 /// A fit as saved: its simulations, its wall time and its values.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,6 +60,10 @@ pub struct Checkpoint {
     path: PathBuf,
     build: String,
     saved: Arc<Mutex<HashMap<u64, Saved>>>,
+    /// Simulations of fits that had not ended, by their fit's simulation key.
+    simulations: Arc<Mutex<HashMap<u64, Simulations>>>,
+    /// Simulations taken from the file in this run instead of run.
+    reused_simulations: Arc<Mutex<usize>>,
     /// Fits taken from the file in this run, and the seconds they took the run that saved them.
     reused: Arc<Mutex<(usize, f64)>>,
     /// The first save that failed (a full disk): the diagnosis goes on, its fits unsaved.
@@ -86,11 +110,15 @@ impl Checkpoint {
         })?;
         let mut damaged = 0;
         let mut saved = HashMap::new();
+        let mut simulations: HashMap<u64, Simulations> = HashMap::new();
         // Line by line: bytes that are not text damage their line, not the file.
         for line in bytes.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
             match std::str::from_utf8(line).map(parse) {
                 Ok(Line::Fit(key, fit)) => {
                     saved.insert(key, fit);
+                }
+                Ok(Line::Simulation(key, point, logged)) => {
+                    simulations.entry(key).or_default().insert(point, logged);
                 }
                 Ok(Line::Other) => {}
                 Ok(Line::Damaged) | Err(_) => damaged += 1,
@@ -100,6 +128,8 @@ impl Checkpoint {
             path: path.to_path_buf(),
             build: build.to_string(),
             saved: Arc::new(Mutex::new(saved)),
+            simulations: Arc::new(Mutex::new(simulations)),
+            reused_simulations: Arc::default(),
             reused: Arc::default(),
             failed: Arc::default(),
             damaged: Arc::new(Mutex::new(damaged)),
@@ -139,6 +169,19 @@ impl Checkpoint {
         self.len() == 0
     }
 
+    /// Simulations in the file of fits that had not ended when they were logged (of any build
+    /// or diagnosis).
+    pub fn simulations_len(&self) -> usize {
+        self.simulations
+            .lock()
+            .map_or(0, |s| s.values().map(HashMap::len).sum())
+    }
+
+    /// Simulations this run took from the file instead of running them.
+    pub fn reused_simulations(&self) -> usize {
+        self.reused_simulations.lock().map_or(0, |r| *r)
+    }
+
     /// Fits this run took from the file instead of fitting.
     pub fn reused(&self) -> usize {
         self.reused.lock().map_or(0, |r| r.0)
@@ -170,6 +213,46 @@ impl Checkpoint {
         self.saved.lock().ok()?.get(&key).cloned()
     }
 
+    /// The simulations logged under a fit's simulation `key` (see [`Checkpoint::key`]).
+    pub(super) fn simulations(&self, key: u64) -> Simulations {
+        self.simulations
+            .lock()
+            .ok()
+            .and_then(|s| s.get(&key).cloned())
+            .unwrap_or_default()
+    }
+
+    /// Counts a logged simulation as taken from the file.
+    pub(super) fn simulation_taken(&self) {
+        if let Ok(mut r) = self.reused_simulations.lock() {
+            *r += 1;
+        }
+    }
+
+    /// Logs one simulation of a fit under its simulation `key`: `point`'s weighted residuals,
+    /// or `None` where its replay failed. Appended and flushed at once, as [`Checkpoint::save`].
+    pub(super) fn log_simulation(&self, key: u64, point: &[u64], logged: Option<&[f64]>) {
+        self.write(&format_simulation(key, point, logged));
+        if let Ok(mut s) = self.simulations.lock() {
+            s.entry(key)
+                .or_default()
+                .insert(point.to_vec(), logged.map(<[f64]>::to_vec));
+        }
+    }
+
+    /// Appends `line` to the file; a write that fails is kept for [`Checkpoint::failed`].
+    fn write(&self, line: &str) {
+        let written = append(&self.path).and_then(|mut file| {
+            file.write_all(line.as_bytes())?;
+            file.flush()
+        });
+        if let Err(e) = written
+            && let Ok(mut f) = self.failed.lock()
+        {
+            f.get_or_insert_with(|| format!("{}: {e}", self.path.display()));
+        }
+    }
+
     /// Counts `fit` as taken from the file (not when its replay failed and it was fitted again).
     pub(super) fn taken(&self, fit: &Saved) {
         if let Ok(mut r) = self.reused.lock() {
@@ -182,16 +265,7 @@ impl Checkpoint {
     /// at most the fit it interrupts. A save that fails does not fail the fit: it is kept for
     /// [`Checkpoint::failed`].
     pub(super) fn save(&self, key: u64, fit: Saved) {
-        let line = format_line(key, &fit);
-        let written = append(&self.path).and_then(|mut file| {
-            file.write_all(line.as_bytes())?;
-            file.flush()
-        });
-        if let Err(e) = written
-            && let Ok(mut f) = self.failed.lock()
-        {
-            f.get_or_insert_with(|| format!("{}: {e}", self.path.display()));
-        }
+        self.write(&format_line(key, &fit));
         if let Ok(mut s) = self.saved.lock() {
             s.insert(key, fit);
         }
@@ -237,6 +311,26 @@ fn format_line(key: u64, fit: &Saved) -> String {
     line
 }
 
+/// `sim1 KEY N POINT... ok RESIDUAL... CHECKSUM` (or `failed` and no residuals), every number
+/// but N as the hex of its bits.
+fn format_simulation(key: u64, point: &[u64], logged: Option<&[f64]>) -> String {
+    let mut line = format!("{SIMULATION} {key:016x} {}", point.len());
+    for b in point {
+        line.push_str(&format!(" {b:016x}"));
+    }
+    match logged {
+        Some(r) => {
+            line.push_str(" ok");
+            for v in r {
+                line.push_str(&format!(" {:016x}", v.to_bits()));
+            }
+        }
+        None => line.push_str(" failed"),
+    }
+    line.push_str(&format!(" {:016x}\n", checksum(&line)));
+    line
+}
+
 /// FNV-1a over a line's text before its checksum: the same on every build and platform.
 fn checksum(text: &str) -> u64 {
     text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
@@ -248,6 +342,8 @@ fn checksum(text: &str) -> u64 {
 #[derive(Debug, PartialEq)]
 enum Line {
     Fit(u64, Saved),
+    /// A simulation of a fit: its fit's simulation key, its point, what it gave.
+    Simulation(u64, Vec<u64>, Logged),
     /// Of another layout (an older softgrip's): not read, not damaged.
     Other,
     /// This layout, but not as it was written: cut short by a kill, edited, or damaged.
@@ -256,12 +352,14 @@ enum Line {
 
 fn parse(line: &str) -> Line {
     let line = line.trim_end_matches('\r');
-    match line.split_ascii_whitespace().next() {
-        Some(VERSION) => {}
-        // An older softgrip's layout.
+    let first = line.split_ascii_whitespace().next();
+    match first {
+        Some(VERSION | SIMULATION) => {}
+        // Another softgrip's layout.
         Some(w)
-            if w.strip_prefix("fit")
-                .is_some_and(|n| n.parse::<u32>().is_ok()) =>
+            if ["fit", "sim"]
+                .iter()
+                .any(|p| w.strip_prefix(p).is_some_and(|n| n.parse::<u32>().is_ok())) =>
         {
             return Line::Other;
         }
@@ -273,13 +371,12 @@ fn parse(line: &str) -> Line {
     if u64::from_str_radix(sum, 16).ok() != Some(checksum(body)) || sum.len() != 16 {
         return Line::Damaged;
     }
-    let mut words = body.split_ascii_whitespace().skip(1);
-    let number = |w: &str| {
-        (w.len() == 16)
-            .then(|| u64::from_str_radix(w, 16).ok())
-            .flatten()
-            .map(f64::from_bits)
-    };
+    let words = body.split_ascii_whitespace().skip(1);
+    if first == Some(SIMULATION) {
+        return parse_simulation(words).unwrap_or(Line::Damaged);
+    }
+    let mut words = words;
+    let number = |w: &str| bits(w).map(f64::from_bits);
     let fit = (|| {
         let key = u64::from_str_radix(words.next()?, 16).ok()?;
         let evaluations = words.next()?.parse().ok()?;
@@ -295,6 +392,32 @@ fn parse(line: &str) -> Line {
         ))
     })();
     fit.map_or(Line::Damaged, |(k, f)| Line::Fit(k, f))
+}
+
+/// A 16-digit hex word as the bits it writes.
+fn bits(w: &str) -> Option<u64> {
+    (w.len() == 16)
+        .then(|| u64::from_str_radix(w, 16).ok())
+        .flatten()
+}
+
+/// A `sim1` line's words after the first, its checksum already checked.
+fn parse_simulation<'a>(mut words: impl Iterator<Item = &'a str>) -> Option<Line> {
+    let key = u64::from_str_radix(words.next()?, 16).ok()?;
+    let n: usize = words.next()?.parse().ok()?;
+    let point = (0..n)
+        .map(|_| bits(words.next()?))
+        .collect::<Option<Vec<u64>>>()?;
+    let logged = match words.next()? {
+        "ok" => Some(
+            words
+                .map(|w| bits(w).map(f64::from_bits))
+                .collect::<Option<Vec<f64>>>()?,
+        ),
+        "failed" => words.next().is_none().then_some(None)?,
+        _ => return None,
+    };
+    Some(Line::Simulation(key, point, logged))
 }
 
 #[cfg(test)]
@@ -350,6 +473,43 @@ mod tests {
         let other = Checkpoint::open(&path, "build-b").expect("reopen");
         assert_eq!(other.get(other.key(&("scene", 0.25, [1.0, 2.0]))), None);
         assert_eq!(other.reused(), 0);
+        let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
+    }
+
+    /// A logged simulation comes back bit for bit under its key, a failed one as failed; a
+    /// line cut short by a kill is counted as damaged, another key finds nothing.
+    #[test]
+    fn a_logged_simulation_comes_back_exactly_under_its_key() {
+        let path = temp("simulations");
+        let c = Checkpoint::open(&path, "build-a").expect("open");
+        let key = c.key(&("fit", 1));
+        let (a, b) = (vec![0.25f64.to_bits(), 0.5f64.to_bits()], vec![1, 2]);
+        let residuals = vec![1e-300, -0.0, 0.1 + 0.2, f64::MAX];
+        c.log_simulation(key, &a, Some(&residuals));
+        c.log_simulation(key, &b, None);
+        assert_eq!(c.failed(), None);
+        let mut f = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .expect("append");
+        f.write_all(b"sim1 00000000000000ab 1 3ff0000000000000 ok 3ff00")
+            .expect("write");
+        drop(f);
+        let again = Checkpoint::open(&path, "build-a").expect("reopen");
+        assert_eq!((again.len(), again.simulations_len()), (0, 2));
+        assert_eq!(again.damaged(), 1, "the line cut short");
+        let back = again.simulations(again.key(&("fit", 1)));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let got = back
+            .get(&a)
+            .expect("logged")
+            .as_deref()
+            .expect("not failed");
+        assert_eq!(bits(got), bits(&residuals));
+        assert_eq!(back.get(&b), Some(&None), "failed");
+        assert!(again.simulations(again.key(&("fit", 2))).is_empty());
+        let other = Checkpoint::open(&path, "build-b").expect("reopen");
+        assert!(other.simulations(other.key(&("fit", 1))).is_empty());
         let _ = std::fs::remove_dir_all(path.parent().expect("dir"));
     }
 

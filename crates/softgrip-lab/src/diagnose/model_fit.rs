@@ -6,7 +6,7 @@
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
-use super::checkpoint::{Checkpoint, Saved};
+use super::checkpoint::{Checkpoint, Saved, Simulations};
 use super::noise::{Noise, weighted_residuals, weighted_rss};
 use super::options::DiagnoseOptions;
 use super::statistics::{PROMISING, bic};
@@ -114,7 +114,7 @@ pub(super) fn fit_model(
     task: FitTask<'_>,
 ) -> Result<ModelFit, LabError> {
     let Some(checkpoint) = &options.checkpoint else {
-        let fit = fit_task(recording, noise, options, task);
+        let fit = fit_task(recording, noise, options, task, None);
         check_cancel()?;
         return fit;
     };
@@ -123,7 +123,11 @@ pub(super) fn fit_model(
         check_cancel()?;
         return Ok(fit);
     }
-    let fit = fit_task(recording, noise, options, task);
+    // A time series' simulations are logged as they end (the checkpoint's module says why
+    // not a quasi-static one's), under the fit's key and the noise that weights them.
+    let log = (recording.mode == crate::recording::Mode::TimeSeries)
+        .then(|| (checkpoint, checkpoint.key(&(key, noise))));
+    let fit = fit_task(recording, noise, options, task, log);
     check_cancel()?;
     if let Ok(f) = &fit {
         checkpoint.save(
@@ -271,20 +275,24 @@ fn fit_task(
     noise: &Noise,
     options: &DiagnoseOptions,
     task: FitTask<'_>,
+    log: Option<(&Checkpoint, u64)>,
 ) -> Result<ModelFit, LabError> {
     let started = std::time::Instant::now();
-    let mut fit = fit_searching(recording, noise, options, task)?;
+    let mut fit = fit_searching(recording, noise, options, task, log)?;
     fit.seconds = started.elapsed().as_secs_f64();
     Ok(fit)
 }
 
 /// The fit itself: the start and the other starts, a small design (as `search` says), then
-/// Levenberg-Marquardt from the best points; the fitted model at the best point found.
+/// Levenberg-Marquardt from the best points; the fitted model at the best point found. With
+/// `log`, each simulation is logged in the checkpoint under the key given, and those logged
+/// before are taken from it.
 fn fit_searching(
     recording: &Recording,
     noise: &Noise,
     options: &DiagnoseOptions,
     task: FitTask<'_>,
+    log: Option<(&Checkpoint, u64)>,
 ) -> Result<ModelFit, LabError> {
     let FitTask {
         scene,
@@ -297,7 +305,7 @@ fn fit_searching(
         known,
     } = task;
     let space = FitSpace::new(recording, noise, options, scene, params, starts, floor);
-    let cache = FitCache::new(space, options.workers);
+    let cache = FitCache::new(space, options.workers, log);
     // A point that is the model a fit already ran (a candidate whose
     // effect starts switched off, or the floor, on the current fit) has
     // that fit's replay.
@@ -509,11 +517,18 @@ struct FitCache<'a> {
     evaluations: Cell<usize>,
     /// Replays run by [`FitCache::jacobian`] for points whose replay came from elsewhere.
     extra: Cell<usize>,
+    /// Where each simulation is logged, and under which key.
+    log: Option<(&'a Checkpoint, u64)>,
+    /// Simulations logged by an earlier run of this fit, not yet asked for.
+    logged: RefCell<Simulations>,
+    /// Those asked for: their weighted residuals, with no replay.
+    from_log: RefCell<Simulations>,
 }
 
 impl<'a> FitCache<'a> {
     /// An empty cache over `space`, running `workers` simulations at once.
-    fn new(space: FitSpace<'a>, workers: usize) -> Self {
+    fn new(space: FitSpace<'a>, workers: usize, log: Option<(&'a Checkpoint, u64)>) -> Self {
+        let logged = log.map(|(c, k)| c.simulations(k)).unwrap_or_default();
         FitCache {
             space,
             workers,
@@ -521,7 +536,33 @@ impl<'a> FitCache<'a> {
             solved: RefCell::default(),
             evaluations: Cell::new(0),
             extra: Cell::new(0),
+            log,
+            logged: RefCell::new(logged),
+            from_log: RefCell::default(),
         }
+    }
+
+    /// Takes `u` from the simulations an earlier run logged, if it is there (once: counted as
+    /// a simulation of this fit).
+    fn take_logged(&self, u: &[f64]) -> bool {
+        let Some(logged) = self.logged.borrow_mut().remove(&key(u)) else {
+            return false;
+        };
+        self.from_log.borrow_mut().insert(key(u), logged);
+        self.evaluations.set(self.evaluations.get() + 1);
+        if let Some((c, _)) = self.log {
+            c.simulation_taken();
+        }
+        true
+    }
+
+    /// The weighted residuals at `u` where it has run or was taken from the log: `Some(None)`
+    /// where its replay failed, `None` where it has neither.
+    fn residuals(&self, u: &[f64]) -> Option<Option<Vec<f64>>> {
+        if let Some(f) = self.evaluated.borrow().get(&key(u)) {
+            return Some(f.as_ref().map(|f| f.0.clone()));
+        }
+        self.from_log.borrow().get(&key(u)).cloned()
     }
 
     /// Takes `known`'s replay for each start (the scene's own, the others, the floor) that is
@@ -567,7 +608,7 @@ impl<'a> FitCache<'a> {
         let space = &self.space;
         let mut todo: Vec<Vec<f64>> = Vec::new();
         for u in points {
-            if !self.evaluated.borrow().contains_key(&key(u)) && !todo.contains(u) {
+            if self.residuals(u).is_none() && !todo.contains(u) && !self.take_logged(u) {
                 todo.push(u.clone());
             }
         }
@@ -577,29 +618,25 @@ impl<'a> FitCache<'a> {
         let results = parallel_map(
             &todo.iter().zip(&warm).collect::<Vec<_>>(),
             self.workers,
-            |(u, warm)| space.run(&space.value_at(u), warm.as_deref()).ok(),
+            |(u, warm)| space.run(&space.value_at(u), warm.as_deref()),
             &|_| {},
         );
-        let mut cache = self.evaluated.borrow_mut();
         for (u, f) in todo.iter().zip(results) {
-            let f = f.map(|(r, d)| {
+            let cancelled = matches!(f, Err(LabError::Cancelled));
+            let f = f.ok().map(|(r, d)| {
                 if let Some(d) = d {
                     self.solved.borrow_mut().insert(key(u), d);
                 }
                 (weighted_residuals(&r.residuals, space.noise), r)
             });
-            cache.insert(key(u), f);
+            // A replay stopped by a cancel is not logged: it did not fail, the next run runs it.
+            if let (Some((c, k)), false) = (self.log, cancelled) {
+                c.log_simulation(k, &key(u), f.as_ref().map(|f| f.0.as_slice()));
+            }
+            self.evaluated.borrow_mut().insert(key(u), f);
         }
         self.evaluations.set(self.evaluations.get() + todo.len());
-        points
-            .iter()
-            .map(|u| {
-                cache
-                    .get(&key(u))
-                    .and_then(|f| f.as_ref())
-                    .map(|f| f.0.clone())
-            })
-            .collect()
+        points.iter().map(|u| self.residuals(u).flatten()).collect()
     }
 
     /// The Jacobian at `u` from its replay's sensitivities, where the fit is `analytic`

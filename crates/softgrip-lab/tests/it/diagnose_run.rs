@@ -395,6 +395,94 @@ fn a_diagnosis_stopped_midway_resumes_from_its_checkpoint() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A time series' fit stopped midway resumes at the simulation it stopped at, not from its
+/// start: a run that logged only the first half of the baseline's simulations (a stop in the
+/// middle of its fit, no fit saved yet) takes those from the file and ends at the
+/// uninterrupted fits' values, bit for bit.
+#[test]
+#[ignore = "slow: the baseline fits of a time series, three times"]
+fn a_time_series_fit_stopped_midway_resumes_at_its_last_simulation() {
+    use glam::DVec3;
+    use softgrip_core::cancel::{self, Cancel};
+    use softgrip_lab::error::LabError;
+    use std::fmt::Write as _;
+    let dir = support::temp_dir("diag-sim-log");
+    // The gravity beam, coarse, 0.2 s at 20 ms; its tip recorded from a beam 30 % stiffer.
+    let scene = std::fs::read_to_string(support::asset(
+        "assets/recordings/beam_ds10/gravity_a/scene.toml",
+    ))
+    .expect("scene")
+    .replace("edge_length = 0.005", "edge_length = 0.01");
+    let tip = [("tip", DVec3::new(0.05, 0.0, 0.03))];
+    let mut rows = String::new();
+    for k in 0..=10 {
+        let _ = writeln!(rows, "{:.2},0,tip,0,0,0", k as f64 * 0.02);
+    }
+    let blank = support::write_recording(&dir.join("blank"), &scene, "time-series", &tip, &rows);
+    let mut stiffer = blank.scene.clone();
+    stiffer.object.young_modulus *= 1.3;
+    let truth = softgrip_lab::replay::replay(&blank, &stiffer, Default::default(), |_| {})
+        .expect("the truth's replay");
+    let mut rows = String::new();
+    for r in &truth.residuals {
+        let (t, p) = (r.sample as f64 * 0.02, r.simulated);
+        let _ = writeln!(rows, "{t:.2},0,tip,{:?},{:?},{:?}", p.x, p.y, p.z);
+    }
+    let rec = support::write_recording(&dir.join("rec"), &scene, "time-series", &tip, &rows);
+    let path = dir.join("fits.checkpoint");
+    // The baseline's fits, stopped as anything else starts (the final model's check on a finer
+    // mesh, a candidate).
+    let baseline = |c: &diagnose::Checkpoint| {
+        let token = Cancel::new();
+        let options = DiagnoseOptions {
+            checkpoint: Some(c.clone()),
+            ..small_budget(4)
+        };
+        let stopped = cancel::scope(Some(token.clone()), || {
+            diagnose::diagnose(&rec, &options, &|_, _, what| {
+                if !what.starts_with("baseline") {
+                    token.cancel();
+                }
+            })
+        });
+        assert!(
+            matches!(stopped, Ok(_) | Err(LabError::Cancelled)),
+            "{:?}",
+            stopped.err()
+        );
+    };
+    let open = || diagnose::Checkpoint::open(&path, "this build").expect("checkpoint");
+    baseline(&open());
+    let text = std::fs::read_to_string(&path).expect("the checkpoint");
+    let fits: Vec<&str> = text.lines().filter(|l| l.starts_with("fit3")).collect();
+    let simulations: Vec<&str> = text.lines().filter(|l| l.starts_with("sim1")).collect();
+    assert_eq!(fits.len(), 2, "both baseline fits saved");
+    assert!(
+        simulations.len() >= 8,
+        "{} simulations logged",
+        simulations.len()
+    );
+    // A fit line's fitted values: its words after the key, the simulations and the seconds.
+    let values = |line: &str| -> Vec<String> {
+        let w: Vec<&str> = line.split(' ').collect();
+        w[4..w.len() - 1].iter().map(|s| s.to_string()).collect()
+    };
+    // Stopped in the middle of the first fit: half its simulations logged, no fit saved.
+    let half = simulations.len() / 2;
+    std::fs::write(&path, simulations[..half].join("\n") + "\n").expect("write");
+    let resumed = open();
+    assert_eq!((resumed.len(), resumed.simulations_len()), (0, half));
+    baseline(&resumed);
+    assert_eq!(resumed.reused_simulations(), half, "taken, not run again");
+    let again = std::fs::read_to_string(&path).expect("the checkpoint");
+    let refits: Vec<&str> = again.lines().filter(|l| l.starts_with("fit3")).collect();
+    assert_eq!(refits.len(), 2);
+    for (a, b) in fits.iter().zip(&refits) {
+        assert_eq!(values(a), values(b), "the same fitted values, bit for bit");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The table in place of a bonded base is not nested at any friction, so the screen tries it on
 /// a grid of frictions (a Gauss-Newton step in E and the friction from each): a recording made
 /// on a table with a low friction keeps it with a likelihood ratio far past the 5 % level, and
