@@ -138,3 +138,30 @@ fn where_twice_dt_is_never_within_the_tolerance_the_control_is_the_fixed_step_ru
         report.steps
     );
 }
+
+/// A try rewound keeps what its solve took: the nearly incompressible block's nodal-pressure
+/// factorization stays in use through the control's tries, its CG iterations within twice the
+/// fixed-step run's (sampled every 10 ms for 0.2 s, as a recording is), where a count from
+/// before the try had the preconditioner judge the factorization by block Jacobi's and turn it
+/// off: ten times as many.
+#[test]
+fn a_rewound_try_leaves_the_factored_preconditioner_in_use() {
+    let mut fixed = hung(0.0, 1.0, 0.0);
+    let mut controlled = hung(0.0, 1.0, 0.0);
+    let mut control = Adaptive::new(&controlled, AdaptiveOptions::default());
+    let (mut by_fixed, mut by_controlled) = (0, 0);
+    for k in 1..=20 {
+        let t = f64::from(k) * 1e-2;
+        fixed.run_until(t).expect("fixed steps");
+        controlled
+            .run_until_adaptive(t, &mut control)
+            .expect("controlled steps");
+        by_fixed += fixed.state.stats.cg_iterations;
+        by_controlled += controlled.state.stats.cg_iterations;
+    }
+    assert!(control.report.rejected > 0, "{:?}", control.report);
+    assert!(
+        by_controlled <= 2 * by_fixed,
+        "{by_controlled} CG iterations at the samples against {by_fixed} at fixed steps"
+    );
+}
