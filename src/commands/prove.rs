@@ -110,18 +110,19 @@ fn prove_options(args: &Args) -> Result<softgrip_lab::prove::ProveOptions> {
     Ok(options)
 }
 
-/// The baseline models of `--model` (unknown names skipped, repeats in a row dropped); all of
-/// them when none is given.
+/// The baseline models of `--model` in the order first given (unknown names skipped, repeats
+/// dropped: each case is diagnosed once from each model); all of them when none is given.
 fn baseline_models(names: &[String]) -> Vec<softgrip_lab::diagnose::BaselineModel> {
     use softgrip_lab::diagnose::BaselineModel;
-    let mut models: Vec<BaselineModel> = names
-        .iter()
-        .filter_map(|m| BaselineModel::from_name(m))
-        .collect();
+    let mut models: Vec<BaselineModel> = Vec::new();
+    for m in names.iter().filter_map(|m| BaselineModel::from_name(m)) {
+        if !models.contains(&m) {
+            models.push(m);
+        }
+    }
     if models.is_empty() {
         models = BaselineModel::ALL.to_vec();
     }
-    models.dedup();
     models
 }
 
@@ -198,5 +199,29 @@ impl Proof<'_> {
         );
         bar.finish_and_clear();
         found
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::baseline_models;
+    use softgrip_lab::diagnose::BaselineModel;
+
+    /// `--model continuum --model lattice --model continuum` diagnoses each case once from
+    /// each model, in the order first given (a repeat apart from its twin ran it twice).
+    #[test]
+    fn a_model_given_twice_is_diagnosed_once() {
+        let names: Vec<String> = ["continuum", "lattice", "continuum"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let models = baseline_models(&names);
+        let expected: Vec<BaselineModel> = ["continuum", "lattice"]
+            .iter()
+            .filter_map(|n| BaselineModel::from_name(n))
+            .collect();
+        assert_eq!(expected.len(), 2);
+        assert_eq!(models, expected);
+        assert_eq!(baseline_models(&[]), BaselineModel::ALL.to_vec());
     }
 }
