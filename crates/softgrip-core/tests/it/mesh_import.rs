@@ -491,3 +491,31 @@ fn the_malformed_corpus_gives_specific_errors() {
         );
     }
 }
+
+/// The appended data's encoding is read as an XML attribute, whichever quotes and spacing the
+/// writer used: `encoding = 'raw'` reads the raw file's mesh (a search for the text
+/// `encoding="raw"` took it for base64), and an encoding softgrip cannot read is named.
+#[test]
+fn the_appended_encoding_is_read_as_an_attribute() {
+    let bytes = std::fs::read(fixture("cube_vtk_appended_raw.vtu")).unwrap();
+    let find = |b: &[u8], what: &[u8]| b.windows(what.len()).position(|w| w == what);
+    let at = find(&bytes, b"encoding=\"raw\"").expect("the fixture's attribute");
+    let with = |attribute: &[u8]| {
+        let mut b = bytes[..at].to_vec();
+        b.extend_from_slice(attribute);
+        b.extend_from_slice(&bytes[at + b"encoding=\"raw\"".len()..]);
+        b
+    };
+    let plain = read_bytes_as(&bytes, Format::Vtu, "raw").expect("the fixture");
+    let spaced = read_bytes_as(&with(b"encoding = 'raw'"), Format::Vtu, "spaced")
+        .expect("single quotes and spaces");
+    assert_eq!(spaced.mesh.tets, plain.mesh.tets);
+    assert_eq!(spaced.mesh.nodes, plain.mesh.nodes);
+    let e = read_bytes_as(&with(b"encoding=\"hex\""), Format::Vtu, "hex")
+        .expect_err("an encoding it cannot read")
+        .to_string();
+    assert!(
+        e.starts_with("hex") && e.contains("encoding \"hex\""),
+        "{e}"
+    );
+}

@@ -335,8 +335,18 @@ fn open<'a>(bytes: &'a [u8], name: &'a str) -> Result<(File<'a>, usize), ImportE
                 .iter()
                 .position(|c| *c == b'>')
                 .ok_or_else(|| err("AppendedData tag not closed".into()))?;
-            let head = std::str::from_utf8(&rest[..close]).unwrap_or("");
-            let encoded = !head.contains("encoding=\"raw\"");
+            // The tag's attributes as XML writes them (either quote, spaces around `=`).
+            let head = std::str::from_utf8(&rest[..=close]).unwrap_or("");
+            let tag = find_tag(head, 0, "AppendedData");
+            let encoded = match tag.as_ref().and_then(|t| t.get("encoding")) {
+                Some("raw") => false,
+                Some("base64") | None => true,
+                Some(other) => {
+                    return Err(err(format!(
+                        "AppendedData encoding \"{other}\": softgrip reads \"raw\" or \"base64\""
+                    )));
+                }
+            };
             let underscore = rest[close..]
                 .iter()
                 .position(|c| *c == b'_')
