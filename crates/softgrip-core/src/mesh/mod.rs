@@ -80,7 +80,7 @@ pub enum MeshError {
     /// A tetrahedron flat (a repeated node, next to no volume) or, in [`TetMesh::validate`],
     /// inside out.
     #[error(
-        "tetrahedron {tet} is inverted or degenerate (signed volume {volume:.3e} m^3 near ({x:.4}, {y:.4}, {z:.4})): reorder its nodes or fix the mesh"
+        "tetrahedron {tet} is inverted or degenerate (signed volume {volume:.3e} near ({x:.4}, {y:.4}, {z:.4}), in the mesh's own units): reorder its nodes or fix the mesh"
     )]
     Inverted {
         /// The tetrahedron's index.
