@@ -51,7 +51,7 @@ impl Default for AdaptiveOptions {
 /// shows (`docs/results/benchmarks.md`).
 pub const DEFAULT_TOLERANCE: f64 = 1e-5;
 
-/// The most steps at `dt` taken before the next try at twice it, after tries rejected in a row.
+/// The most steps at `dt` taken before the next try at twice it, after tries that failed in a row.
 pub const MAX_HOLD: u32 = 64;
 
 /// What a controlled run did.
@@ -222,9 +222,7 @@ impl Simulation {
         }
         Ok(())
     }
-}
 
-impl Simulation {
     /// Back to `start` for another try, keeping what the last solve took: the linear solver's
     /// choice of preconditioner reads it at the next step, and a count from before the try
     /// (block Jacobi's, say) judged the nodal pressure's factorization by it and turned it off
