@@ -22,6 +22,16 @@ fn hung(g: f64, tau: f64, rayleigh_mass: f64) -> Simulation {
     )
 }
 
+/// The largest distance between the two runs' particles (m).
+fn farthest(a: &Simulation, b: &Simulation) -> f64 {
+    a.state
+        .positions
+        .iter()
+        .zip(&b.state.positions)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f64::max)
+}
+
 /// The bottom face's mean sag (m).
 fn sag(sim: &Simulation) -> f64 {
     let bottom: Vec<usize> = (0..sim.model.particle_count())
@@ -60,13 +70,7 @@ fn controlled_steps_follow_the_fixed_step_creep_within_their_tolerance_in_fewer_
             "{} at {t}",
             controlled.state.time
         );
-        let d = fixed
-            .state
-            .positions
-            .iter()
-            .zip(&controlled.state.positions)
-            .map(|(a, b)| a.distance(*b))
-            .fold(0.0, f64::max);
+        let d = farthest(&fixed, &controlled);
         largest = largest.max(d);
     }
     let report = control.report;
@@ -120,13 +124,7 @@ fn where_twice_dt_is_never_within_the_tolerance_the_control_is_the_fixed_step_ru
     let report = control.report;
     assert_eq!(report.steps, fixed.state.step as usize, "{report:?}");
     assert!(report.rejected > 0, "twice dt was tried: {report:?}");
-    let d = fixed
-        .state
-        .positions
-        .iter()
-        .zip(&controlled.state.positions)
-        .map(|(a, b)| a.distance(*b))
-        .fold(0.0, f64::max);
+    let d = farthest(&fixed, &controlled);
     // The same steps: a rejected try changes only the next solve's starting guess (CG starts
     // from the last step's velocity change), so the runs differ by the solver's rounding, far
     // under the 7e-10 m the smallest kept step of twice dt would move a particle by here.

@@ -424,6 +424,12 @@ fn parse_simulation<'a>(mut words: impl Iterator<Item = &'a str>) -> Option<Line
 mod tests {
     use super::*;
 
+    /// Appends `bytes` with no line end: a line a kill cut short.
+    fn cut_short(path: &Path, bytes: &[u8]) {
+        let mut f = append(path).expect("append");
+        f.write_all(bytes).expect("write");
+    }
+
     fn temp(name: &str) -> PathBuf {
         let dir =
             std::env::temp_dir().join(format!("softgrip-checkpoint-{name}-{}", std::process::id()));
@@ -448,13 +454,7 @@ mod tests {
         c.save(c.key(&"another fit"), fit.clone());
         assert_eq!(c.failed(), None);
         // Killed while writing a third.
-        let mut f = std::fs::OpenOptions::new()
-            .append(true)
-            .open(&path)
-            .expect("append");
-        f.write_all(b"fit3 00000000000000ab 3 3ff00000000")
-            .expect("write");
-        drop(f);
+        cut_short(&path, b"fit3 00000000000000ab 3 3ff00000000");
 
         let again = Checkpoint::open(&path, "build-a").expect("reopen");
         assert_eq!(again.len(), 2, "the line cut short is skipped");
@@ -488,13 +488,7 @@ mod tests {
         c.log_simulation(key, &a, Some(&residuals));
         c.log_simulation(key, &b, None);
         assert_eq!(c.failed(), None);
-        let mut f = std::fs::OpenOptions::new()
-            .append(true)
-            .open(&path)
-            .expect("append");
-        f.write_all(b"sim1 00000000000000ab 1 3ff0000000000000 ok 3ff00")
-            .expect("write");
-        drop(f);
+        cut_short(&path, b"sim1 00000000000000ab 1 3ff0000000000000 ok 3ff00");
         let again = Checkpoint::open(&path, "build-a").expect("reopen");
         assert_eq!((again.len(), again.simulations_len()), (0, 2));
         assert_eq!(again.damaged(), 1, "the line cut short");

@@ -608,7 +608,9 @@ impl<'a> FitCache<'a> {
         let space = &self.space;
         let mut todo: Vec<Vec<f64>> = Vec::new();
         for u in points {
-            if self.residuals(u).is_none() && !todo.contains(u) && !self.take_logged(u) {
+            let known = self.evaluated.borrow().contains_key(&key(u))
+                || self.from_log.borrow().contains_key(&key(u));
+            if !known && !todo.contains(u) && !self.take_logged(u) {
                 todo.push(u.clone());
             }
         }
