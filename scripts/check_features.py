@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Every build .ci/run makes after `cargo test` reuses the dependencies that `cargo test` compiled.
+"""Every other build .ci/run makes reuses the dependencies that `cargo test` compiled.
 
 Cargo compiles a dependency once per feature set: a build that selects fewer packages (the
 Python package, the TetGen tests, the binary without the viewer) asks some shared dependencies

@@ -1,5 +1,6 @@
-//! The wgpu side: one pipeline (`shaders/lit.wgsl`) drawing lit triangles
-//! with a depth buffer, into an offscreen texture read back as an image.
+//! The wgpu side: four pipelines (opaque, blended, lines, x-ray) of one shader
+//! (`shaders/lit.wgsl`) drawing lit triangles with a depth buffer, into an
+//! offscreen texture read back as an image.
 //! Headless, it runs on a software adapter (Mesa's llvmpipe through wgpu's
 //! GL backend) with no window and no display.
 
