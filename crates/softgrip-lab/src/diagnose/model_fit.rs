@@ -559,10 +559,18 @@ impl<'a> FitCache<'a> {
     /// The weighted residuals at `u` where it has run or was taken from the log: `Some(None)`
     /// where its replay failed, `None` where it has neither.
     fn residuals(&self, u: &[f64]) -> Option<Option<Vec<f64>>> {
-        if let Some(f) = self.evaluated.borrow().get(&key(u)) {
+        let k = key(u);
+        if let Some(f) = self.evaluated.borrow().get(&k) {
             return Some(f.as_ref().map(|f| f.0.clone()));
         }
-        self.from_log.borrow().get(&key(u)).cloned()
+        self.from_log.borrow().get(&k).cloned()
+    }
+
+    /// Whether `u` has its residuals or its failure, as [`FitCache::residuals`] finds them,
+    /// without copying them.
+    fn knows(&self, u: &[f64]) -> bool {
+        let k = key(u);
+        self.evaluated.borrow().contains_key(&k) || self.from_log.borrow().contains_key(&k)
     }
 
     /// Takes `known`'s replay for each start (the scene's own, the others, the floor) that is
@@ -608,9 +616,7 @@ impl<'a> FitCache<'a> {
         let space = &self.space;
         let mut todo: Vec<Vec<f64>> = Vec::new();
         for u in points {
-            let known = self.evaluated.borrow().contains_key(&key(u))
-                || self.from_log.borrow().contains_key(&key(u));
-            if !known && !todo.contains(u) && !self.take_logged(u) {
+            if !self.knows(u) && !todo.contains(u) && !self.take_logged(u) {
                 todo.push(u.clone());
             }
         }
